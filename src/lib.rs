@@ -1,0 +1,2 @@
+//! Moreau facade.
+pub use moreau_setvalued as setvalued;
