@@ -1,0 +1,34 @@
+//! The [`Mechanism`] trait: what the time-stepper needs to know of a mechanism.
+
+use moreau_kinematics::ContactKinematics;
+use moreau_setvalued::ContactLaw;
+
+/// A planar rigid multibody system with unilateral frictional contacts.
+///
+/// With `f` generalised coordinates `q` and velocities `u`, the equality of measures
+/// `M(q, t) du − h(q, u, t) dt − W_N dP_N − W_T dP_T = 0` is described by the mass matrix `M`,
+/// the smooth forces `h`, and, through the [`ContactKinematics`] supertrait, the gaps g_N and
+/// force directions w_N, w_T of each contact. Each contact has a [`ContactLaw`] (ε_N, ε_T, μ).
+pub trait Mechanism: ContactKinematics {
+    /// The laws of the contacts, one per contact, in the order of the kinematics.
+    fn laws(&self) -> &[ContactLaw];
+
+    /// Writes the symmetric positive definite mass matrix M(q, t), column-major `f × f`,
+    /// into `m` (length `f²`).
+    fn mass_matrix(&self, q: &[f64], t: f64, m: &mut [f64]);
+
+    /// Writes the smooth generalised forces h(q, u, t) (gravity, springs, gyroscopic and
+    /// centrifugal terms) into `h` (length `f`).
+    fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]);
+
+    /// The potential energy V(q, t) of the conservative part of `h`, if the mechanism has one (J).
+    fn potential_energy(&self, q: &[f64], t: f64) -> Option<f64> {
+        let _ = (q, t);
+        None
+    }
+
+    /// Whether M does not depend on `q` and `t`, so that the stepper may factorise it once.
+    fn constant_mass_matrix(&self) -> bool {
+        false
+    }
+}
