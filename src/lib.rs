@@ -1,2 +1,36 @@
-//! Moreau facade.
+//! Moreau: non-smooth rigid multibody dynamics.
+//!
+//! Planar rigid multibody systems with hard unilateral contacts (Signorini), set-valued dry
+//! friction (Coulomb) and Newton impacts, integrated by Moreau's midpoint time-stepping with
+//! one linear complementarity problem (LCP) per step. This package re-exports the workspace's
+//! crates under short names:
+//!
+//! | module | crate | for |
+//! |---|---|---|
+//! | [`setvalued`] | `moreau-setvalued` | Upr, Sgn, contact laws |
+//! | [`lcp`] | `moreau-lcp` | LCP solvers (Lemke, PGS, enumeration) |
+//! | [`kinematics`] | `moreau-kinematics` | gaps, contact Jacobians, finite-difference checks |
+//! | [`stepper`] | `moreau-stepper` | the Moreau midpoint time-stepper |
+//! | [`models`] | `moreau-models` | the reference report's mechanisms |
+//!
+//! # Example
+//! ```
+//! use moreau::models::{ModelKind, Scene};
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let mut scene = Scene::report(ModelKind::Ball);
+//! scene.set("t_end", "1.0")?;
+//! let sim = scene.run()?;
+//! // The ball of the report first touches the floor at t1 = sqrt(2 · 0.9 / 9.81) ≈ 0.428 s.
+//! let first = sim.record.p_n.iter().position(|p| p[0] > 0.0).unwrap();
+//! assert!((sim.record.t[first] - 0.4284).abs() < 2e-3);
+//! # Ok(())
+//! # }
+//! ```
+#![deny(missing_docs)]
+
+pub use moreau_kinematics as kinematics;
+pub use moreau_lcp as lcp;
+pub use moreau_models as models;
 pub use moreau_setvalued as setvalued;
+pub use moreau_stepper as stepper;
