@@ -1,5 +1,77 @@
 //! Planar contact kinematics for Moreau's time-stepping.
+//!
+//! # What this crate is for
+//! The kinematic side of a contact in a planar rigid multibody system with `f` generalised
+//! coordinates q and velocities u: the normal gap g_N(q, t), the tangential position
+//! g_T(q, t), the force directions w_N = (∂g_N/∂q)ᵀ and w_T = (∂g_T/∂q)ᵀ, and the rheonomic
+//! terms ŵ_N = ∂g_N/∂t and ŵ_T = ∂g_T/∂t, from which the relative velocities are
+//! γ_N = w_Nᵀ u + ŵ_N and γ_T = w_Tᵀ u + ŵ_T. It provides
+//! * the [`ContactKinematics`] trait that the time-stepper calls and the models implement;
+//! * a finite-difference checker ([`check_jacobians`], [`assert_consistent`]) that verifies
+//!   w_N, w_T, ŵ_N, ŵ_T against the gaps, with seeded sample states ([`sample_states`]).
+//!
+//! # What it is not for
+//! It does not detect collisions between arbitrary shapes, integrate motion, or evaluate
+//! contact laws: the set-valued laws (Upr, Sgn, Newton's impact law) are in
+//! `moreau-setvalued`, the time-stepping in `moreau-stepper`.
+//!
+//! # Notation
+//! | symbol | identifier | meaning |
+//! |---|---|---|
+//! | q, u, t | `q`, `u`, `t` | generalised coordinates, velocities, time |
+//! | f | [`ContactKinematics::num_coordinates`] | number of coordinates |
+//! | g_N | [`ContactPoint::g_n`] | normal gap (> 0 open) |
+//! | g_T | [`ContactPoint::g_t`] | tangential position of the contact point |
+//! | w_N, w_T | `w_n`, `w_t` | force directions (∂g/∂q)ᵀ |
+//! | ŵ_N, ŵ_T | [`ContactPoint::w_n_hat`], [`ContactPoint::w_t_hat`] | rheonomic terms ∂g/∂t |
+//! | γ_N, γ_T | [`relative_velocity`] | relative velocities wᵀu + ŵ |
+//!
+//! # Example
+//! ```
+//! use moreau_kinematics::{ContactKinematics, ContactPoint, KinematicsError};
+//! use moreau_kinematics::{assert_consistent, relative_velocity, sample_states, SampleOptions};
+//!
+//! /// A ball of radius R above the floor: q = (y), g_N = y − R, w_N = (1).
+//! struct Ball { radius: f64 }
+//!
+//! impl ContactKinematics for Ball {
+//!     fn num_coordinates(&self) -> usize { 1 }
+//!     fn num_contacts(&self) -> usize { 1 }
+//!     fn normal_gap(&self, _i: usize, q: &[f64], _t: f64) -> f64 { q[0] - self.radius }
+//!     fn contact(&self, _i: usize, q: &[f64], _t: f64, w_n: &mut [f64], w_t: &mut [f64]) -> ContactPoint {
+//!         w_n[0] = 1.0;
+//!         w_t[0] = 0.0;
+//!         ContactPoint { g_n: q[0] - self.radius, ..ContactPoint::default() }
+//!     }
+//! }
+//!
+//! # fn main() -> Result<(), KinematicsError> {
+//! let ball = Ball { radius: 0.1 };
+//! let samples = sample_states(&[1.0], 0.0, &SampleOptions::default())?;
+//! let report = assert_consistent(&ball, &samples, 1e-6)?;
+//! assert!(report.worst().unwrap().scaled < 1e-9);
+//! // γ_N = w_Nᵀ u + ŵ_N for a ball falling at 2 m/s.
+//! assert_eq!(relative_velocity(&[1.0], 0.0, &[-2.0])?, -2.0);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! # References
+//! * Glocker, Ch. (2001). *Set-Valued Force Laws: Dynamics of Non-Smooth Systems*. Springer.
+//! * Pfeiffer, F., & Glocker, Ch. (1996). *Multibody Dynamics with Unilateral Contacts*. Wiley.
+//! * Flores, P. (2010). *Application of the non-smooth dynamics approach to model and analyze
+//!   contact-impact events in rigid multibody systems using the linear complementarity problem
+//!   formulation*. Universidade do Minho.
 #![deny(missing_docs)]
+
+mod check;
+mod error;
+
+pub use check::{
+    Component, FdOptions, FdReport, Mismatch, SampleOptions, SplitMix64, assert_consistent,
+    check_jacobians, sample_states,
+};
+pub use error::KinematicsError;
 
 /// Kinematic quantities of one contact at `(q, t)`, besides its force directions.
 ///
@@ -31,5 +103,28 @@ pub trait ContactKinematics {
     fn normal_gap(&self, i: usize, q: &[f64], t: f64) -> f64;
     /// Full kinematics of contact `i` at `(q, t)`: writes `w_N` into `w_n` and `w_T` into
     /// `w_t` (both of length `f`) and returns g_N, g_T, ŵ_N and ŵ_T.
-    fn contact(&self, i: usize, q: &[f64], t: f64, w_n: &mut [f64], w_t: &mut [f64]) -> ContactPoint;
+    fn contact(
+        &self,
+        i: usize,
+        q: &[f64],
+        t: f64,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) -> ContactPoint;
+}
+
+/// The relative velocity γ = wᵀ u + ŵ of a contact, normal (w_N, ŵ_N) or tangential
+/// (w_T, ŵ_T).
+///
+/// # Errors
+/// [`KinematicsError::DimensionMismatch`] when `w` and `u` differ in length.
+pub fn relative_velocity(w: &[f64], w_hat: f64, u: &[f64]) -> Result<f64, KinematicsError> {
+    if w.len() != u.len() {
+        return Err(KinematicsError::DimensionMismatch {
+            what: "u against w",
+            expected: w.len(),
+            found: u.len(),
+        });
+    }
+    Ok(w.iter().zip(u).map(|(a, b)| a * b).sum::<f64>() + w_hat)
 }

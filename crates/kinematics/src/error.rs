@@ -1,0 +1,68 @@
+//! The error type of this crate.
+
+use crate::check::Component;
+
+/// Errors of the contact kinematics helpers and of the finite-difference checker.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum KinematicsError {
+    /// A vector or slice has the wrong length, e.g. a sample `q` whose length is not `f`.
+    #[error("dimension mismatch in {what}: expected {expected}, found {found}")]
+    DimensionMismatch {
+        /// Which quantity has the wrong length.
+        what: &'static str,
+        /// The length required.
+        expected: usize,
+        /// The length given.
+        found: usize,
+    },
+    /// A NaN or infinite value in an input or in a value returned by the kinematics.
+    #[error("non-finite {what} (contact {contact:?}, sample {sample:?})")]
+    NonFinite {
+        /// Which quantity is not finite (`q`, `t`, `g_N`, `w_T`, ...).
+        what: &'static str,
+        /// The contact concerned, if any.
+        contact: Option<usize>,
+        /// The index of the sample state concerned, if any.
+        sample: Option<usize>,
+    },
+    /// A force direction w_N, w_T or rheonomic term ŵ_N, ŵ_T that disagrees with the
+    /// finite-difference derivative of g_N, g_T, or a `normal_gap` that disagrees with the
+    /// g_N of `contact`.
+    #[error(
+        "contact {contact}: {component} disagrees with its finite-difference reference at \
+         sample {sample} (abs {abs:.3e}, rel {rel:.3e})"
+    )]
+    JacobianMismatch {
+        /// The contact index i.
+        contact: usize,
+        /// Which entry disagrees.
+        component: Component,
+        /// The index of the sample state at which the worst disagreement was found.
+        sample: usize,
+        /// Absolute difference |analytic − reference|.
+        abs: f64,
+        /// Relative difference |analytic − reference| / max(|analytic|, |reference|).
+        rel: f64,
+    },
+    /// An option outside its valid range (a non-positive step, a negative radius, ...).
+    #[error("invalid option {name} = {value}")]
+    InvalidOption {
+        /// The option's name.
+        name: &'static str,
+        /// The rejected value.
+        value: f64,
+    },
+    /// A geometric input that defines no contact: a negative radius, two coincident circle
+    /// centres, ...
+    #[error("invalid geometry: {what} = {value}")]
+    InvalidGeometry {
+        /// What is wrong.
+        what: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// The finite-difference checker was given no sample state, so it could check nothing.
+    #[error("no sample states to check")]
+    NoSamples,
+}
