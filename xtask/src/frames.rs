@@ -1,0 +1,400 @@
+//! Frame strips (drawings of a mechanism at chosen instants, with a caption under each) as
+//! SVG and PNG, and animated SVGs of the motion.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, anyhow};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+use crate::plot::register_fonts;
+
+/// One drawn shape in world coordinates (metres, y up).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    /// A polyline, closed into a polygon when `closed`.
+    Poly {
+        /// Vertices (m).
+        points: Vec<[f64; 2]>,
+        /// Whether the last vertex joins the first.
+        closed: bool,
+        /// Outline and fill.
+        paint: Paint,
+    },
+    /// A circle.
+    Circle {
+        /// Centre (m).
+        center: [f64; 2],
+        /// Radius (m).
+        radius: f64,
+        /// Outline and fill.
+        paint: Paint,
+    },
+}
+
+/// How a shape is painted.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Paint {
+    /// Outline colour (r, g, b).
+    pub stroke: (u8, u8, u8),
+    /// Outline width in pixels.
+    pub width: u32,
+    /// Fill colour, if filled.
+    pub fill: Option<(u8, u8, u8)>,
+}
+
+/// A drawing at one instant with the lines of text written under it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// Time of the drawing (s).
+    pub t: f64,
+    /// The shapes, drawn in order.
+    pub shapes: Vec<Shape>,
+    /// Caption lines (time, contact state, ...).
+    pub caption: Vec<String>,
+}
+
+/// A row (or grid) of frames sharing one world window.
+#[derive(Clone, Debug)]
+pub struct Strip {
+    /// Title above the frames.
+    pub title: String,
+    /// The frames, left to right.
+    pub frames: Vec<Frame>,
+    /// Frames per row.
+    pub columns: usize,
+    /// Width of one frame cell in pixels.
+    pub cell_width: u32,
+    /// Height of the drawing part of a cell in pixels (the caption goes below it).
+    pub cell_height: u32,
+    /// World window [x0, y0, x1, y1]; the union of all shapes (padded) when `None`.
+    pub window: Option<[f64; 4]>,
+}
+
+const TITLE: u32 = 40;
+const LINE: u32 = 18;
+
+/// Bounding box [x0, y0, x1, y1] of the shapes of all frames, padded by 5 %.
+pub fn bounds<'a>(frames: impl IntoIterator<Item = &'a Frame>) -> [f64; 4] {
+    let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    let mut add = |x: f64, y: f64| {
+        if x.is_finite() && y.is_finite() {
+            b[0] = b[0].min(x);
+            b[1] = b[1].min(y);
+            b[2] = b[2].max(x);
+            b[3] = b[3].max(y);
+        }
+    };
+    for f in frames {
+        for s in &f.shapes {
+            match s {
+                Shape::Poly { points, .. } => points.iter().for_each(|p| add(p[0], p[1])),
+                Shape::Circle { center, radius, .. } => {
+                    add(center[0] - radius, center[1] - radius);
+                    add(center[0] + radius, center[1] + radius);
+                }
+            }
+        }
+    }
+    if !b[0].is_finite() {
+        return [-1.0, -1.0, 1.0, 1.0];
+    }
+    let pad = 0.05 * (b[2] - b[0]).max(b[3] - b[1]).max(1e-9);
+    [b[0] - pad, b[1] - pad, b[2] + pad, b[3] + pad]
+}
+
+/// Maps world coordinates into a `w × h` pixel box with equal scales, y up, centred.
+#[derive(Clone, Copy, Debug)]
+struct View {
+    scale: f64,
+    ox: f64,
+    oy: f64,
+    window: [f64; 4],
+}
+
+impl View {
+    fn new(window: [f64; 4], w: u32, h: u32, margin: f64) -> Self {
+        let (ww, wh) = (window[2] - window[0], window[3] - window[1]);
+        let scale = ((w as f64 - 2.0 * margin) / ww).min((h as f64 - 2.0 * margin) / wh);
+        let ox = (w as f64 - scale * ww) / 2.0;
+        let oy = (h as f64 - scale * wh) / 2.0;
+        Self { scale, ox, oy, window }
+    }
+
+    fn map(&self, p: [f64; 2]) -> (f64, f64) {
+        (self.ox + (p[0] - self.window[0]) * self.scale, self.oy + (self.window[3] - p[1]) * self.scale)
+    }
+}
+
+fn rgb(c: (u8, u8, u8)) -> RGBColor {
+    RGBColor(c.0, c.1, c.2)
+}
+
+impl Strip {
+    fn window(&self) -> [f64; 4] {
+        self.window.unwrap_or_else(|| bounds(&self.frames))
+    }
+
+    fn caption_lines(&self) -> u32 {
+        self.frames.iter().map(|f| f.caption.len()).max().unwrap_or(0) as u32
+    }
+
+    fn rows(&self) -> usize {
+        self.frames.len().div_ceil(self.columns.max(1)).max(1)
+    }
+
+    fn cell(&self) -> (u32, u32) {
+        (self.cell_width, self.cell_height + LINE * self.caption_lines() + 10)
+    }
+
+    fn size(&self) -> (u32, u32) {
+        let (cw, ch) = self.cell();
+        let cols = self.columns.max(1).min(self.frames.len().max(1)) as u32;
+        (cols * cw, self.rows() as u32 * ch + TITLE)
+    }
+
+    /// Writes `<stem>.svg` and `<stem>.png` (the strip) and `<stem>_anim.svg` (the animation
+    /// of `motion`, one frame every `frame_seconds` of playback); returns the paths.
+    ///
+    /// # Errors
+    /// When a file cannot be written.
+    pub fn write(&self, dir: &Path, stem: &str, motion: &[Frame], frame_seconds: f64) -> Result<Vec<PathBuf>> {
+        register_fonts();
+        let svg = dir.join(format!("{stem}.svg"));
+        let png = dir.join(format!("{stem}.png"));
+        let anim = dir.join(format!("{stem}_anim.svg"));
+        {
+            let root = SVGBackend::new(&svg, self.size()).into_drawing_area();
+            self.draw(&root).with_context(|| format!("drawing {}", svg.display()))?;
+            root.present().map_err(|e| anyhow!("writing {}: {e}", svg.display()))?;
+        }
+        {
+            let root = BitMapBackend::new(&png, self.size()).into_drawing_area();
+            self.draw(&root).with_context(|| format!("drawing {}", png.display()))?;
+            root.present().map_err(|e| anyhow!("writing {}: {e}", png.display()))?;
+        }
+        let window = bounds(motion.iter().chain(&self.frames));
+        std::fs::write(&anim, animated_svg(&self.title, motion, window, frame_seconds))
+            .with_context(|| format!("writing {}", anim.display()))?;
+        Ok(vec![svg, png, anim])
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        let e = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
+        root.fill(&WHITE).map_err(e)?;
+        let (title, body) = root.split_vertically(TITLE);
+        title.titled(&self.title, ("sans-serif", 22).into_font().style(FontStyle::Bold)).map_err(e)?;
+        let cols = self.columns.max(1).min(self.frames.len().max(1));
+        let cells = body.split_evenly((self.rows(), cols));
+        let window = self.window();
+        for (frame, cell) in self.frames.iter().zip(&cells) {
+            let (drawing, text) = cell.split_vertically(self.cell_height);
+            drawing
+                .draw(&Rectangle::new(
+                    [(4, 4), (self.cell_width as i32 - 4, self.cell_height as i32 - 2)],
+                    RGBColor(200, 200, 200).stroke_width(1),
+                ))
+                .map_err(e)?;
+            let view = View::new(window, self.cell_width, self.cell_height, 12.0);
+            for shape in &frame.shapes {
+                draw_shape(&drawing, &view, shape).map_err(e)?;
+            }
+            let style = TextStyle::from(("sans-serif", 14).into_font()).pos(plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Top,
+            ));
+            for (i, line) in frame.caption.iter().enumerate() {
+                text.draw_text(line, &style, (self.cell_width as i32 / 2, 4 + (i as u32 * LINE) as i32))
+                    .map_err(e)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+fn draw_shape<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    view: &View,
+    shape: &Shape,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let px = |p: [f64; 2]| {
+        let (x, y) = view.map(p);
+        (x.round() as i32, y.round() as i32)
+    };
+    match shape {
+        Shape::Poly { points, closed, paint } => {
+            let mut pts: Vec<(i32, i32)> = points.iter().map(|&p| px(p)).collect();
+            if let (Some(fill), true) = (paint.fill, *closed) {
+                area.draw(&Polygon::new(pts.clone(), rgb(fill).filled()))?;
+            }
+            if *closed && let Some(&first) = pts.first() {
+                pts.push(first);
+            }
+            area.draw(&PathElement::new(pts, rgb(paint.stroke).stroke_width(paint.width)))?;
+        }
+        Shape::Circle { center, radius, paint } => {
+            let c = px(*center);
+            let r = ((radius * view.scale).round() as i32).max(2);
+            if let Some(fill) = paint.fill {
+                area.draw(&plotters::element::Circle::new(c, r, rgb(fill).filled()))?;
+            }
+            area.draw(&plotters::element::Circle::new(c, r, rgb(paint.stroke).stroke_width(paint.width)))?;
+        }
+    }
+    Ok(())
+}
+
+fn hex(c: (u8, u8, u8)) -> String {
+    format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2)
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+/// An SVG that shows `frames` one after another in a loop (SMIL discrete visibility
+/// keyframes), each for `frame_seconds`, with its first caption line under the drawing.
+pub fn animated_svg(title: &str, frames: &[Frame], window: [f64; 4], frame_seconds: f64) -> String {
+    let (w, h) = (480u32, 480u32);
+    let view = View::new(window, w, h, 16.0);
+    let total = frame_seconds * frames.len().max(1) as f64;
+    let n = frames.len().max(1) as f64;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{}" viewBox="0 0 {w} {}" font-family="DejaVu Sans, sans-serif">"#,
+        h + 70,
+        h + 70
+    );
+    let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(s, r#"<text x="{}" y="24" font-size="18" text-anchor="middle">{}</text>"#, w / 2, escape(title));
+    for (j, f) in frames.iter().enumerate() {
+        let a = j as f64 / n;
+        let b = (j + 1) as f64 / n;
+        let (values, times) = if frames.len() == 1 {
+            ("visible".to_owned(), "0".to_owned())
+        } else if j == 0 {
+            ("visible;hidden".to_owned(), format!("0;{b:.6}"))
+        } else if j + 1 == frames.len() {
+            ("hidden;visible".to_owned(), format!("0;{a:.6}"))
+        } else {
+            ("hidden;visible;hidden".to_owned(), format!("0;{a:.6};{b:.6}"))
+        };
+        let initial = if j == 0 { "visible" } else { "hidden" };
+        let _ = writeln!(s, r#"<g visibility="{initial}" transform="translate(0,30)">"#);
+        let _ = writeln!(
+            s,
+            r#"<animate attributeName="visibility" values="{values}" keyTimes="{times}" dur="{total:.4}s" calcMode="discrete" repeatCount="indefinite"/>"#
+        );
+        for shape in &f.shapes {
+            match shape {
+                Shape::Poly { points, closed, paint } => {
+                    let pts: Vec<String> = points
+                        .iter()
+                        .map(|&p| {
+                            let (x, y) = view.map(p);
+                            format!("{x:.2},{y:.2}")
+                        })
+                        .collect();
+                    let tag = if *closed { "polygon" } else { "polyline" };
+                    let fill = paint.fill.filter(|_| *closed).map_or("none".to_owned(), hex);
+                    let _ = writeln!(
+                        s,
+                        r#"<{tag} points="{}" fill="{fill}" stroke="{}" stroke-width="{}"/>"#,
+                        pts.join(" "),
+                        hex(paint.stroke),
+                        paint.width
+                    );
+                }
+                Shape::Circle { center, radius, paint } => {
+                    let (x, y) = view.map(*center);
+                    let r = (radius * view.scale).max(2.0);
+                    let fill = paint.fill.map_or("none".to_owned(), hex);
+                    let _ = writeln!(
+                        s,
+                        r#"<circle cx="{x:.2}" cy="{y:.2}" r="{r:.2}" fill="{fill}" stroke="{}" stroke-width="{}"/>"#,
+                        hex(paint.stroke),
+                        paint.width
+                    );
+                }
+            }
+        }
+        for (i, line) in f.caption.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                r#"<text x="{}" y="{}" font-size="14" text-anchor="middle">{}</text>"#,
+                w / 2,
+                h + 8 + 16 * i as u32,
+                escape(line)
+            );
+        }
+        let _ = writeln!(s, "</g>");
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(t: f64, x: f64) -> Frame {
+        let paint = Paint { stroke: (0, 0, 0), width: 2, fill: Some((200, 200, 255)) };
+        Frame {
+            t,
+            shapes: vec![
+                Shape::Poly { points: vec![[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0]], closed: true, paint },
+                Shape::Circle { center: [x + 0.5, 2.0], radius: 0.25, paint },
+            ],
+            caption: vec![format!("t = {t:.3} s"), "open".into()],
+        }
+    }
+
+    #[test]
+    fn bounds_cover_all_frames() {
+        let b = bounds(&[square(0.0, 0.0), square(1.0, 2.0)]);
+        assert!(b[0] < 0.0 && b[2] > 3.0 && b[1] < 0.0 && b[3] > 2.25);
+    }
+
+    #[test]
+    fn view_keeps_aspect_and_flips_y() {
+        let v = View::new([0.0, 0.0, 2.0, 1.0], 200, 200, 0.0);
+        assert_eq!(v.map([0.0, 1.0]), (0.0, 50.0));
+        assert_eq!(v.map([2.0, 0.0]), (200.0, 150.0));
+    }
+
+    #[test]
+    fn animation_has_one_keyframed_group_per_frame() {
+        let frames: Vec<Frame> = (0..5).map(|k| square(k as f64 * 0.1, k as f64 * 0.2)).collect();
+        let svg = animated_svg("test & check", &frames, bounds(&frames), 0.2);
+        assert_eq!(svg.matches("<animate ").count(), 5);
+        assert_eq!(svg.matches("<polygon").count(), 5);
+        assert!(svg.contains(r#"dur="1.0000s""#));
+        assert!(svg.contains("test &amp; check"));
+        assert!(svg.contains(r#"values="hidden;visible;hidden" keyTimes="0;0.200000;0.400000""#));
+    }
+
+    #[test]
+    fn strip_writes_svg_png_and_animation() -> Result<()> {
+        let dir = tempfile::tempdir()?;
+        let frames: Vec<Frame> = (0..3).map(|k| square(k as f64, k as f64 * 0.3)).collect();
+        let strip = Strip {
+            title: "Strip".into(),
+            frames: frames.clone(),
+            columns: 3,
+            cell_width: 160,
+            cell_height: 160,
+            window: None,
+        };
+        let files = strip.write(dir.path(), "strip", &frames, 0.5)?;
+        assert_eq!(files.len(), 3);
+        for f in &files {
+            assert!(std::fs::metadata(f)?.len() > 100, "{}", f.display());
+        }
+        let svg = std::fs::read_to_string(&files[0])?;
+        assert!(svg.contains("t = 2.000 s"));
+        Ok(())
+    }
+}
