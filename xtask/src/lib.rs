@@ -30,4 +30,5 @@ pub mod analysis;
 pub mod frames;
 pub mod grid;
 pub mod plot;
+pub mod report;
 pub mod table;
