@@ -428,7 +428,7 @@ pub fn sample_states(
         return Err(KinematicsError::InvalidOption { name: "count", value: 0.0 });
     }
     for (name, value) in [("q_radius", options.q_radius), ("t_radius", options.t_radius)] {
-        if !(value >= 0.0 && value.is_finite()) {
+        if value < 0.0 || !value.is_finite() {
             return Err(KinematicsError::InvalidOption { name, value });
         }
     }

@@ -7,6 +7,10 @@
 //! terms ŵ_N = ∂g_N/∂t and ŵ_T = ∂g_T/∂t, from which the relative velocities are
 //! γ_N = w_Nᵀ u + ŵ_N and γ_T = w_Tᵀ u + ŵ_T. It provides
 //! * the [`ContactKinematics`] trait that the time-stepper calls and the models implement;
+//! * planar contact pairs in [`planar`]: a point or a circle against a line (floor, guide
+//!   surface, cam face, pole, possibly moving with t), two circles, a rectangle's corner
+//!   against a guide line, each returning a [`ContactGeometry`] with the Jacobian rows, and the
+//!   chain rule from body pose coordinates to q ([`ContactGeometry::chain`]);
 //! * a finite-difference checker ([`check_jacobians`], [`assert_consistent`]) that verifies
 //!   w_N, w_T, ŵ_N, ŵ_T against the gaps, with seeded sample states ([`sample_states`]).
 //!
@@ -25,28 +29,51 @@
 //! | w_N, w_T | `w_n`, `w_t` | force directions (∂g/∂q)ᵀ |
 //! | ŵ_N, ŵ_T | [`ContactPoint::w_n_hat`], [`ContactPoint::w_t_hat`] | rheonomic terms ∂g/∂t |
 //! | γ_N, γ_T | [`relative_velocity`] | relative velocities wᵀu + ŵ |
+//! | p, ∂p/∂q, ∂p/∂t | [`PointMotion`] | a point with its Jacobian and time derivative |
+//! | (x, y, θ) | [`PoseMotion`] | a body frame |
+//! | n, t, s | [`LineMotion::normal`], [`LineMotion::tangent`], [`Side::sign`] | a surface line's normal, tangent, open side |
 //!
 //! # Example
+//! A ball of radius R with q = (y) above the floor, built from [`circle_line`] and checked
+//! against finite differences.
 //! ```
 //! use moreau_kinematics::{ContactKinematics, ContactPoint, KinematicsError};
+//! use moreau_kinematics::{Circle, LineMotion, PointMotion, Side, circle_line};
 //! use moreau_kinematics::{assert_consistent, relative_velocity, sample_states, SampleOptions};
+//! use nalgebra::{Matrix2x1, Point2, Vector2};
 //!
-//! /// A ball of radius R above the floor: q = (y), g_N = y − R, w_N = (1).
 //! struct Ball { radius: f64 }
+//!
+//! impl Ball {
+//!     fn geometry(&self, q: &[f64]) -> Result<moreau_kinematics::ContactGeometry<1>, KinematicsError> {
+//!         // The centre (0, y) moves with q = (y): ∂c/∂q = (0, 1)ᵀ.
+//!         let center = PointMotion {
+//!             position: Point2::new(0.0, q[0]),
+//!             jacobian: Matrix2x1::new(0.0, 1.0),
+//!             time_derivative: Vector2::zeros(),
+//!         };
+//!         let floor = LineMotion::fixed(Point2::origin(), 0.0, Side::Left);
+//!         circle_line(&Circle::non_rotating(center, self.radius), &floor)
+//!     }
+//! }
 //!
 //! impl ContactKinematics for Ball {
 //!     fn num_coordinates(&self) -> usize { 1 }
 //!     fn num_contacts(&self) -> usize { 1 }
 //!     fn normal_gap(&self, _i: usize, q: &[f64], _t: f64) -> f64 { q[0] - self.radius }
 //!     fn contact(&self, _i: usize, q: &[f64], _t: f64, w_n: &mut [f64], w_t: &mut [f64]) -> ContactPoint {
-//!         w_n[0] = 1.0;
-//!         w_t[0] = 0.0;
-//!         ContactPoint { g_n: q[0] - self.radius, ..ContactPoint::default() }
+//!         // The model keeps its inputs finite, so the geometry cannot fail here.
+//!         let geometry = self.geometry(q).expect("finite ball state");
+//!         w_n[0] = geometry.w_n[0];
+//!         w_t[0] = geometry.w_t[0];
+//!         geometry.contact_point()
 //!     }
 //! }
 //!
 //! # fn main() -> Result<(), KinematicsError> {
 //! let ball = Ball { radius: 0.1 };
+//! let geometry = ball.geometry(&[1.0])?;
+//! assert!((geometry.g_n - 0.9).abs() < 1e-15 && geometry.w_n[0] == 1.0);
 //! let samples = sample_states(&[1.0], 0.0, &SampleOptions::default())?;
 //! let report = assert_consistent(&ball, &samples, 1e-6)?;
 //! assert!(report.worst().unwrap().scaled < 1e-9);
@@ -66,12 +93,17 @@
 
 mod check;
 mod error;
+pub mod planar;
 
 pub use check::{
     Component, FdOptions, FdReport, Mismatch, SampleOptions, SplitMix64, assert_consistent,
     check_jacobians, sample_states,
 };
 pub use error::KinematicsError;
+pub use planar::{
+    Circle, ContactGeometry, LineMotion, PointMotion, PoseMotion, ScalarMotion, Side, chain_rule,
+    circle_circle, circle_line, corner_line, point_line, rectangle_corners,
+};
 
 /// Kinematic quantities of one contact at `(q, t)`, besides its force directions.
 ///
