@@ -90,3 +90,74 @@ impl From<ContactLaw> for ContactLawSpec {
         Self { eps_n: law.eps_n, eps_t: law.eps_t, mu: law.mu }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn valid_laws_keep_their_parameters() {
+        let law = ContactLaw::new(0.5, 0.1, 0.3).unwrap();
+        assert_eq!((law.eps_n(), law.eps_t(), law.mu()), (0.5, 0.1, 0.3));
+        assert!(law.is_frictional());
+        let law = ContactLaw::frictionless(0.9).unwrap();
+        assert_eq!((law.eps_n(), law.eps_t(), law.mu()), (0.9, 0.0, 0.0));
+        assert!(!law.is_frictional());
+        // The edges of the ranges are valid.
+        assert!(ContactLaw::new(0.0, 1.0, 0.0).is_ok() && ContactLaw::new(1.0, 0.0, 1e6).is_ok());
+    }
+
+    #[test]
+    fn invalid_parameters_are_rejected_with_context() {
+        assert_eq!(
+            ContactLaw::new(1.1, 0.0, 0.0),
+            Err(SetValuedError::Restitution { name: "eps_n", value: 1.1 })
+        );
+        assert_eq!(
+            ContactLaw::new(0.5, -0.1, 0.0),
+            Err(SetValuedError::Restitution { name: "eps_t", value: -0.1 })
+        );
+        assert_eq!(ContactLaw::new(0.5, 0.0, -0.3), Err(SetValuedError::Friction { value: -0.3 }));
+        assert_eq!(
+            ContactLaw::frictionless(-1e-12),
+            Err(SetValuedError::Restitution { name: "eps_n", value: -1e-12 })
+        );
+        assert!(matches!(
+            ContactLaw::new(f64::NAN, 0.0, 0.0),
+            Err(SetValuedError::Restitution { name: "eps_n", .. })
+        ));
+        assert!(matches!(
+            ContactLaw::new(0.5, f64::NAN, 0.0),
+            Err(SetValuedError::Restitution { name: "eps_t", .. })
+        ));
+        assert!(matches!(
+            ContactLaw::new(0.5, 0.0, f64::NAN),
+            Err(SetValuedError::Friction { .. })
+        ));
+        assert!(matches!(
+            ContactLaw::new(0.5, 0.0, f64::INFINITY),
+            Err(SetValuedError::Friction { .. })
+        ));
+        let message = ContactLaw::new(0.5, 0.0, -0.3).unwrap_err().to_string();
+        assert!(message.contains("-0.3"), "{message}");
+    }
+
+    #[test]
+    fn json_round_trip_and_validation_on_deserialisation() {
+        let law = ContactLaw::new(0.4, 0.2, 0.01).unwrap();
+        let json = serde_json::to_string(&law).unwrap();
+        assert_eq!(json, r#"{"eps_n":0.4,"eps_t":0.2,"mu":0.01}"#);
+        assert_eq!(serde_json::from_str::<ContactLaw>(&json).unwrap(), law);
+        // eps_t and mu default to zero.
+        let law: ContactLaw = serde_json::from_str(r#"{"eps_n":0.9}"#).unwrap();
+        assert_eq!(law, ContactLaw::frictionless(0.9).unwrap());
+        // Deserialisation runs the constructor's checks and rejects unknown fields.
+        let err = serde_json::from_str::<ContactLaw>(r#"{"eps_n":1.5}"#).unwrap_err().to_string();
+        assert!(err.contains("eps_n") && err.contains("1.5"), "{err}");
+        assert!(serde_json::from_str::<ContactLaw>(r#"{"eps_n":0.5,"mu":-1}"#).is_err());
+        assert!(serde_json::from_str::<ContactLaw>(r#"{"eps_n":0.5,"friction":0.3}"#).is_err());
+        assert!(serde_json::from_str::<ContactLaw>(r#"{"mu":0.3}"#).is_err());
+        let spec: ContactLawSpec = law.into();
+        assert_eq!(ContactLaw::try_from(spec).unwrap(), law);
+    }
+}

@@ -1,0 +1,162 @@
+//! Closed convex subsets of the real line: the values of the set-valued maps.
+
+/// A closed convex subset of ℝ: empty, a point, or an interval whose bounds may be ±∞.
+///
+/// Built through [`ValueSet::interval`], an interval always has `lo < hi`; a degenerate interval
+/// is a [`ValueSet::Point`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ValueSet {
+    /// The empty set ∅ (e.g. Upr(x) for x < 0).
+    Empty,
+    /// A single value {v}.
+    Point(f64),
+    /// The interval [lo, hi], with lo = −∞ or hi = +∞ for an unbounded side.
+    Interval {
+        /// Lower bound (may be −∞).
+        lo: f64,
+        /// Upper bound (may be +∞).
+        hi: f64,
+    },
+}
+
+impl ValueSet {
+    /// The set [lo, hi]: a point when lo = hi, empty when lo > hi or a bound is NaN.
+    pub fn interval(lo: f64, hi: f64) -> Self {
+        if lo < hi {
+            Self::Interval { lo, hi }
+        } else if lo == hi && lo.is_finite() {
+            Self::Point(lo)
+        } else {
+            Self::Empty
+        }
+    }
+
+    /// The whole real line (−∞, +∞).
+    pub fn real_line() -> Self {
+        Self::Interval { lo: f64::NEG_INFINITY, hi: f64::INFINITY }
+    }
+
+    /// Whether the set is empty.
+    pub fn is_empty(&self) -> bool {
+        matches!(self, Self::Empty)
+    }
+
+    /// The lower bound, `None` for the empty set.
+    pub fn lower(&self) -> Option<f64> {
+        match *self {
+            Self::Empty => None,
+            Self::Point(v) => Some(v),
+            Self::Interval { lo, .. } => Some(lo),
+        }
+    }
+
+    /// The upper bound, `None` for the empty set.
+    pub fn upper(&self) -> Option<f64> {
+        match *self {
+            Self::Empty => None,
+            Self::Point(v) => Some(v),
+            Self::Interval { hi, .. } => Some(hi),
+        }
+    }
+
+    /// The distance from `y` to the set: zero inside, +∞ for the empty set, NaN for a NaN `y`.
+    pub fn distance(&self, y: f64) -> f64 {
+        match (self.lower(), self.upper()) {
+            (Some(lo), Some(hi)) => {
+                if y.is_nan() {
+                    f64::NAN
+                } else if y < lo {
+                    lo - y
+                } else if y > hi {
+                    y - hi
+                } else {
+                    0.0
+                }
+            }
+            _ => f64::INFINITY,
+        }
+    }
+
+    /// Whether `y` lies in the set within `tol` (distance at most `tol`); false for a NaN `y`.
+    pub fn contains(&self, y: f64, tol: f64) -> bool {
+        self.distance(y) <= tol
+    }
+
+    /// The projection of `y` onto the set (the nearest element), `None` for the empty set.
+    pub fn project(&self, y: f64) -> Option<f64> {
+        match (self.lower(), self.upper()) {
+            (Some(lo), Some(hi)) => Some(y.clamp(lo, hi)),
+            _ => None,
+        }
+    }
+
+    /// The set a·S = {a s : s ∈ S}; 0·S = {0} for a non-empty S, also when S is unbounded.
+    pub fn scale(&self, a: f64) -> Self {
+        match *self {
+            Self::Empty => Self::Empty,
+            _ if a == 0.0 => Self::Point(0.0),
+            Self::Point(v) => Self::Point(a * v),
+            Self::Interval { lo, hi } if a > 0.0 => Self::interval(a * lo, a * hi),
+            Self::Interval { lo, hi } => Self::interval(a * hi, a * lo),
+        }
+    }
+
+    /// The set −S.
+    pub fn negate(&self) -> Self {
+        self.scale(-1.0)
+    }
+
+    /// The Minkowski sum S + R = {s + r : s ∈ S, r ∈ R}.
+    pub fn sum(&self, other: &Self) -> Self {
+        match (self.lower(), self.upper(), other.lower(), other.upper()) {
+            (Some(a), Some(b), Some(c), Some(d)) => Self::interval(a + c, b + d),
+            _ => Self::Empty,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn construction_normalises_degenerate_intervals() {
+        assert_eq!(ValueSet::interval(1.0, 1.0), ValueSet::Point(1.0));
+        assert_eq!(ValueSet::interval(2.0, 1.0), ValueSet::Empty);
+        assert_eq!(ValueSet::interval(f64::NAN, 1.0), ValueSet::Empty);
+        assert_eq!(
+            ValueSet::interval(f64::NEG_INFINITY, 0.0),
+            ValueSet::Interval { lo: f64::NEG_INFINITY, hi: 0.0 }
+        );
+        assert_eq!(ValueSet::interval(f64::INFINITY, f64::INFINITY), ValueSet::Empty);
+    }
+
+    #[test]
+    fn distance_contains_and_projection() {
+        let s = ValueSet::interval(-1.0, 2.0);
+        assert_eq!((s.distance(-3.0), s.distance(0.5), s.distance(2.5)), (2.0, 0.0, 0.5));
+        assert!(s.contains(2.1, 0.1 + 1e-15) && !s.contains(2.1, 0.09));
+        assert!(!s.contains(f64::NAN, 1.0));
+        assert_eq!(ValueSet::Empty.distance(0.0), f64::INFINITY);
+        assert!(!ValueSet::Empty.contains(0.0, 1e300));
+        assert_eq!(ValueSet::Point(3.0).distance(1.0), 2.0);
+        assert_eq!(s.project(5.0), Some(2.0));
+        assert_eq!(ValueSet::interval(f64::NEG_INFINITY, 0.0).project(-7.0), Some(-7.0));
+        assert_eq!(ValueSet::Empty.project(1.0), None);
+    }
+
+    #[test]
+    fn scaling_and_minkowski_sum() {
+        let ray = ValueSet::interval(f64::NEG_INFINITY, 0.0);
+        assert_eq!(ray.scale(3.0), ray);
+        assert_eq!(ray.negate(), ValueSet::interval(0.0, f64::INFINITY));
+        assert_eq!(ray.scale(0.0), ValueSet::Point(0.0));
+        assert_eq!(ValueSet::interval(-1.0, 2.0).scale(-2.0), ValueSet::interval(-4.0, 2.0));
+        assert_eq!(
+            ValueSet::Point(1.5).sum(&ValueSet::interval(-1.0, 1.0)),
+            ValueSet::interval(0.5, 2.5)
+        );
+        assert_eq!(ray.sum(&ray.negate()), ValueSet::real_line());
+        assert_eq!(ray.sum(&ValueSet::Empty), ValueSet::Empty);
+    }
+}
