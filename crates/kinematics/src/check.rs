@@ -221,7 +221,9 @@ fn finite(
 /// # Errors
 /// [`KinematicsError::NoSamples`] for an empty `samples`, [`KinematicsError::DimensionMismatch`]
 /// for a `q` whose length is not `num_coordinates()`, [`KinematicsError::NonFinite`] for a
-/// non-finite input or a non-finite value returned by the kinematics, and
+/// non-finite input or a non-finite value returned by the kinematics (including entries of
+/// w_N, w_T that `contact` leaves unwritten: the buffers are filled with NaN before each call),
+/// and
 /// [`KinematicsError::InvalidOption`] for a non-positive step or scale.
 pub fn check_jacobians<K: ContactKinematics + ?Sized>(
     k: &K,
@@ -265,6 +267,9 @@ pub fn check_jacobians<K: ContactKinematics + ?Sized>(
                 }
             };
             probe.evaluations += 1;
+            // NaN sentinels expose entries of w_N, w_T that `contact` leaves unwritten.
+            w_n.fill(f64::NAN);
+            w_t.fill(f64::NAN);
             let cp = k.contact(i, q, t, &mut w_n, &mut w_t);
             for (what, v) in
                 [("g_N", cp.g_n), ("g_T", cp.g_t), ("ŵ_N", cp.w_n_hat), ("ŵ_T", cp.w_t_hat)]
@@ -530,6 +535,55 @@ mod tests {
             }
             other => panic!("unexpected error {other:?}"),
         }
+    }
+
+    /// Writes w_N but forgets w_T.
+    struct Forgetful;
+
+    impl ContactKinematics for Forgetful {
+        fn num_coordinates(&self) -> usize {
+            1
+        }
+        fn num_contacts(&self) -> usize {
+            2
+        }
+        fn normal_gap(&self, _i: usize, q: &[f64], _t: f64) -> f64 {
+            q[0]
+        }
+        fn contact(
+            &self,
+            i: usize,
+            q: &[f64],
+            _t: f64,
+            w_n: &mut [f64],
+            w_t: &mut [f64],
+        ) -> ContactPoint {
+            w_n[0] = 1.0;
+            if i == 0 {
+                w_t[0] = 0.0;
+            }
+            ContactPoint { g_n: q[0], ..ContactPoint::default() }
+        }
+    }
+
+    #[test]
+    fn checker_types_are_send_and_sync() {
+        fn assert_send_sync<T: Send + Sync>() {}
+        assert_send_sync::<FdOptions>();
+        assert_send_sync::<FdReport>();
+        assert_send_sync::<KinematicsError>();
+        assert_send_sync::<crate::ContactGeometry<3>>();
+        assert_send_sync::<crate::LineMotion<3>>();
+    }
+
+    #[test]
+    fn unwritten_force_directions_are_reported() {
+        let err =
+            check_jacobians(&Forgetful, &[(vec![0.5], 0.0)], FdOptions::default()).unwrap_err();
+        assert_eq!(
+            err,
+            KinematicsError::NonFinite { what: "w_T", contact: Some(1), sample: Some(0) }
+        );
     }
 
     #[test]

@@ -134,7 +134,8 @@ pub trait ContactKinematics {
     /// The normal gap g_N of contact `i` at `(q, t)` alone, for the active-set test.
     fn normal_gap(&self, i: usize, q: &[f64], t: f64) -> f64;
     /// Full kinematics of contact `i` at `(q, t)`: writes `w_N` into `w_n` and `w_T` into
-    /// `w_t` (both of length `f`) and returns g_N, g_T, ŵ_N and ŵ_T.
+    /// `w_t` (both of length `f`; every entry must be written, the buffers are reused) and
+    /// returns g_N, g_T, ŵ_N and ŵ_T.
     fn contact(
         &self,
         i: usize,

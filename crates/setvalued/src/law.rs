@@ -96,6 +96,14 @@ mod tests {
     use super::*;
 
     #[test]
+    fn law_types_are_send_and_sync() {
+        fn assert_send_sync<T: Send + Sync>() {}
+        assert_send_sync::<ContactLaw>();
+        assert_send_sync::<ContactLawSpec>();
+        assert_send_sync::<SetValuedError>();
+    }
+
+    #[test]
     fn valid_laws_keep_their_parameters() {
         let law = ContactLaw::new(0.5, 0.1, 0.3).unwrap();
         assert_eq!((law.eps_n(), law.eps_t(), law.mu()), (0.5, 0.1, 0.3));
