@@ -1,0 +1,244 @@
+//! Small dense LU factorisations on a reusable workspace.
+//!
+//! The solvers factor principal submatrices `M_αα` (Lemke's final basis, every
+//! complementary basis of the enumeration). Below [`FAER_MIN`] the factorisation is a
+//! plain partial-pivoting loop over a preallocated column-major buffer, because faer's
+//! calls cost more than the whole factorisation at these sizes; from [`FAER_MIN`] on,
+//! faer's allocation-free `lu_in_place` and `solve_in_place` run on the same buffer.
+#![allow(non_snake_case)]
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::lu::partial_pivoting::{factor, solve};
+use faer::perm::PermRef;
+use faer::{MatMut, MatRef, Par};
+
+/// Size from which faer's blocked LU is used instead of the plain loop.
+pub(crate) const FAER_MIN: usize = 32;
+
+/// A pivot `|u_kk|` at or below this fraction of the largest magnitude in the original
+/// column k marks the matrix as numerically singular.
+pub(crate) const SINGULAR_RELATIVE: f64 = 1e-13;
+
+/// Reusable LU workspace for square systems of size up to the largest size seen.
+#[derive(Default)]
+pub(crate) struct Lu {
+    a: Vec<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    colmax: Vec<f64>,
+    k: usize,
+    stack: Option<MemBuffer>,
+    stack_for: usize,
+}
+
+impl Lu {
+    /// Fills the k x k matrix with `entry(i, j)`, factors it, and returns `false` when it
+    /// is numerically singular (see [`SINGULAR_RELATIVE`]) or has non-finite entries.
+    pub(crate) fn factor_with(&mut self, k: usize, mut entry: impl FnMut(usize, usize) -> f64) -> bool {
+        self.k = k;
+        if self.a.len() < k * k {
+            self.a.resize(k * k, 0.0);
+        }
+        if self.perm.len() < k {
+            self.perm.resize(k, 0);
+            self.perm_inv.resize(k, 0);
+            self.colmax.resize(k, 0.0);
+        }
+        if k == 0 {
+            return true;
+        }
+        for j in 0..k {
+            let mut cmax = 0.0f64;
+            let col = &mut self.a[j * k..(j + 1) * k];
+            for (i, slot) in col.iter_mut().enumerate() {
+                let v = entry(i, j);
+                *slot = v;
+                cmax = cmax.max(v.abs());
+            }
+            if !cmax.is_finite() || cmax == 0.0 {
+                return false;
+            }
+            self.colmax[j] = cmax;
+        }
+        if k >= FAER_MIN { self.factor_faer() } else { self.factor_plain() }
+    }
+
+    fn factor_plain(&mut self) -> bool {
+        let k = self.k;
+        let a = &mut self.a[..k * k];
+        for (i, p) in self.perm[..k].iter_mut().enumerate() {
+            *p = i;
+        }
+        for c in 0..k {
+            // Partial pivoting: the largest magnitude in column c at or below the diagonal.
+            let mut p = c;
+            let mut best = a[c * k + c].abs();
+            for i in c + 1..k {
+                let v = a[c * k + i].abs();
+                if v > best {
+                    best = v;
+                    p = i;
+                }
+            }
+            if !(best > SINGULAR_RELATIVE * self.colmax[c]) {
+                return false;
+            }
+            if p != c {
+                for j in 0..k {
+                    a.swap(j * k + c, j * k + p);
+                }
+                self.perm.swap(c, p);
+            }
+            let inv = 1.0 / a[c * k + c];
+            for i in c + 1..k {
+                a[c * k + i] *= inv;
+            }
+            let (left, right) = a.split_at_mut((c + 1) * k);
+            let lcol = &left[c * k + c + 1..c * k + k];
+            for col in right.chunks_exact_mut(k) {
+                let f = col[c];
+                if f != 0.0 {
+                    for (x, l) in col[c + 1..].iter_mut().zip(lcol) {
+                        *x -= l * f;
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    fn scratch(k: usize) -> StackReq {
+        factor::lu_in_place_scratch::<usize, f64>(k, k, Par::Seq, Default::default())
+            .or(solve::solve_in_place_scratch::<usize, f64>(k, 1, Par::Seq))
+    }
+
+    fn factor_faer(&mut self) -> bool {
+        let k = self.k;
+        if self.stack.is_none() || self.stack_for < k {
+            self.stack = Some(MemBuffer::new(Self::scratch(k)));
+            self.stack_for = k;
+        }
+        let Some(buf) = self.stack.as_mut() else { return false };
+        let mat = MatMut::from_column_major_slice_mut(&mut self.a[..k * k], k, k);
+        factor::lu_in_place(
+            mat,
+            &mut self.perm[..k],
+            &mut self.perm_inv[..k],
+            Par::Seq,
+            MemStack::new(buf),
+            Default::default(),
+        );
+        (0..k).all(|c| {
+            let u = self.a[c * k + c].abs();
+            u > SINGULAR_RELATIVE * self.colmax[c]
+        })
+    }
+
+    /// Solves `A x = rhs` in place with the last successful factorisation.
+    pub(crate) fn solve(&mut self, rhs: &mut [f64]) {
+        let k = self.k;
+        if k == 0 {
+            return;
+        }
+        let rhs = &mut rhs[..k];
+        if k >= FAER_MIN {
+            let Some(buf) = self.stack.as_mut() else { return };
+            let lu = MatRef::from_column_major_slice(&self.a[..k * k], k, k);
+            let perm = PermRef::new_checked(&self.perm[..k], &self.perm_inv[..k], k);
+            let rhs = MatMut::from_column_major_slice_mut(rhs, k, 1);
+            solve::solve_in_place(lu, lu, perm, rhs, Par::Seq, MemStack::new(buf));
+            return;
+        }
+        let a = &self.a[..k * k];
+        // The plain factorisation swapped whole rows, so row i of the factors is row
+        // perm[i] of A, and the right-hand side must be gathered the same way.
+        permute_in_place(rhs, &self.perm[..k], &mut self.perm_inv[..k]);
+        for c in 0..k {
+            let x = rhs[c];
+            if x != 0.0 {
+                for i in c + 1..k {
+                    rhs[i] -= a[c * k + i] * x;
+                }
+            }
+        }
+        for c in (0..k).rev() {
+            let x = rhs[c] / a[c * k + c];
+            rhs[c] = x;
+            if x != 0.0 {
+                for i in 0..c {
+                    rhs[i] -= a[c * k + i] * x;
+                }
+            }
+        }
+    }
+}
+
+/// Reorders `v` so that `v_new[i] = v_old[perm[i]]`, using `mark` as scratch.
+fn permute_in_place(v: &mut [f64], perm: &[usize], mark: &mut [usize]) {
+    let k = v.len();
+    for m in mark.iter_mut() {
+        *m = 0;
+    }
+    for start in 0..k {
+        if mark[start] != 0 || perm[start] == start {
+            continue;
+        }
+        // Follow the cycle start -> perm[start] -> ... moving values forward.
+        let first = v[start];
+        let mut i = start;
+        loop {
+            mark[i] = 1;
+            let src = perm[i];
+            if src == start {
+                v[i] = first;
+                break;
+            }
+            v[i] = v[src];
+            i = src;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check(k: usize, seed: u64) {
+        let mut s = seed;
+        let mut next = || {
+            s = s.wrapping_add(0x9E3779B97F4A7C15);
+            let mut z = s;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let a: Vec<f64> = (0..k * k).map(|_| next()).collect();
+        let x: Vec<f64> = (0..k).map(|_| next()).collect();
+        let mut b = vec![0.0; k];
+        for i in 0..k {
+            for j in 0..k {
+                b[i] += a[j * k + i] * x[j];
+            }
+        }
+        let mut lu = Lu::default();
+        assert!(lu.factor_with(k, |i, j| a[j * k + i]));
+        lu.solve(&mut b);
+        for i in 0..k {
+            assert!((b[i] - x[i]).abs() < 1e-9, "k={k} i={i}: {} vs {}", b[i], x[i]);
+        }
+    }
+
+    #[test]
+    fn plain_and_faer_paths_solve_random_systems() {
+        for k in [1, 2, 3, 5, 9, 17, 31, 32, 40, 64] {
+            check(k, k as u64 * 7 + 1);
+        }
+    }
+
+    #[test]
+    fn singular_matrix_is_reported() {
+        let mut lu = Lu::default();
+        assert!(!lu.factor_with(2, |_, _| 1.0));
+        assert!(!lu.factor_with(40, |i, j| (i + j) as f64));
+    }
+}

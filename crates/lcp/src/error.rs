@@ -1,0 +1,93 @@
+//! The error type of this crate.
+
+/// Errors of `moreau-lcp`: invalid input data, invalid options, unreadable files.
+///
+/// A solver that runs but does not find a solution does **not** return an error: it
+/// returns a [`Solution`](crate::Solution) whose [`Status`](crate::Status) says why.
+/// Errors are reserved for input that no solver can accept.
+#[non_exhaustive]
+#[derive(Debug, thiserror::Error)]
+pub enum LcpError {
+    /// The matrix M is not square.
+    #[error("the LCP matrix M must be square, got {rows} x {cols}")]
+    NotSquare {
+        /// Number of rows of M.
+        rows: usize,
+        /// Number of columns of M.
+        cols: usize,
+    },
+    /// Two sizes that must agree do not.
+    #[error("dimension mismatch for {what}: expected {expected}, found {found}")]
+    DimensionMismatch {
+        /// What was measured (for example `"q"` or `"covering vector d"`).
+        what: &'static str,
+        /// The size implied by M.
+        expected: usize,
+        /// The size given.
+        found: usize,
+    },
+    /// An entry is NaN or infinite.
+    #[error("non-finite entry in {what} at index {index:?}")]
+    NonFinite {
+        /// Which input (`"M"`, `"q"`, `"warm start"`, ...).
+        what: &'static str,
+        /// `(row, column)` of the entry; for vectors the column is 0.
+        index: (usize, usize),
+    },
+    /// The problem has size n = 0.
+    #[error("the LCP is empty (n = 0)")]
+    Empty,
+    /// A solver option is out of its valid range.
+    #[error("invalid option {name}: {reason}")]
+    InvalidOption {
+        /// Name of the option field.
+        name: &'static str,
+        /// Why the value was rejected.
+        reason: String,
+    },
+    /// A text file could not be parsed.
+    #[error("parse error on line {line}: {message}")]
+    Parse {
+        /// 1-based line number where the problem was found (0 if at end of input).
+        line: usize,
+        /// What went wrong.
+        message: String,
+    },
+    /// A Siconos file uses a matrix storage other than dense (type 0).
+    #[error("unsupported Siconos matrix storage type {storage} (only 0 = dense is supported)")]
+    UnsupportedStorage {
+        /// The storage type number read from the file (1 = sparse block, 2 = sparse).
+        storage: i64,
+    },
+    /// The problem is larger than a size guard allows.
+    #[error("problem size n = {n} exceeds the limit {max} of this solver")]
+    TooLarge {
+        /// Size of the problem.
+        n: usize,
+        /// Largest size accepted.
+        max: usize,
+    },
+    /// The warm start vector has the wrong length.
+    #[error("warm start has length {found}, expected {expected}")]
+    WarmStartLength {
+        /// n.
+        expected: usize,
+        /// Length given.
+        found: usize,
+    },
+    /// Projected Gauss-Seidel needs every diagonal entry M_ii > 0.
+    ///
+    /// The PGS update `z_i <- max(0, z_i - ω (M z + q)_i / M_ii)` divides by M_ii; when
+    /// M_ii <= 0 the one-dimensional subproblem in z_i is unbounded or has no unique
+    /// minimiser, so the method is not defined. Use Lemke's method instead.
+    #[error("projected Gauss-Seidel needs M_ii > 0, but M[{index}][{index}] = {value}")]
+    NonPositiveDiagonal {
+        /// Row (and column) of the offending diagonal entry.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// Reading or writing a file failed.
+    #[error("i/o error: {0}")]
+    Io(#[from] std::io::Error),
+}

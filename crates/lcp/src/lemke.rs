@@ -1,0 +1,491 @@
+//! Lemke's complementary pivoting method with lexicographic degeneracy resolution.
+#![allow(non_snake_case)]
+
+use serde::{Deserialize, Serialize};
+
+use crate::dense::Lu;
+use crate::solution::{check_warm_start, finish_row_major};
+use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
+
+const NONE: usize = usize::MAX;
+
+/// The covering vector d > 0 of Lemke's augmented problem `w = q + M z + d z_0`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum Covering {
+    /// d = (1, ..., 1).
+    #[default]
+    Ones,
+    /// A given vector; every entry must be finite and > 0, and its length n.
+    Custom(Vec<f64>),
+}
+
+/// Options of [`Lemke`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct LemkeOptions {
+    /// Largest number of pivots before giving up with [`Status::IterationLimit`].
+    /// Default 131072 = 2^17, enough for Murty's n = 16 problem (2^16 - 1 pivots);
+    /// Murty's problem of size n needs 2^n - 1.
+    pub max_pivots: usize,
+    /// Acceptance tolerance on [`Residual::relative`] of the final z (dimensionless).
+    /// Default 1e-9, the robust recipe of the step LCP.
+    pub tolerance: f64,
+    /// A tableau entry takes part in the ratio test only when its magnitude exceeds this
+    /// fraction of the largest magnitude in the entering column (dimensionless).
+    /// Default 1e-12.
+    pub pivot_tolerance: f64,
+    /// Two ratios count as tied (and the lexicographic rule decides) when they differ by
+    /// less than this fraction of the largest basic value (dimensionless). Default 1e-12.
+    pub tie_tolerance: f64,
+    /// The covering vector d. Default [`Covering::Ones`].
+    pub covering: Covering,
+}
+
+impl Default for LemkeOptions {
+    fn default() -> Self {
+        LemkeOptions {
+            max_pivots: 1 << 17,
+            tolerance: 1e-9,
+            pivot_tolerance: 1e-12,
+            tie_tolerance: 1e-12,
+            covering: Covering::Ones,
+        }
+    }
+}
+
+impl LemkeOptions {
+    pub(crate) fn validate(&self) -> Result<(), LcpError> {
+        let bad = |name: &'static str, reason: &str| {
+            Err(LcpError::InvalidOption { name, reason: reason.to_string() })
+        };
+        if self.max_pivots == 0 {
+            return bad("max_pivots", "must be at least 1");
+        }
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return bad("tolerance", "must be finite and > 0");
+        }
+        if !(self.pivot_tolerance.is_finite() && self.pivot_tolerance > 0.0 && self.pivot_tolerance < 1.0)
+        {
+            return bad("pivot_tolerance", "must be in (0, 1)");
+        }
+        if !(self.tie_tolerance.is_finite() && self.tie_tolerance >= 0.0 && self.tie_tolerance < 1.0) {
+            return bad("tie_tolerance", "must be in [0, 1)");
+        }
+        if let Covering::Custom(d) = &self.covering {
+            if d.is_empty() {
+                return bad("covering", "custom covering vector is empty");
+            }
+            if d.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+                return bad("covering", "every entry must be finite and > 0");
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Lemke's complementary pivoting method (Lemke 1965; Cottle, Pang & Stone 1992, §4.4).
+///
+/// The augmented problem `w = q + M z + d z_0`, `0 <= z ⊥ w >= 0`, `z_0 >= 0` starts
+/// from the basis {w} with `z_0 = max_i(-q_i / d_i)`, which makes every basic variable
+/// non-negative. Each step brings in the complement of the variable that just left, and
+/// the ratio test keeps the basic variables non-negative. The method ends when z_0 leaves
+/// (a complementary basis: a solution), on a secondary ray (the entering column has no
+/// blocking entry), or at the pivot limit.
+///
+/// **Degeneracy.** The ratio test is lexicographic: among the tied rows it takes the one
+/// whose row of `[q̄ | B^{-1}]` divided by the pivot entry is lexicographically smallest.
+/// These rows stay lexicographically positive and distinct, so no basis repeats and the
+/// method cannot cycle, whatever the zeros in q and ties in the ratios. When z_0 is among
+/// the tied rows it leaves at once.
+///
+/// **Accuracy.** After a complementary basis is reached, the basic part is re-solved
+/// directly, `M_αα z_α = -q_α` with an LU factorisation (α = basic z), w is recomputed as
+/// `M z + q`, and the result is accepted (`Status::Solved`) only when
+/// [`Residual::relative`] `<= tolerance`; otherwise the tableau values are tried, and
+/// failing both the status is [`Status::NumericalFailure`].
+///
+/// **Cost.** A condensed n x (n + 2) tableau (rows: basic variables, columns: the n + 1
+/// non-basic variables and q̄) is pivoted by plain loops over a preallocated buffer:
+/// about n (n + 2) multiply-adds per pivot. Warm starts are checked and ignored.
+///
+/// **Secondary ray.** For copositive-plus M (for example positive semidefinite) a
+/// secondary ray proves that the LCP has no solution (Cottle, Pang & Stone 1992,
+/// Thm 4.4.13); the status is then [`Status::RayTermination`].
+///
+/// # References
+/// - C. E. Lemke, Bimatrix equilibrium points and mathematical programming, Management
+///   Science 11 (1965) 681-689.
+/// - R. W. Cottle, J.-S. Pang, R. E. Stone, The Linear Complementarity Problem, Academic
+///   Press, 1992.
+pub struct Lemke {
+    options: LemkeOptions,
+    ws: Workspace,
+}
+
+#[derive(Default)]
+struct Workspace {
+    n: usize,
+    m_rows: Vec<f64>,
+    q: Vec<f64>,
+    d: Vec<f64>,
+    tab: Vec<f64>,
+    basic: Vec<usize>,
+    nonbasic: Vec<usize>,
+    row_of: Vec<usize>,
+    col_of: Vec<usize>,
+    ties: Vec<usize>,
+    alpha: Vec<usize>,
+    rhs: Vec<f64>,
+    z_alt: Vec<f64>,
+    w_alt: Vec<f64>,
+    lu: Lu,
+}
+
+impl Default for Lemke {
+    fn default() -> Self {
+        Lemke { options: LemkeOptions::default(), ws: Workspace::default() }
+    }
+}
+
+/// How the pivoting phase ended.
+enum End {
+    Complementary,
+    Ray,
+    Limit,
+}
+
+impl Lemke {
+    /// A solver with the given options.
+    ///
+    /// # Errors
+    /// [`LcpError::InvalidOption`] for out-of-range options.
+    pub fn new(options: LemkeOptions) -> Result<Lemke, LcpError> {
+        options.validate()?;
+        Ok(Lemke { options, ws: Workspace::default() })
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &LemkeOptions {
+        &self.options
+    }
+
+    /// Solves with covering vector `d` (or the options' covering when `None`).
+    pub(crate) fn solve_with(
+        &mut self,
+        lcp: LcpRef<'_>,
+        d: Option<&[f64]>,
+        out: &mut Solution,
+    ) -> Result<(), LcpError> {
+        let n = lcp.n();
+        let d = match d {
+            Some(d) => Some(d),
+            None => match &self.options.covering {
+                Covering::Ones => None,
+                Covering::Custom(d) => Some(d.as_slice()),
+            },
+        };
+        if let Some(d) = d {
+            if d.len() != n {
+                return Err(LcpError::DimensionMismatch {
+                    what: "covering vector d",
+                    expected: n,
+                    found: d.len(),
+                });
+            }
+            if d.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+                return Err(LcpError::InvalidOption {
+                    name: "covering",
+                    reason: "every entry must be finite and > 0".to_string(),
+                });
+            }
+        }
+        out.reset(n, Method::Lemke);
+        let ws = &mut self.ws;
+        ws.prepare(n);
+        lcp.copy_m_row_major(&mut ws.m_rows);
+        lcp.copy_q(&mut ws.q);
+        match d {
+            Some(d) => ws.d.copy_from_slice(d),
+            None => ws.d.fill(1.0),
+        }
+        if ws.q.iter().all(|&v| v >= 0.0) {
+            out.residual = finish_row_major(&ws.m_rows, n, &ws.q, &out.z, &mut out.w);
+            out.status = status_for(out.residual, self.options.tolerance, Status::NumericalFailure);
+            return Ok(());
+        }
+        ws.init_tableau();
+        let (end, pivots) = ws.pivot_loop(&self.options);
+        out.iterations = pivots;
+        let tol = self.options.tolerance;
+        match end {
+            End::Complementary => {
+                if ws.resolve_basis(out, tol) {
+                    return Ok(());
+                }
+                ws.tableau_candidate(out, tol, Status::NumericalFailure);
+            }
+            End::Ray => ws.tableau_candidate(out, tol, Status::RayTermination),
+            End::Limit => ws.tableau_candidate(out, tol, Status::IterationLimit),
+        }
+        Ok(())
+    }
+}
+
+fn status_for(r: Residual, tol: f64, otherwise: Status) -> Status {
+    if r.relative <= tol { Status::Solved } else { otherwise }
+}
+
+impl Workspace {
+    fn prepare(&mut self, n: usize) {
+        self.n = n;
+        self.m_rows.resize(n * n, 0.0);
+        self.q.resize(n, 0.0);
+        self.d.resize(n, 1.0);
+        self.tab.resize(n * (n + 2), 0.0);
+        self.basic.resize(n, NONE);
+        self.nonbasic.resize(n + 1, NONE);
+        self.row_of.resize(2 * n + 1, NONE);
+        self.col_of.resize(2 * n + 1, NONE);
+        self.rhs.resize(n, 0.0);
+        self.z_alt.resize(n, 0.0);
+        self.w_alt.resize(n, 0.0);
+        if self.ties.capacity() < n {
+            self.ties.reserve(n);
+        }
+        if self.alpha.capacity() < n {
+            self.alpha.reserve(n);
+        }
+    }
+
+    /// Tableau `x_B = q̄ + T x_N` for the basis {w}: `T = [M | d]`, `q̄ = q`.
+    /// Variables: `w_i = i`, `z_i = n + i`, `z_0 = 2 n`.
+    fn init_tableau(&mut self) {
+        let n = self.n;
+        let width = n + 2;
+        for i in 0..n {
+            let row = &mut self.tab[i * width..(i + 1) * width];
+            row[..n].copy_from_slice(&self.m_rows[i * n..(i + 1) * n]);
+            row[n] = self.d[i];
+            row[n + 1] = self.q[i];
+            self.basic[i] = i;
+            self.row_of[i] = i;
+            self.col_of[i] = NONE;
+        }
+        for j in 0..n {
+            self.nonbasic[j] = n + j;
+            self.col_of[n + j] = j;
+            self.row_of[n + j] = NONE;
+        }
+        self.nonbasic[n] = 2 * n;
+        self.col_of[2 * n] = n;
+        self.row_of[2 * n] = NONE;
+    }
+
+    fn pivot_loop(&mut self, opts: &LemkeOptions) -> (End, usize) {
+        let n = self.n;
+        let z0 = 2 * n;
+        // First pivot: z_0 enters and the row with the most negative q_i / d_i leaves.
+        let Some(r) = self.select_row(n, true, opts) else {
+            return (End::Ray, 0);
+        };
+        let mut leaving = self.pivot(r, n);
+        let mut pivots = 1;
+        loop {
+            if leaving == z0 {
+                return (End::Complementary, pivots);
+            }
+            if pivots >= opts.max_pivots {
+                return (End::Limit, pivots);
+            }
+            let entering = if leaving < n { leaving + n } else { leaving - n };
+            let s = self.col_of[entering];
+            let Some(r) = self.select_row(s, false, opts) else {
+                return (End::Ray, pivots);
+            };
+            leaving = self.pivot(r, s);
+            pivots += 1;
+        }
+    }
+
+    /// Entry `j` of row `i` of `B^{-1}`, read from the condensed tableau: the column of
+    /// a non-basic `w_j` holds `-B^{-1} e_j`, and a basic `w_j` in row k has
+    /// `B^{-1} e_j = e_k`.
+    #[inline]
+    fn binv(&self, i: usize, j: usize) -> f64 {
+        let r = self.row_of[j];
+        if r != NONE {
+            if r == i { 1.0 } else { 0.0 }
+        } else {
+            -self.tab[i * (self.n + 2) + self.col_of[j]]
+        }
+    }
+
+    /// The lexicographic ratio test for entering column `s`. In the first step
+    /// (`initial`), every row takes part with `a_i = d_i`; afterwards the rows with
+    /// `T_is < 0` take part with `a_i = -T_is`.
+    fn select_row(&mut self, s: usize, initial: bool, opts: &LemkeOptions) -> Option<usize> {
+        let n = self.n;
+        let width = n + 2;
+        let a_of = |tab: &[f64], i: usize| {
+            let t = tab[i * width + s];
+            if initial { t } else { -t }
+        };
+        let mut colmax = 0.0f64;
+        let mut cmax = 0.0f64;
+        for i in 0..n {
+            colmax = colmax.max(self.tab[i * width + s].abs());
+            cmax = cmax.max(self.tab[i * width + n + 1].abs());
+        }
+        let ptol = opts.pivot_tolerance * colmax;
+        let mut best = NONE;
+        let mut theta = f64::INFINITY;
+        for i in 0..n {
+            let a = a_of(&self.tab, i);
+            if a > ptol {
+                let ratio = self.tab[i * width + n + 1] / a;
+                if ratio < theta {
+                    theta = ratio;
+                    best = i;
+                }
+            }
+        }
+        if best == NONE {
+            return None;
+        }
+        // Rows whose ratio ties with the minimum within the tie tolerance.
+        let eps = opts.tie_tolerance * cmax.max(f64::MIN_POSITIVE);
+        self.ties.clear();
+        for i in 0..n {
+            let a = a_of(&self.tab, i);
+            if a > ptol && self.tab[i * width + n + 1] - theta * a <= eps {
+                self.ties.push(i);
+            }
+        }
+        if self.ties.len() <= 1 {
+            return Some(best);
+        }
+        if !initial {
+            let z0 = 2 * n;
+            if let Some(&r) = self.ties.iter().find(|&&i| self.basic[i] == z0) {
+                return Some(r);
+            }
+        }
+        let mut pick = self.ties[0];
+        for t in 1..self.ties.len() {
+            let i = self.ties[t];
+            if self.lex_less(i, a_of(&self.tab, i), pick, a_of(&self.tab, pick)) {
+                pick = i;
+            }
+        }
+        Some(pick)
+    }
+
+    /// `true` when row i of `B^{-1}` divided by `ai` is lexicographically smaller than
+    /// row k divided by `ak`.
+    fn lex_less(&self, i: usize, ai: f64, k: usize, ak: f64) -> bool {
+        for j in 0..self.n {
+            let x = self.binv(i, j) / ai;
+            let y = self.binv(k, j) / ak;
+            if (x - y).abs() <= 1e-9 * x.abs().max(y.abs()) {
+                continue;
+            }
+            return x < y;
+        }
+        false
+    }
+
+    /// Exchanges the basic variable of row r with the non-basic variable of column s and
+    /// returns the variable that left the basis.
+    fn pivot(&mut self, r: usize, s: usize) -> usize {
+        let n = self.n;
+        let width = n + 2;
+        let (before, rest) = self.tab[..n * width].split_at_mut(r * width);
+        let (row_r, after) = rest.split_at_mut(width);
+        let inv = 1.0 / row_r[s];
+        for v in row_r.iter_mut() {
+            *v *= -inv;
+        }
+        row_r[s] = inv;
+        let row_r: &[f64] = row_r;
+        for row in before.chunks_exact_mut(width).chain(after.chunks_exact_mut(width)) {
+            let f = row[s];
+            if f != 0.0 {
+                row[s] = 0.0;
+                for (x, y) in row.iter_mut().zip(row_r) {
+                    *x += f * y;
+                }
+            }
+        }
+        let leaving = self.basic[r];
+        let entering = self.nonbasic[s];
+        self.basic[r] = entering;
+        self.row_of[entering] = r;
+        self.col_of[entering] = NONE;
+        self.nonbasic[s] = leaving;
+        self.col_of[leaving] = s;
+        self.row_of[leaving] = NONE;
+        leaving
+    }
+
+    /// Re-solves the complementary basis directly and accepts it if its residual passes.
+    fn resolve_basis(&mut self, out: &mut Solution, tol: f64) -> bool {
+        let n = self.n;
+        self.alpha.clear();
+        for i in 0..n {
+            if self.row_of[n + i] != NONE {
+                self.alpha.push(i);
+            }
+        }
+        let k = self.alpha.len();
+        let (m, alpha) = (&self.m_rows, &self.alpha);
+        if !self.lu.factor_with(k, |i, j| m[alpha[i] * n + alpha[j]]) {
+            return false;
+        }
+        for (t, &i) in self.alpha.iter().enumerate() {
+            self.rhs[t] = -self.q[i];
+        }
+        self.lu.solve(&mut self.rhs);
+        out.z.fill(0.0);
+        for (t, &i) in self.alpha.iter().enumerate() {
+            out.z[i] = self.rhs[t].max(0.0);
+        }
+        out.residual = finish_row_major(&self.m_rows, n, &self.q, &out.z, &mut out.w);
+        out.method = Method::Lemke;
+        if out.residual.relative <= tol {
+            out.status = Status::Solved;
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Uses the basic values of the tableau as z (clamped at 0); keeps the better of it and
+    /// any candidate already in `out`.
+    fn tableau_candidate(&mut self, out: &mut Solution, tol: f64, otherwise: Status) {
+        let n = self.n;
+        let width = n + 2;
+        for i in 0..n {
+            let r = self.row_of[n + i];
+            self.z_alt[i] = if r != NONE { self.tab[r * width + n + 1].max(0.0) } else { 0.0 };
+        }
+        let res = finish_row_major(&self.m_rows, n, &self.q, &self.z_alt, &mut self.w_alt);
+        if !(out.residual.relative <= res.relative) {
+            std::mem::swap(&mut out.z, &mut self.z_alt);
+            std::mem::swap(&mut out.w, &mut self.w_alt);
+            out.residual = res;
+        }
+        out.status = status_for(out.residual, tol, otherwise);
+    }
+}
+
+impl Solver for Lemke {
+    fn solve_into(
+        &mut self,
+        lcp: LcpRef<'_>,
+        warm_start: Option<&[f64]>,
+        out: &mut Solution,
+    ) -> Result<(), LcpError> {
+        check_warm_start(lcp.n(), warm_start)?;
+        self.solve_with(lcp, None, out)
+    }
+}

@@ -1,0 +1,182 @@
+//! The problem types: an owned [`Lcp`] and a borrowed [`LcpRef`].
+#![allow(non_snake_case)]
+
+use faer::{Col, ColRef, Mat, MatRef};
+
+use crate::LcpError;
+
+/// A validated linear complementarity problem LCP(M, q): find z with
+/// `w = M z + q`, `0 <= z ⊥ w >= 0`.
+///
+/// M is a dense square n x n matrix and q a vector of length n >= 1, all entries finite.
+/// The problem owns its data; [`Lcp::view`] gives the borrowed [`LcpRef`] that the
+/// solvers take.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lcp {
+    m: Mat<f64>,
+    q: Col<f64>,
+}
+
+/// A borrowed, validated view of an LCP (M, q): the allocation-free entry point of the
+/// solvers, for callers that assemble M and q in their own buffers.
+#[derive(Clone, Copy, Debug)]
+pub struct LcpRef<'a> {
+    m: MatRef<'a, f64>,
+    q: ColRef<'a, f64>,
+}
+
+/// Checks shape and finiteness of (M, q) without allocating.
+fn validate(m: MatRef<'_, f64>, q: ColRef<'_, f64>) -> Result<(), LcpError> {
+    let (rows, cols) = (m.nrows(), m.ncols());
+    if rows != cols {
+        return Err(LcpError::NotSquare { rows, cols });
+    }
+    if rows == 0 {
+        return Err(LcpError::Empty);
+    }
+    if q.nrows() != rows {
+        return Err(LcpError::DimensionMismatch { what: "q", expected: rows, found: q.nrows() });
+    }
+    for j in 0..cols {
+        let col = m.col(j);
+        if let Some(slice) = col.try_as_col_major().map(|c| c.as_slice()) {
+            if let Some(i) = slice.iter().position(|v| !v.is_finite()) {
+                return Err(LcpError::NonFinite { what: "M", index: (i, j) });
+            }
+        } else {
+            for i in 0..rows {
+                if !col[i].is_finite() {
+                    return Err(LcpError::NonFinite { what: "M", index: (i, j) });
+                }
+            }
+        }
+    }
+    for i in 0..rows {
+        if !q[i].is_finite() {
+            return Err(LcpError::NonFinite { what: "q", index: (i, 0) });
+        }
+    }
+    Ok(())
+}
+
+impl Lcp {
+    /// Builds an LCP from an n x n matrix M and a vector q of length n.
+    ///
+    /// # Errors
+    /// [`LcpError::NotSquare`], [`LcpError::Empty`], [`LcpError::DimensionMismatch`] or
+    /// [`LcpError::NonFinite`] when the data is not a valid LCP.
+    pub fn new(m: Mat<f64>, q: Col<f64>) -> Result<Lcp, LcpError> {
+        validate(m.as_ref(), q.as_ref())?;
+        Ok(Lcp { m, q })
+    }
+
+    /// Builds an LCP from the rows of M and the vector q.
+    ///
+    /// # Errors
+    /// As [`Lcp::new`]; a row of the wrong length gives [`LcpError::NotSquare`].
+    pub fn from_rows(rows: &[Vec<f64>], q: &[f64]) -> Result<Lcp, LcpError> {
+        let n = rows.len();
+        if let Some(bad) = rows.iter().find(|r| r.len() != n) {
+            return Err(LcpError::NotSquare { rows: n, cols: bad.len() });
+        }
+        let m = Mat::from_fn(n, n, |i, j| rows[i][j]);
+        let q = Col::from_fn(q.len(), |i| q[i]);
+        Lcp::new(m, q)
+    }
+
+    /// Builds an LCP from M stored column by column (`m[i + j n] = M_ij`) and q.
+    ///
+    /// # Errors
+    /// As [`Lcp::new`]; `m.len() != n n` gives [`LcpError::DimensionMismatch`].
+    pub fn from_column_major(n: usize, m: &[f64], q: &[f64]) -> Result<Lcp, LcpError> {
+        if m.len() != n * n {
+            return Err(LcpError::DimensionMismatch {
+                what: "M (column-major, n*n entries)",
+                expected: n * n,
+                found: m.len(),
+            });
+        }
+        let mat = Mat::from_fn(n, n, |i, j| m[i + j * n]);
+        let q = Col::from_fn(q.len(), |i| q[i]);
+        Lcp::new(mat, q)
+    }
+
+    /// The size n of the problem.
+    pub fn n(&self) -> usize {
+        self.q.nrows()
+    }
+
+    /// The matrix M.
+    pub fn m(&self) -> MatRef<'_, f64> {
+        self.m.as_ref()
+    }
+
+    /// The vector q.
+    pub fn q(&self) -> ColRef<'_, f64> {
+        self.q.as_ref()
+    }
+
+    /// The borrowed view that the solvers take.
+    pub fn view(&self) -> LcpRef<'_> {
+        LcpRef { m: self.m.as_ref(), q: self.q.as_ref() }
+    }
+}
+
+impl<'a> LcpRef<'a> {
+    /// Validates (square, sizes, finite entries) and wraps M and q, without allocating.
+    ///
+    /// # Errors
+    /// As [`Lcp::new`].
+    pub fn new(m: MatRef<'a, f64>, q: ColRef<'a, f64>) -> Result<Self, LcpError> {
+        validate(m, q)?;
+        Ok(LcpRef { m, q })
+    }
+
+    /// The size n of the problem.
+    pub fn n(&self) -> usize {
+        self.q.nrows()
+    }
+
+    /// The matrix M.
+    pub fn m(&self) -> MatRef<'a, f64> {
+        self.m
+    }
+
+    /// The vector q.
+    pub fn q(&self) -> ColRef<'a, f64> {
+        self.q
+    }
+
+    /// Copies the data into an owned [`Lcp`].
+    pub fn to_owned(&self) -> Lcp {
+        Lcp { m: self.m.to_owned(), q: self.q.to_owned() }
+    }
+
+    /// Copies M into `out` in row-major order (`out[i n + j] = M_ij`).
+    pub(crate) fn copy_m_row_major(&self, out: &mut [f64]) {
+        let n = self.n();
+        for j in 0..n {
+            let col = self.m.col(j);
+            if let Some(slice) = col.try_as_col_major().map(|c| c.as_slice()) {
+                for (i, v) in slice.iter().enumerate() {
+                    out[i * n + j] = *v;
+                }
+            } else {
+                for i in 0..n {
+                    out[i * n + j] = col[i];
+                }
+            }
+        }
+    }
+
+    /// Copies q into `out`.
+    pub(crate) fn copy_q(&self, out: &mut [f64]) {
+        if let Some(slice) = self.q.try_as_col_major().map(|c| c.as_slice()) {
+            out[..slice.len()].copy_from_slice(slice);
+        } else {
+            for (i, v) in out.iter_mut().enumerate().take(self.n()) {
+                *v = self.q[i];
+            }
+        }
+    }
+}

@@ -1,0 +1,337 @@
+//! Results shared by every solver: [`Status`], [`Method`], [`Residual`], [`Solution`],
+//! and the [`Solver`] trait.
+#![allow(non_snake_case)]
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+use crate::{Lcp, LcpError, LcpRef};
+
+/// How a solve ended. Not converging is a status, not an error.
+#[non_exhaustive]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    /// z and w = M z + q satisfy `0 <= z ⊥ w >= 0` within the solver's tolerance
+    /// (see [`Residual::relative`]).
+    Solved,
+    /// Complete enumeration proved that the LCP has no solution.
+    NoSolution,
+    /// Lemke's method ended on a secondary ray: no complementary basis was reached. For a
+    /// copositive-plus M (for example positive semidefinite) this proves that no solution
+    /// exists; for other M it proves nothing.
+    RayTermination,
+    /// The pivot or iteration limit was reached first.
+    IterationLimit,
+    /// The method ended but its result failed the residual check, a factorisation was
+    /// singular, or the iterates stopped being finite. Also the status of a fresh
+    /// [`Solution::new`].
+    NumericalFailure,
+    /// A complete search was not attempted because the problem is larger than the size
+    /// guard (see [`EnumerationOptions`](crate::EnumerationOptions)).
+    TooLarge,
+}
+
+impl fmt::Display for Status {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Status::Solved => "solved",
+            Status::NoSolution => "no_solution",
+            Status::RayTermination => "ray_termination",
+            Status::IterationLimit => "iteration_limit",
+            Status::NumericalFailure => "numerical_failure",
+            Status::TooLarge => "too_large",
+        })
+    }
+}
+
+/// Which method produced a [`Solution`].
+#[non_exhaustive]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// z = 0, taken at once because q >= 0.
+    Trivial,
+    /// Lemke's complementary pivoting method ([`Lemke`](crate::Lemke)).
+    Lemke,
+    /// Projected Gauss-Seidel ([`Pgs`](crate::Pgs)).
+    Pgs,
+    /// Complete enumeration of complementary bases ([`Enumeration`](crate::Enumeration)).
+    Enumeration,
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Method::Trivial => "trivial",
+            Method::Lemke => "lemke",
+            Method::Pgs => "pgs",
+            Method::Enumeration => "enumeration",
+        })
+    }
+}
+
+/// The residual of a candidate (z, w) for LCP(M, q): one definition shared by every
+/// solver, test and report.
+///
+/// With `s_q = max(1, ‖q‖∞)`, `s_z = max(1, ‖z‖∞)` and
+/// `s_w = max(1, ‖q‖∞, max_i Σ_j |M_ij z_j|)` (the magnitude of the terms that make up
+/// w, so that round-off in `M z + q` is measured against it):
+///
+/// | field | definition |
+/// |---|---|
+/// | `natural` | `‖min(z, w)‖∞ / s_q` (the natural-map residual) |
+/// | `complementarity` | `max_i |z_i w_i|` |
+/// | `z_violation` | `max(0, -min_i z_i)` |
+/// | `w_violation` | `max(0, -min_i w_i)` |
+/// | `equation` | `‖M z + q - w‖∞` |
+/// | `relative` | `max(z_violation / s_z, w_violation / s_w, equation / s_w, complementarity / (s_z s_w), ‖min(z, w)‖∞ / max(s_z, s_w))` |
+///
+/// A solver reports [`Status::Solved`] only when `relative <= tolerance`. `relative` is
+/// invariant under scaling of the problem (M, q) -> (c M, c q) for large data, and
+/// remains meaningful when the entries of M span many orders of magnitude, where a
+/// fixed absolute bound on `|z_i w_i|` would reject exact solutions.
+///
+/// If z or w has the wrong length or a non-finite entry, every field is `+∞`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Residual {
+    /// `‖min(z, w)‖∞ / max(1, ‖q‖∞)`.
+    pub natural: f64,
+    /// `max_i |z_i w_i|`.
+    pub complementarity: f64,
+    /// `max(0, -min_i z_i)`.
+    pub z_violation: f64,
+    /// `max(0, -min_i w_i)`.
+    pub w_violation: f64,
+    /// `‖M z + q - w‖∞`.
+    pub equation: f64,
+    /// The scale-free acceptance measure defined in the type's documentation.
+    pub relative: f64,
+}
+
+/// Running maxima for a residual; shared by the generic and the row-major kernels.
+#[derive(Default)]
+struct Acc {
+    q_max: f64,
+    z_max: f64,
+    mz_max: f64,
+    natural: f64,
+    complementarity: f64,
+    z_violation: f64,
+    w_violation: f64,
+    equation: f64,
+}
+
+impl Acc {
+    #[inline]
+    fn row(&mut self, q: f64, z: f64, w: f64, mz_abs: f64, mzq: f64) {
+        self.q_max = self.q_max.max(q.abs());
+        self.z_max = self.z_max.max(z.abs());
+        self.mz_max = self.mz_max.max(mz_abs);
+        self.natural = self.natural.max(z.min(w).abs());
+        self.complementarity = self.complementarity.max((z * w).abs());
+        self.z_violation = self.z_violation.max(-z);
+        self.w_violation = self.w_violation.max(-w);
+        self.equation = self.equation.max((mzq - w).abs());
+    }
+
+    fn finish(self) -> Residual {
+        let s_q = self.q_max.max(1.0);
+        let s_z = self.z_max.max(1.0);
+        let s_w = s_q.max(self.mz_max);
+        let relative = (self.z_violation / s_z)
+            .max(self.w_violation / s_w)
+            .max(self.equation / s_w)
+            .max(self.complementarity / (s_z * s_w))
+            .max(self.natural / s_z.max(s_w));
+        let r = Residual {
+            natural: self.natural / s_q,
+            complementarity: self.complementarity,
+            z_violation: self.z_violation,
+            w_violation: self.w_violation,
+            equation: self.equation,
+            relative,
+        };
+        if [r.natural, r.complementarity, r.z_violation, r.w_violation, r.equation, r.relative]
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            r
+        } else {
+            Residual::INFINITE
+        }
+    }
+}
+
+impl Residual {
+    /// A residual with every field `+∞`: the value for unusable candidates.
+    pub const INFINITE: Residual = Residual {
+        natural: f64::INFINITY,
+        complementarity: f64::INFINITY,
+        z_violation: f64::INFINITY,
+        w_violation: f64::INFINITY,
+        equation: f64::INFINITY,
+        relative: f64::INFINITY,
+    };
+
+    /// Computes the residual of (z, w) for the problem, recomputing `M z + q`.
+    pub fn compute(lcp: LcpRef<'_>, z: &[f64], w: &[f64]) -> Residual {
+        let n = lcp.n();
+        if z.len() != n || w.len() != n || z.iter().chain(w).any(|v| !v.is_finite()) {
+            return Residual::INFINITE;
+        }
+        let m = lcp.m();
+        let q = lcp.q();
+        let mut acc = Acc::default();
+        for i in 0..n {
+            let mut sum = q[i];
+            let mut abs = 0.0;
+            for j in 0..n {
+                let t = m[(i, j)] * z[j];
+                sum += t;
+                abs += t.abs();
+            }
+            acc.row(q[i], z[i], w[i], abs, sum);
+        }
+        acc.finish()
+    }
+
+    /// The largest of `natural`, `complementarity`, `z_violation`, `w_violation` and
+    /// `equation` (absolute numbers; use [`Residual::relative`] for acceptance).
+    pub fn max(&self) -> f64 {
+        self.natural
+            .max(self.complementarity)
+            .max(self.z_violation)
+            .max(self.w_violation)
+            .max(self.equation)
+    }
+}
+
+/// Sets `w = M z + q` (M row-major, `m[i n + j] = M_ij`) and returns the residual of
+/// (z, w); `equation` is then zero by construction.
+pub(crate) fn finish_row_major(m: &[f64], n: usize, q: &[f64], z: &[f64], w: &mut [f64]) -> Residual {
+    let mut acc = Acc::default();
+    for i in 0..n {
+        let row = &m[i * n..(i + 1) * n];
+        let mut sum = q[i];
+        let mut abs = 0.0;
+        for (a, b) in row.iter().zip(&z[..n]) {
+            let t = a * b;
+            sum += t;
+            abs += t.abs();
+        }
+        w[i] = sum;
+        acc.row(q[i], z[i], sum, abs, sum);
+    }
+    acc.finish()
+}
+
+/// The result of a solve: z, w = M z + q, status, method, iterations and residual.
+///
+/// `z` and `w` always hold the solver's last iterate (length n); they are a solution of
+/// the LCP only when `status` is [`Status::Solved`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Solution {
+    /// How the solve ended.
+    pub status: Status,
+    /// Which method produced `z`.
+    pub method: Method,
+    /// The complementary variable z (impulses P_N, ... in the time-stepper).
+    pub z: Vec<f64>,
+    /// `w = M z + q`, recomputed from z (velocities ξ_N, ... in the time-stepper).
+    pub w: Vec<f64>,
+    /// Pivots (Lemke), sweeps (PGS) or bases examined (enumeration).
+    pub iterations: usize,
+    /// The residual of (z, w), see [`Residual`].
+    pub residual: Residual,
+}
+
+impl Default for Solution {
+    fn default() -> Self {
+        Solution::new()
+    }
+}
+
+impl Solution {
+    /// An empty solution to be filled by [`Solver::solve_into`] (its vectors are reused).
+    pub fn new() -> Self {
+        Solution {
+            status: Status::NumericalFailure,
+            method: Method::Trivial,
+            z: Vec::new(),
+            w: Vec::new(),
+            iterations: 0,
+            residual: Residual::INFINITE,
+        }
+    }
+
+    /// `true` when the status is [`Status::Solved`].
+    pub fn is_solved(&self) -> bool {
+        self.status == Status::Solved
+    }
+
+    /// Resizes z and w to n (no allocation once the capacity has been reached).
+    pub(crate) fn reset(&mut self, n: usize, method: Method) {
+        self.z.clear();
+        self.z.resize(n, 0.0);
+        self.w.clear();
+        self.w.resize(n, 0.0);
+        self.iterations = 0;
+        self.method = method;
+        self.status = Status::NumericalFailure;
+        self.residual = Residual::INFINITE;
+    }
+}
+
+/// A solver of LCP(M, q).
+pub trait Solver {
+    /// Solves into `out`, reusing its vectors and the solver's own workspace: no
+    /// allocation once sizes have been seen.
+    ///
+    /// `warm_start` is an initial z of length n; PGS starts from it (projected onto
+    /// z >= 0), the pivoting methods check its length and otherwise ignore it.
+    ///
+    /// # Errors
+    /// Only for invalid input (wrong warm start length, non-finite warm start, a
+    /// method-specific precondition); not finding a solution is reported in
+    /// `out.status`.
+    fn solve_into(
+        &mut self,
+        lcp: LcpRef<'_>,
+        warm_start: Option<&[f64]>,
+        out: &mut Solution,
+    ) -> Result<(), LcpError>;
+
+    /// Solves an owned problem from z = 0 into a new [`Solution`].
+    ///
+    /// # Errors
+    /// As [`Solver::solve_into`].
+    fn solve(&mut self, lcp: &Lcp) -> Result<Solution, LcpError> {
+        let mut out = Solution::new();
+        self.solve_into(lcp.view(), None, &mut out)?;
+        Ok(out)
+    }
+}
+
+/// Checks a warm start: length n and finite entries.
+pub(crate) fn check_warm_start(n: usize, warm_start: Option<&[f64]>) -> Result<(), LcpError> {
+    if let Some(z) = warm_start {
+        if z.len() != n {
+            return Err(LcpError::WarmStartLength { expected: n, found: z.len() });
+        }
+        if let Some(i) = z.iter().position(|v| !v.is_finite()) {
+            return Err(LcpError::NonFinite { what: "warm start", index: (i, 0) });
+        }
+    }
+    Ok(())
+}
+
+/// The residual of z = 0, w = q.
+pub(crate) fn residual_of_zero(q: &[f64]) -> Residual {
+    let mut acc = Acc::default();
+    for &qi in q {
+        acc.row(qi, 0.0, qi, 0.0, qi);
+    }
+    acc.finish()
+}
