@@ -1,0 +1,67 @@
+//! Cost of one Moreau step and of whole simulations of the report's mechanisms.
+//!
+//! `cargo bench --bench steps` reports, per model, the time of a whole run; dividing by the
+//! number of steps (printed in the group names) gives the time per step.
+
+use std::hint::black_box;
+use std::ops::ControlFlow;
+
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
+use moreau::models::{ModelKind, Scene};
+use moreau::stepper::{StepReport, Stepper, StepperOptions};
+
+/// Runs `kind`'s report scene for `t_end` seconds at step `dt` with a no-op observer.
+fn bench_model(c: &mut Criterion, kind: ModelKind, dt: f64, t_end: f64) {
+    let scene = Scene::report(kind);
+    let model = scene.build().expect("report scene builds");
+    let (q0, u0) = model.initial_state();
+    let steps = (t_end / dt).round() as u64;
+    let mut group = c.benchmark_group(format!("simulate/{kind}"));
+    group.throughput(Throughput::Elements(steps));
+    group.bench_function(format!("{steps} steps, dt = {dt:e}"), |b| {
+        b.iter_batched(
+            || Stepper::new(model.clone(), &q0, &u0, 0.0, StepperOptions::new(dt)).unwrap(),
+            |mut s| {
+                s.run_until(t_end, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).unwrap();
+                black_box(s.q()[0])
+            },
+            BatchSize::LargeInput,
+        );
+    });
+    group.finish();
+}
+
+/// The bouncing ball written out by hand for this one mechanism: the floor below which a
+/// general library should stay within a small factor.
+fn specialised_ball(steps: usize, dt: f64) -> f64 {
+    let (m, r, g, eps) = (1.0, 0.1, 9.81, 0.9);
+    let (mut y, mut v) = (1.0f64, 0.0f64);
+    for _ in 0..steps {
+        let y_m = y + 0.5 * dt * v;
+        let v_free = v - g * dt;
+        if y_m - r <= 0.0 {
+            let b = v_free + eps * v;
+            v = if b < 0.0 { v_free - b * m / m } else { v_free };
+        } else {
+            v = v_free;
+        }
+        y = y_m + 0.5 * dt * v;
+    }
+    y
+}
+
+fn steps(c: &mut Criterion) {
+    bench_model(c, ModelKind::Ball, 1e-3, 10.0);
+    bench_model(c, ModelKind::Woodpecker, 1e-4, 1.0);
+    bench_model(c, ModelKind::Cam, 1e-4, 1.0);
+    bench_model(c, ModelKind::Painleve, 1e-3, 2.0);
+    // Two crank revolutions at 150 rad/s take about 0.13725 s.
+    bench_model(c, ModelKind::SliderCrank, 1e-5, 0.13725);
+    let mut group = c.benchmark_group("simulate/ball-specialised");
+    group.throughput(Throughput::Elements(10_000));
+    group.bench_function("10000 steps, dt = 1e-3", |b| b.iter(|| specialised_ball(black_box(10_000), 1e-3)));
+    group.finish();
+}
+
+criterion_group!(benches, steps);
+criterion_main!(benches);

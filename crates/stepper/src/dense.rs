@@ -1,0 +1,217 @@
+//! Small dense linear algebra of one step, on column-major slices.
+//!
+//! The mass matrices of the mechanisms this crate is for have a handful of rows, where a
+//! call into faer's general routines costs more than the arithmetic. Up to
+//! [`SMALL_LIMIT`] rows the Cholesky factorisation and the triangular solves are plain loops;
+//! above it they go through faer's allocation-free kernels into a preallocated buffer.
+#![allow(non_snake_case)]
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt;
+use faer::{MatMut, MatRef, Par};
+
+/// Largest order factorised with plain loops.
+pub(crate) const SMALL_LIMIT: usize = 24;
+
+/// Why a Cholesky factorisation failed.
+#[derive(Debug)]
+pub(crate) enum FactorError {
+    /// `M[i][j]` and `M[j][i]` differ beyond round-off.
+    Asymmetric { i: usize, j: usize },
+    /// The pivot of column `index` is not positive.
+    NotPositive { index: usize },
+}
+
+impl std::fmt::Display for FactorError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Asymmetric { i, j } => write!(f, "M[{i}][{j}] differs from M[{j}][{i}]"),
+            Self::NotPositive { index } => write!(f, "non-positive pivot in column {index}"),
+        }
+    }
+}
+
+/// A Cholesky factor L (lower triangle, column-major) of an SPD matrix, with its workspace.
+pub(crate) struct Cholesky {
+    n: usize,
+    l: Vec<f64>,
+    buffer: Option<MemBuffer>,
+}
+
+impl Cholesky {
+    /// Workspace for matrices of order `n`.
+    pub(crate) fn new(n: usize) -> Self {
+        let buffer = (n > SMALL_LIMIT).then(|| {
+            MemBuffer::new(llt::factor::cholesky_in_place_scratch::<f64>(
+                n,
+                Par::Seq,
+                Default::default(),
+            ))
+        });
+        Self { n, l: vec![0.0; n * n], buffer }
+    }
+
+    /// Factorises the column-major matrix `m` (order n), checking symmetry first.
+    pub(crate) fn factor(&mut self, m: &[f64]) -> Result<(), FactorError> {
+        let n = self.n;
+        for j in 0..n {
+            for i in (j + 1)..n {
+                let (a, b) = (m[i + j * n], m[j + i * n]);
+                if (a - b).abs() > 1e-12 * (a.abs() + b.abs()).max(f64::MIN_POSITIVE) {
+                    return Err(FactorError::Asymmetric { i, j });
+                }
+            }
+        }
+        self.l.copy_from_slice(m);
+        match self.buffer.as_mut() {
+            None => factor_small(&mut self.l, n),
+            Some(buffer) => {
+                let mut l = MatMut::from_column_major_slice_mut(&mut self.l, n, n);
+                llt::factor::cholesky_in_place(
+                    l.as_mut(),
+                    Default::default(),
+                    Par::Seq,
+                    MemStack::new(buffer),
+                    Default::default(),
+                )
+                .map_err(|_| FactorError::NotPositive { index: first_bad_pivot(m, n) })?;
+                Ok(())
+            }
+        }
+    }
+
+    /// Overwrites `x` (length n) with M⁻¹ x.
+    pub(crate) fn solve(&self, x: &mut [f64]) {
+        let n = self.n;
+        if self.buffer.is_none() {
+            solve_small(&self.l, n, x);
+        } else {
+            let l = MatRef::from_column_major_slice(&self.l, n, n);
+            let rhs = MatMut::from_column_major_slice_mut(x, n, 1);
+            llt::solve::solve_in_place(l, rhs, Par::Seq, MemStack::new(&mut []));
+        }
+    }
+}
+
+/// In-place Cholesky of a column-major matrix of order n (lower triangle used and written).
+fn factor_small(a: &mut [f64], n: usize) -> Result<(), FactorError> {
+    for j in 0..n {
+        let mut d = a[j + j * n];
+        for k in 0..j {
+            d -= a[j + k * n] * a[j + k * n];
+        }
+        // `!(d > 0)` also catches NaN.
+        if !(d > 0.0) {
+            return Err(FactorError::NotPositive { index: j });
+        }
+        let d = d.sqrt();
+        a[j + j * n] = d;
+        for i in (j + 1)..n {
+            let mut s = a[i + j * n];
+            for k in 0..j {
+                s -= a[i + k * n] * a[j + k * n];
+            }
+            a[i + j * n] = s / d;
+        }
+    }
+    Ok(())
+}
+
+/// Solves L Lᵀ x = b in place.
+fn solve_small(l: &[f64], n: usize, x: &mut [f64]) {
+    for i in 0..n {
+        let mut s = x[i];
+        for k in 0..i {
+            s -= l[i + k * n] * x[k];
+        }
+        x[i] = s / l[i + i * n];
+    }
+    for i in (0..n).rev() {
+        let mut s = x[i];
+        for k in (i + 1)..n {
+            s -= l[k + i * n] * x[k];
+        }
+        x[i] = s / l[i + i * n];
+    }
+}
+
+/// The first column at which the plain factorisation meets a non-positive pivot (for the
+/// error message of the faer path, which does not report it).
+fn first_bad_pivot(m: &[f64], n: usize) -> usize {
+    let mut a = m.to_vec();
+    match factor_small(&mut a, n) {
+        Err(FactorError::NotPositive { index }) => index,
+        _ => 0,
+    }
+}
+
+/// xᵀ M x / 2 for a column-major M of order n.
+pub(crate) fn half_quadratic(m: &[f64], n: usize, x: &[f64]) -> f64 {
+    let mut s = 0.0;
+    for j in 0..n {
+        let mut c = 0.0;
+        for i in 0..n {
+            c += m[i + j * n] * x[i];
+        }
+        s += c * x[j];
+    }
+    0.5 * s
+}
+
+/// The dot product of two slices of equal length.
+#[inline]
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spd(n: usize) -> Vec<f64> {
+        // A = B Bᵀ + n I with a fixed B.
+        let b: Vec<f64> = (0..n * n).map(|k| ((k * 7 + 3) % 11) as f64 / 11.0 - 0.5).collect();
+        let mut a = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                let mut s = if i == j { n as f64 } else { 0.0 };
+                for k in 0..n {
+                    s += b[i + k * n] * b[j + k * n];
+                }
+                a[i + j * n] = s;
+            }
+        }
+        a
+    }
+
+    #[test]
+    fn small_and_faer_paths_solve_the_same_system() {
+        for n in [1, 3, 12, SMALL_LIMIT + 6] {
+            let a = spd(n);
+            let x_true: Vec<f64> = (0..n).map(|i| (i as f64 + 1.0).sin()).collect();
+            let mut b: Vec<f64> =
+                (0..n).map(|i| (0..n).map(|j| a[i + j * n] * x_true[j]).sum()).collect();
+            let mut c = Cholesky::new(n);
+            c.factor(&a).unwrap();
+            c.solve(&mut b);
+            for i in 0..n {
+                assert!((b[i] - x_true[i]).abs() < 1e-12, "n = {n}, i = {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn indefinite_and_asymmetric_matrices_are_rejected() {
+        let mut c = Cholesky::new(2);
+        assert!(matches!(
+            c.factor(&[1.0, 2.0, 2.0, 1.0]),
+            Err(FactorError::NotPositive { index: 1 })
+        ));
+        assert!(matches!(c.factor(&[1.0, 0.5, 0.0, 1.0]), Err(FactorError::Asymmetric { .. })));
+        let n = SMALL_LIMIT + 2;
+        let mut a = spd(n);
+        a[(n - 1) + (n - 1) * n] = -1e6;
+        let mut c = Cholesky::new(n);
+        assert!(matches!(c.factor(&a), Err(FactorError::NotPositive { index }) if index == n - 1));
+    }
+}

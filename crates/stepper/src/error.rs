@@ -1,0 +1,91 @@
+//! The stepper's error type.
+
+use moreau_lcp::{Lcp, LcpError, Status};
+use moreau_setvalued::SetValuedError;
+
+/// Everything that makes the stepper refuse its input or stop a run.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum StepError {
+    /// The time step is not finite and positive.
+    #[error("time step dt = {dt} must be finite and > 0")]
+    InvalidTimeStep {
+        /// The rejected step (s).
+        dt: f64,
+    },
+    /// A non-finite number in the state or in what the mechanism returned.
+    #[error("non-finite {what} at index {index} (t = {t})")]
+    NonFinite {
+        /// Which quantity (`q`, `u`, `M`, `h`, `w_N`, ...).
+        what: &'static str,
+        /// Index of the first non-finite entry.
+        index: usize,
+        /// Time at which it was found (s).
+        t: f64,
+    },
+    /// A vector or list of the wrong length.
+    #[error("{what} has length {found}, expected {expected}")]
+    Dimension {
+        /// Which quantity.
+        what: &'static str,
+        /// The length the mechanism requires.
+        expected: usize,
+        /// The length given.
+        found: usize,
+    },
+    /// The mass matrix is not symmetric positive definite.
+    #[error("mass matrix M(q, t) is not symmetric positive definite at t = {t}: {reason}")]
+    MassNotSpd {
+        /// Time of the midpoint at which M was evaluated (s).
+        t: f64,
+        /// What failed (asymmetry or a non-positive pivot).
+        reason: String,
+    },
+    /// The active-set threshold is negative or not finite.
+    #[error("gap tolerance {value} must be finite and >= 0")]
+    InvalidGapTolerance {
+        /// The rejected value (m).
+        value: f64,
+    },
+    /// The end time lies before the current time.
+    #[error("end time {t_end} lies before the current time {t}")]
+    EndBeforeStart {
+        /// Current time (s).
+        t: f64,
+        /// Requested end time (s).
+        t_end: f64,
+    },
+    /// An unknown solver name.
+    #[error("unknown LCP solver '{name}'; accepted: auto, lemke, pgs, enum")]
+    UnknownSolver {
+        /// The rejected name.
+        name: String,
+    },
+    /// The LCP of a step has no acceptable solution from the chosen solver.
+    ///
+    /// The instance is kept so that it can be written with `Lcp::write_siconos` and examined.
+    #[error(
+        "LCP of size {} failed at step {step} (t = {t}): solver status {status}",
+        lcp.n()
+    )]
+    LcpFailed {
+        /// Index of the failed step (0 for the first step of the stepper).
+        step: u64,
+        /// Start time t_A of the step (s).
+        t: f64,
+        /// Positions q_A at the start of the step.
+        q: Vec<f64>,
+        /// Velocities u_A at the start of the step.
+        u: Vec<f64>,
+        /// What the solver reported.
+        status: Status,
+        /// The LCP instance (A, b) of eq. 7.41.
+        lcp: Box<Lcp>,
+    },
+    /// Invalid solver options or LCP input.
+    #[error(transparent)]
+    Lcp(#[from] LcpError),
+    /// Invalid contact law.
+    #[error(transparent)]
+    Law(#[from] SetValuedError),
+}

@@ -1,0 +1,208 @@
+//! Streaming results: the [`Observer`] trait and the [`Recorder`] that keeps a [`Record`].
+
+use std::ops::ControlFlow;
+
+use serde::{Deserialize, Serialize};
+
+use crate::dense::half_quadratic;
+use crate::{ContactReport, ContactState, Mechanism, StepReport};
+
+/// Receives every step of a run; returning [`ControlFlow::Break`] stops the run after it.
+///
+/// Closures `FnMut(&StepReport) -> ControlFlow<()>` are observers too.
+pub trait Observer<M: ?Sized> {
+    /// Called after each step with the mechanism and the step's report.
+    fn observe(&mut self, mechanism: &M, report: &StepReport<'_>) -> ControlFlow<()>;
+}
+
+impl<M: ?Sized, F: FnMut(&StepReport<'_>) -> ControlFlow<()>> Observer<M> for F {
+    fn observe(&mut self, _mechanism: &M, report: &StepReport<'_>) -> ControlFlow<()> {
+        self(report)
+    }
+}
+
+/// A recorded trajectory: one row per kept step.
+///
+/// Row `k` holds the state at `t[k]`; the impulses, activity and dissipation of row `k` are
+/// those of the steps since the previous row (summed when rows are thinned with
+/// [`Recorder::every`]). Row 0 is the state the run started from, with zero impulses.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Record {
+    /// Time t (s).
+    pub t: Vec<f64>,
+    /// Generalised coordinates q.
+    pub q: Vec<Vec<f64>>,
+    /// Generalised velocities u.
+    pub u: Vec<Vec<f64>>,
+    /// Normal impulses P_N per contact (zero when open).
+    pub p_n: Vec<Vec<f64>>,
+    /// Tangential impulses P_T per contact (zero when open or frictionless).
+    pub p_t: Vec<Vec<f64>>,
+    /// Whether each contact was in the active set (g_N(q_M) ≤ 0).
+    pub active: Vec<Vec<bool>>,
+    /// Open, sticking or slipping, per contact, at the end of the row's last step.
+    pub state: Vec<Vec<ContactState>>,
+    /// Size of the row's last LCP (0 when no contact was closed).
+    pub lcp_size: Vec<usize>,
+    /// Iterations or pivots of the row's last LCP solve.
+    pub iterations: Vec<usize>,
+    /// Kinetic energy uᵀ M u / 2 (J).
+    pub kinetic: Vec<f64>,
+    /// Potential energy V(q, t) (J); zero when the mechanism defines none.
+    pub potential: Vec<f64>,
+    /// Kinetic energy removed by the impulses of the row's steps (J).
+    pub dissipated: Vec<f64>,
+}
+
+impl Record {
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether the record has no rows.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// Total energy (kinetic plus potential) per row (J).
+    pub fn total_energy(&self) -> Vec<f64> {
+        self.kinetic.iter().zip(&self.potential).map(|(k, v)| k + v).collect()
+    }
+}
+
+/// An [`Observer`] that keeps every `n`-th step in a [`Record`].
+#[derive(Clone, Debug)]
+pub struct Recorder {
+    /// What has been recorded so far.
+    pub record: Record,
+    every: usize,
+    pending: usize,
+    mass: Vec<f64>,
+    sum_p_n: Vec<f64>,
+    sum_p_t: Vec<f64>,
+    any_active: Vec<bool>,
+    sum_dissipated: f64,
+}
+
+impl Default for Recorder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Recorder {
+    /// A recorder that keeps every step.
+    pub fn new() -> Self {
+        Self::every(1)
+    }
+
+    /// A recorder that keeps one step in `n` (`n = 0` is taken as 1), summing the impulses
+    /// and dissipation of the steps in between.
+    pub fn every(n: usize) -> Self {
+        Self {
+            record: Record::default(),
+            every: n.max(1),
+            pending: 0,
+            mass: Vec::new(),
+            sum_p_n: Vec::new(),
+            sum_p_t: Vec::new(),
+            any_active: Vec::new(),
+            sum_dissipated: 0.0,
+        }
+    }
+
+    /// Records the state a run starts from, as row 0 with zero impulses.
+    pub fn push_initial<M: Mechanism + ?Sized>(
+        &mut self,
+        mechanism: &M,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+    ) {
+        let n = mechanism.num_contacts();
+        self.resize(n);
+        let contacts = vec![ContactReport::default(); n];
+        self.push_row(mechanism, t, q, u, &contacts, 0, 0);
+    }
+
+    fn resize(&mut self, n: usize) {
+        if self.sum_p_n.len() != n {
+            self.sum_p_n = vec![0.0; n];
+            self.sum_p_t = vec![0.0; n];
+            self.any_active = vec![false; n];
+        }
+    }
+
+    fn push_row<M: Mechanism + ?Sized>(
+        &mut self,
+        mechanism: &M,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+        contacts: &[ContactReport],
+        lcp_size: usize,
+        iterations: usize,
+    ) {
+        let f = q.len();
+        self.mass.resize(f * f, 0.0);
+        mechanism.mass_matrix(q, t, &mut self.mass);
+        let r = &mut self.record;
+        r.t.push(t);
+        r.q.push(q.to_vec());
+        r.u.push(u.to_vec());
+        r.p_n.push(self.sum_p_n.clone());
+        r.p_t.push(self.sum_p_t.clone());
+        r.active.push(self.any_active.clone());
+        r.state.push(contacts.iter().map(|c| c.state).collect());
+        r.lcp_size.push(lcp_size);
+        r.iterations.push(iterations);
+        r.kinetic.push(half_quadratic(&self.mass, f, u));
+        r.potential.push(mechanism.potential_energy(q, t).unwrap_or(0.0));
+        r.dissipated.push(self.sum_dissipated);
+        self.sum_p_n.fill(0.0);
+        self.sum_p_t.fill(0.0);
+        self.any_active.fill(false);
+        self.sum_dissipated = 0.0;
+    }
+}
+
+impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
+    fn observe(&mut self, mechanism: &M, report: &StepReport<'_>) -> ControlFlow<()> {
+        self.resize(report.contacts.len());
+        for (i, c) in report.contacts.iter().enumerate() {
+            self.sum_p_n[i] += c.p_n;
+            self.sum_p_t[i] += c.p_t;
+            self.any_active[i] |= c.active;
+        }
+        self.sum_dissipated += report.impulse_dissipation;
+        self.pending += 1;
+        if self.pending >= self.every {
+            self.pending = 0;
+            let iterations = report.lcp.map_or(0, |l| l.iterations);
+            self.push_row(
+                mechanism,
+                report.t,
+                report.q,
+                report.u,
+                report.contacts,
+                report.lcp_size,
+                iterations,
+            );
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+impl Default for ContactState {
+    fn default() -> Self {
+        Self::Open
+    }
+}
+
+#[allow(dead_code)]
+fn _assert_send_sync() {
+    fn is<T: Send + Sync>() {}
+    is::<Record>();
+    is::<Recorder>();
+}

@@ -1,0 +1,871 @@
+//! Moreau's midpoint time-stepper (EQUATIONS.md, sections 4-6).
+#![allow(non_snake_case)]
+
+use faer::{ColRef, MatRef};
+use moreau_lcp::{
+    Auto, Enumeration, Lcp, LcpRef, Lemke, Method, Pgs, PgsOptions, Solution, Solver, Status,
+};
+
+use crate::dense::{Cholesky, dot, half_quadratic};
+use crate::observer::{Observer, Recorder};
+use crate::{Mechanism, Record, SolverChoice, StepError, StepperOptions};
+
+/// Whether a contact is open, sticking or slipping at the end of a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactState {
+    /// No normal impulse: the contact is open or separating (P_N = 0).
+    Open,
+    /// P_N > 0 and the tangential velocity γ_T after the step vanishes.
+    Stick,
+    /// P_N > 0 and γ_T ≠ 0 after the step.
+    Slip,
+}
+
+/// What happened at one contact during a step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactReport {
+    /// Whether the contact was in the active set H (g_N(q_M, t_M) ≤ 0).
+    pub active: bool,
+    /// Normal impulse P_N over the step (zero when not active).
+    pub p_n: f64,
+    /// Tangential impulse P_T over the step (zero when not active or frictionless).
+    pub p_t: f64,
+    /// Normal relative velocity γ_N after the step (only meaningful when active).
+    pub gamma_n: f64,
+    /// Tangential relative velocity γ_T after the step (only meaningful when active).
+    pub gamma_t: f64,
+    /// Open, sticking or slipping.
+    pub state: ContactState,
+}
+
+/// How a step's LCP was solved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LcpInfo {
+    /// The method that produced the accepted solution.
+    pub method: Method,
+    /// The solver's status (always `Solved` in a report: failures are errors).
+    pub status: Status,
+    /// Pivots or sweeps used.
+    pub iterations: usize,
+    /// The largest entry of the shared residual of `moreau_lcp::Residual`.
+    pub residual: f64,
+}
+
+/// The outcome of one step, borrowed from the stepper until the next step.
+#[derive(Clone, Copy, Debug)]
+pub struct StepReport<'a> {
+    /// Index of this step since the stepper was created (0 for the first).
+    pub step: u64,
+    /// End time t_E of the step (s).
+    pub t: f64,
+    /// End positions q_E.
+    pub q: &'a [f64],
+    /// End velocities u_E.
+    pub u: &'a [f64],
+    /// One report per contact of the mechanism.
+    pub contacts: &'a [ContactReport],
+    /// Size of the LCP (0 when no contact was closed): one row per active frictionless
+    /// contact, three per active frictional one.
+    pub lcp_size: usize,
+    /// How the LCP was solved, if there was one.
+    pub lcp: Option<LcpInfo>,
+    /// Kinetic energy removed by the impulses of the step, ½ũᵀM_Mũ − ½u_EᵀM_Mu_E with
+    /// ũ = u_A + M_M⁻¹h_M Δt the impulse-free velocity (J).
+    pub impulse_dissipation: f64,
+}
+
+/// What [`Stepper::run_until`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunSummary {
+    /// Steps taken.
+    pub steps: u64,
+    /// Steps whose LCP needed a solver (neither empty nor settled by the zero impulse).
+    pub lcp_solves: u64,
+    /// Time reached (s).
+    pub t_end: f64,
+    /// Whether the observer stopped the run before `t_end`.
+    pub stopped_early: bool,
+}
+
+/// The LCP solver held by a stepper.
+enum SolverImpl {
+    Auto(Auto),
+    Lemke(Lemke),
+    Pgs(Pgs),
+    Enumeration(Enumeration),
+}
+
+impl SolverImpl {
+    fn new(choice: &SolverChoice) -> Result<Self, StepError> {
+        Ok(match choice {
+            SolverChoice::Auto => Self::Auto(Auto::default()),
+            SolverChoice::Lemke => Self::Lemke(Lemke::default()),
+            SolverChoice::Pgs { tolerance, omega, max_iterations } => {
+                Self::Pgs(Pgs::new(PgsOptions {
+                    omega: *omega,
+                    tolerance: *tolerance,
+                    max_iterations: *max_iterations,
+                    ..PgsOptions::default()
+                })?)
+            }
+            SolverChoice::Enumeration => Self::Enumeration(Enumeration::default()),
+        })
+    }
+
+    fn solve(
+        &mut self,
+        lcp: LcpRef<'_>,
+        warm: Option<&[f64]>,
+        out: &mut Solution,
+    ) -> Result<(), moreau_lcp::LcpError> {
+        match self {
+            Self::Auto(s) => s.solve_into(lcp, None, out),
+            Self::Lemke(s) => s.solve_into(lcp, None, out),
+            Self::Pgs(s) => s.solve_into(lcp, warm, out),
+            Self::Enumeration(s) => s.solve_into(lcp, None, out),
+        }
+    }
+}
+
+/// Preallocated buffers of one step, sized for every contact closed at once.
+struct Workspace {
+    /// Midpoint positions q_M.
+    q_m: Vec<f64>,
+    /// M(q_M, t_M), column-major.
+    mass: Vec<f64>,
+    /// h(q_M, u_A, t_M), then M⁻¹ h Δt.
+    h: Vec<f64>,
+    /// Impulse-free velocity ũ = u_A + M⁻¹ h Δt.
+    u_free: Vec<f64>,
+    /// Scratch vector of length f.
+    tmp: Vec<f64>,
+    chol: Cholesky,
+    /// Whether `chol` holds the factor of a constant M.
+    factored: bool,
+    /// Indices of the active contacts.
+    active: Vec<usize>,
+    /// Positions in `active` of the active frictional contacts.
+    frictional: Vec<usize>,
+    /// w_N and w_T of the active contacts, one column of length f each.
+    w_n: Vec<f64>,
+    w_t: Vec<f64>,
+    /// ŵ_N, ŵ_T and γ_NA, γ_TA of the active contacts.
+    w_n_hat: Vec<f64>,
+    w_t_hat: Vec<f64>,
+    gamma_na: Vec<f64>,
+    gamma_ta: Vec<f64>,
+    /// M⁻¹(w_N − μ w_T) per active contact and M⁻¹ w_T per active frictional contact.
+    y_n: Vec<f64>,
+    x_t: Vec<f64>,
+    /// The Delassus matrix G = [W_N W_T]ᵀ M⁻¹ [W_N W_T] for projected Gauss-Seidel.
+    g: Vec<f64>,
+    /// Impulses (P_N; P_T) of projected Gauss-Seidel.
+    p: Vec<f64>,
+    /// The LCP (A column-major, b).
+    a: Vec<f64>,
+    b: Vec<f64>,
+    /// Warm start for PGS and the previous impulses (P_N, P_R, ξ_L) of each contact.
+    warm: Vec<f64>,
+    prev: Vec<[f64; 3]>,
+    solution: Solution,
+}
+
+/// Moreau's midpoint time-stepper for a [`Mechanism`].
+///
+/// One step from t_A to t_E = t_A + Δt (EQUATIONS.md section 4):
+/// 1. t_M = t_A + Δt/2, q_M = q_A + (Δt/2) u_A;
+/// 2. M_M = M(q_M, t_M), h_M = h(q_M, u_A, t_M);
+/// 3. the active set H = { i : g_N,i(q_M, t_M) ≤ 0 } (or ≤ [`StepperOptions::gap_tolerance`]);
+/// 4. with H empty, u_E = u_A + M_M⁻¹ h_M Δt; otherwise the LCP of eq. 7.41 is assembled
+///    for the contacts in H (one row per frictionless contact, three per frictional one),
+///    solved, and u_E = u_A + M_M⁻¹(h_M Δt + W_N P_N + W_T P_T);
+/// 5. q_E = q_M + (Δt/2) u_E.
+///
+/// M_M is factorised once per step (once per run when the mechanism says it is constant)
+/// and nothing is allocated inside the step loop.
+///
+/// # References
+/// - Moreau, J. J. (1988). Unilateral contact and dry friction in finite freedom dynamics.
+/// - Glocker, Ch. (2001). Set-valued force laws.
+/// - Flores, P. (2010). Application of the non-smooth dynamics approach to model and analyze
+///   contact-impact events in rigid multibody systems using the LCP formulation.
+pub struct Stepper<M: Mechanism> {
+    mechanism: M,
+    options: StepperOptions,
+    solver: SolverImpl,
+    t0: f64,
+    step: u64,
+    t: f64,
+    q: Vec<f64>,
+    u: Vec<f64>,
+    contacts: Vec<ContactReport>,
+    ws: Workspace,
+}
+
+fn check_finite(what: &'static str, v: &[f64], t: f64) -> Result<(), StepError> {
+    match v.iter().position(|x| !x.is_finite()) {
+        Some(index) => Err(StepError::NonFinite { what, index, t }),
+        None => Ok(()),
+    }
+}
+
+impl<M: Mechanism> Stepper<M> {
+    /// A stepper for `mechanism` starting from (q0, u0) at time t0.
+    ///
+    /// # Errors
+    /// [`StepError::InvalidTimeStep`] for Δt not finite and positive,
+    /// [`StepError::Dimension`] for state vectors or law lists of the wrong length,
+    /// [`StepError::NonFinite`] for a non-finite state, and the solver's option errors.
+    pub fn new(
+        mechanism: M,
+        q0: &[f64],
+        u0: &[f64],
+        t0: f64,
+        options: StepperOptions,
+    ) -> Result<Self, StepError> {
+        if !(options.dt > 0.0 && options.dt.is_finite()) {
+            return Err(StepError::InvalidTimeStep { dt: options.dt });
+        }
+        if !(options.gap_tolerance >= 0.0 && options.gap_tolerance.is_finite()) {
+            return Err(StepError::InvalidGapTolerance { value: options.gap_tolerance });
+        }
+        let f = mechanism.num_coordinates();
+        let n = mechanism.num_contacts();
+        for (what, len, expected) in
+            [("q0", q0.len(), f), ("u0", u0.len(), f), ("laws", mechanism.laws().len(), n)]
+        {
+            if len != expected {
+                return Err(StepError::Dimension { what, expected, found: len });
+            }
+        }
+        if !t0.is_finite() {
+            return Err(StepError::NonFinite { what: "t0", index: 0, t: t0 });
+        }
+        check_finite("q0", q0, t0)?;
+        check_finite("u0", u0, t0)?;
+        let solver = SolverImpl::new(&options.solver)?;
+        let ws = Workspace {
+            q_m: vec![0.0; f],
+            mass: vec![0.0; f * f],
+            h: vec![0.0; f],
+            u_free: vec![0.0; f],
+            tmp: vec![0.0; f],
+            chol: Cholesky::new(f),
+            factored: false,
+            active: Vec::with_capacity(n),
+            frictional: Vec::with_capacity(n),
+            w_n: vec![0.0; f * n],
+            w_t: vec![0.0; f * n],
+            w_n_hat: vec![0.0; n],
+            w_t_hat: vec![0.0; n],
+            gamma_na: vec![0.0; n],
+            gamma_ta: vec![0.0; n],
+            y_n: vec![0.0; f * n],
+            x_t: vec![0.0; f * n],
+            g: vec![0.0; 4 * n * n],
+            p: vec![0.0; 2 * n],
+            a: vec![0.0; 9 * n * n],
+            b: vec![0.0; 3 * n],
+            warm: vec![0.0; 3 * n],
+            prev: vec![[0.0; 3]; n],
+            solution: Solution::new(),
+        };
+        Ok(Self {
+            mechanism,
+            options,
+            solver,
+            t0,
+            step: 0,
+            t: t0,
+            q: q0.to_vec(),
+            u: u0.to_vec(),
+            contacts: vec![ContactReport::default(); n],
+            ws,
+        })
+    }
+
+    /// Current time t (s).
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+
+    /// Current positions q.
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// Current velocities u.
+    pub fn u(&self) -> &[f64] {
+        &self.u
+    }
+
+    /// The mechanism being integrated.
+    pub fn mechanism(&self) -> &M {
+        &self.mechanism
+    }
+
+    /// The options the stepper was built with.
+    pub fn options(&self) -> &StepperOptions {
+        &self.options
+    }
+
+    /// Number of steps taken so far.
+    pub fn steps(&self) -> u64 {
+        self.step
+    }
+
+    /// Restarts from state (q, u) at time t, forgetting the warm start.
+    ///
+    /// # Errors
+    /// [`StepError::Dimension`] or [`StepError::NonFinite`] for a bad state.
+    pub fn set_state(&mut self, t: f64, q: &[f64], u: &[f64]) -> Result<(), StepError> {
+        let f = self.q.len();
+        for (what, len) in [("q", q.len()), ("u", u.len())] {
+            if len != f {
+                return Err(StepError::Dimension { what, expected: f, found: len });
+            }
+        }
+        if !t.is_finite() {
+            return Err(StepError::NonFinite { what: "t", index: 0, t });
+        }
+        check_finite("q", q, t)?;
+        check_finite("u", u, t)?;
+        self.q.copy_from_slice(q);
+        self.u.copy_from_slice(u);
+        self.t0 = t;
+        self.t = t;
+        self.step = 0;
+        self.ws.prev.fill([0.0; 3]);
+        Ok(())
+    }
+
+    /// Takes one step of size Δt and reports it.
+    ///
+    /// # Errors
+    /// [`StepError::MassNotSpd`] when M(q_M, t_M) is not SPD, [`StepError::NonFinite`] when the
+    /// mechanism returns non-finite values or the state blows up, and
+    /// [`StepError::LcpFailed`] (carrying the LCP instance) when the step's LCP has no
+    /// acceptable solution. The state is left at the start of the failed step.
+    pub fn step(&mut self) -> Result<StepReport<'_>, StepError> {
+        let (lcp_size, lcp) = self.advance()?;
+        Ok(self.report(lcp_size, lcp))
+    }
+
+    /// The report of the step just taken.
+    fn report(&self, lcp_size: usize, lcp: Option<LcpInfo>) -> StepReport<'_> {
+        let impulse_dissipation = if lcp_size > 0 {
+            let f = self.q.len();
+            half_quadratic(&self.ws.mass, f, &self.ws.u_free)
+                - half_quadratic(&self.ws.mass, f, &self.u)
+        } else {
+            0.0
+        };
+        StepReport {
+            step: self.step - 1,
+            t: self.t,
+            q: &self.q,
+            u: &self.u,
+            contacts: &self.contacts,
+            lcp_size,
+            lcp,
+            impulse_dissipation,
+        }
+    }
+
+    /// The body of [`Self::step`]: updates (t, q, u) and the contact reports.
+    fn advance(&mut self) -> Result<(usize, Option<LcpInfo>), StepError> {
+        let f = self.q.len();
+        let dt = self.options.dt;
+        let t_a = self.t;
+        let t_m = t_a + 0.5 * dt;
+        let ws = &mut self.ws;
+        let mech = &self.mechanism;
+
+        for k in 0..f {
+            ws.q_m[k] = self.q[k] + 0.5 * dt * self.u[k];
+        }
+        if !(ws.factored && mech.constant_mass_matrix()) {
+            mech.mass_matrix(&ws.q_m, t_m, &mut ws.mass);
+            check_finite("M", &ws.mass, t_m)?;
+            ws.chol
+                .factor(&ws.mass)
+                .map_err(|e| StepError::MassNotSpd { t: t_m, reason: e.to_string() })?;
+            ws.factored = true;
+        }
+        mech.forces(&ws.q_m, &self.u, t_m, &mut ws.h);
+        check_finite("h", &ws.h, t_m)?;
+        for k in 0..f {
+            ws.h[k] *= dt;
+        }
+        ws.chol.solve(&mut ws.h);
+        for k in 0..f {
+            ws.u_free[k] = self.u[k] + ws.h[k];
+        }
+
+        ws.active.clear();
+        for i in 0..mech.num_contacts() {
+            let g = mech.normal_gap(i, &ws.q_m, t_m);
+            if !g.is_finite() {
+                return Err(StepError::NonFinite { what: "g_N", index: i, t: t_m });
+            }
+            if g <= self.options.gap_tolerance {
+                ws.active.push(i);
+            }
+        }
+
+        for c in self.contacts.iter_mut() {
+            *c = ContactReport::default();
+        }
+        let mut info = None;
+        let mut lcp_size = 0;
+        if !ws.active.is_empty() {
+            let (size, solved) =
+                Self::contact_step(mech, &self.options, &mut self.solver, ws, &self.u, t_m)
+                    .map_err(|e| self.lcp_error(e))?;
+            lcp_size = size;
+            info = Some(solved);
+        }
+        let ws = &mut self.ws;
+        let u_new = if lcp_size > 0 { &ws.tmp } else { &ws.u_free };
+        check_finite("u", u_new, t_m)?;
+        self.u.copy_from_slice(u_new);
+        for k in 0..f {
+            self.q[k] = ws.q_m[k] + 0.5 * dt * self.u[k];
+        }
+        check_finite("q", &self.q, t_m)?;
+
+        // Contact reports from the end velocities.
+        for (a, &i) in ws.active.iter().enumerate() {
+            let w_n = &ws.w_n[a * f..(a + 1) * f];
+            let w_t = &ws.w_t[a * f..(a + 1) * f];
+            let gamma_n = dot(w_n, &self.u) + ws.w_n_hat[a];
+            let gamma_t = dot(w_t, &self.u) + ws.w_t_hat[a];
+            let [p_n, p_r, _] = ws.prev[i];
+            let mu = mech.laws()[i].mu();
+            // P_T = P_R − μ P_N (section 5); P_R is zero for a contact without friction rows.
+            let p_t = p_r - mu * p_n;
+            let scale: f64 = w_t.iter().zip(&self.u).map(|(w, u)| (w * u).abs()).sum();
+            let state = if p_n <= 0.0 {
+                ContactState::Open
+            } else if gamma_t.abs() <= 1e-9 * (1.0 + scale) {
+                ContactState::Stick
+            } else {
+                ContactState::Slip
+            };
+            self.contacts[i] = ContactReport { active: true, p_n, p_t, gamma_n, gamma_t, state };
+        }
+        for (i, c) in self.contacts.iter().enumerate() {
+            if !c.active {
+                ws.prev[i] = [0.0; 3];
+            }
+        }
+
+        self.step += 1;
+        self.t = self.t0 + self.step as f64 * dt;
+        Ok((lcp_size, info))
+    }
+
+    /// Assembles and solves the LCP of the active contacts; writes u_E into `ws.tmp` and the
+    /// impulses (P_N, P_R, ξ_L) into `ws.prev`. Returns the LCP size and how it was solved.
+    fn contact_step(
+        mech: &M,
+        options: &StepperOptions,
+        solver: &mut SolverImpl,
+        ws: &mut Workspace,
+        u_a: &[f64],
+        t_m: f64,
+    ) -> Result<(usize, LcpInfo), LcpFailure> {
+        let f = u_a.len();
+        let laws = mech.laws();
+        ws.frictional.clear();
+        for (a, &i) in ws.active.iter().enumerate() {
+            let (w_n, w_t) = (&mut ws.w_n[a * f..(a + 1) * f], &mut ws.w_t[a * f..(a + 1) * f]);
+            let point = mech.contact(i, &ws.q_m, t_m, w_n, w_t);
+            if let Some(index) = w_n.iter().chain(w_t.iter()).position(|x| !x.is_finite()) {
+                return Err(LcpFailure::NonFinite { what: "w_N/w_T", index });
+            }
+            ws.w_n_hat[a] = point.w_n_hat;
+            ws.w_t_hat[a] = point.w_t_hat;
+            ws.gamma_na[a] = dot(w_n, u_a) + point.w_n_hat;
+            ws.gamma_ta[a] = dot(w_t, u_a) + point.w_t_hat;
+            if laws[i].is_frictional() || options.friction_rows_when_frictionless {
+                ws.frictional.push(a);
+            }
+        }
+        let na = ws.active.len();
+        let nf = ws.frictional.len();
+        let s = na + 2 * nf;
+
+        // b = W' ũ + ŵ + ε γ_A (eq. 7.41 with W' M⁻¹ h Δt + γ_A = W' ũ + ŵ).
+        let mut all_separating = true;
+        for a in 0..na {
+            let law = laws[ws.active[a]];
+            let w_n = &ws.w_n[a * f..(a + 1) * f];
+            ws.b[a] = dot(w_n, &ws.u_free) + ws.w_n_hat[a] + law.eps_n() * ws.gamma_na[a];
+            all_separating &= ws.b[a] >= 0.0;
+        }
+        for (k, &a) in ws.frictional.iter().enumerate() {
+            let law = laws[ws.active[a]];
+            let w_t = &ws.w_t[a * f..(a + 1) * f];
+            ws.b[na + k] = dot(w_t, &ws.u_free) + ws.w_t_hat[a] + law.eps_t() * ws.gamma_ta[a];
+            ws.b[na + nf + k] = 0.0;
+        }
+
+        if all_separating {
+            // The zero-impulse solution: P_N = P_R = 0, ξ_L = max(0, −b_R).
+            ws.tmp.copy_from_slice(&ws.u_free);
+            for &i in ws.active.iter() {
+                ws.prev[i] = [0.0; 3];
+            }
+            for (k, &a) in ws.frictional.iter().enumerate() {
+                ws.prev[ws.active[a]][2] = (-ws.b[na + k]).max(0.0);
+            }
+            let info = LcpInfo {
+                method: Method::Trivial,
+                status: Status::Solved,
+                iterations: 0,
+                residual: 0.0,
+            };
+            return Ok((s, info));
+        }
+
+        // Columns M⁻¹ w_T of the frictional contacts and M⁻¹ (w_N − μ w_T) of all.
+        for (k, &a) in ws.frictional.iter().enumerate() {
+            let x = &mut ws.x_t[k * f..(k + 1) * f];
+            x.copy_from_slice(&ws.w_t[a * f..(a + 1) * f]);
+            ws.chol.solve(x);
+        }
+        let mut k = 0;
+        for a in 0..na {
+            let y = &mut ws.y_n[a * f..(a + 1) * f];
+            y.copy_from_slice(&ws.w_n[a * f..(a + 1) * f]);
+            ws.chol.solve(y);
+            if k < nf && ws.frictional[k] == a {
+                let mu = laws[ws.active[a]].mu();
+                for (yj, xj) in y.iter_mut().zip(&ws.x_t[k * f..(k + 1) * f]) {
+                    *yj -= mu * xj;
+                }
+                k += 1;
+            }
+        }
+
+        // A of eq. 7.41, column-major, rows (N; R; L), columns (P_N; P_R; ξ_L).
+        let A = &mut ws.a[..s * s];
+        A.fill(0.0);
+        for c in 0..na {
+            let y = &ws.y_n[c * f..(c + 1) * f];
+            for r in 0..na {
+                A[r + c * s] = dot(&ws.w_n[r * f..(r + 1) * f], y);
+            }
+            for (k, &r) in ws.frictional.iter().enumerate() {
+                A[na + k + c * s] = dot(&ws.w_t[r * f..(r + 1) * f], y);
+            }
+        }
+        for (l, &c) in ws.frictional.iter().enumerate() {
+            let x = &ws.x_t[l * f..(l + 1) * f];
+            let col = na + l;
+            for r in 0..na {
+                A[r + col * s] = dot(&ws.w_n[r * f..(r + 1) * f], x);
+            }
+            for (k, &r) in ws.frictional.iter().enumerate() {
+                A[na + k + col * s] = dot(&ws.w_t[r * f..(r + 1) * f], x);
+            }
+            A[na + nf + l + col * s] = -1.0;
+            A[na + l + (na + nf + l) * s] = 1.0;
+            A[na + nf + l + c * s] = 2.0 * laws[ws.active[c]].mu();
+        }
+
+        let solved = if s == 1 && matches!(options.solver, SolverChoice::Auto) && A[0] > 0.0 {
+            // A scalar problem with A > 0 and b < 0 has the one solution P_N = −b/A.
+            ws.solution.z.clear();
+            ws.solution.z.push(-ws.b[0] / A[0]);
+            LcpInfo { method: Method::Lemke, status: Status::Solved, iterations: 1, residual: 0.0 }
+        } else if let (SolverChoice::Pgs { tolerance, omega, max_iterations }, true) =
+            (&options.solver, nf > 0)
+        {
+            // The LCP of eq. 7.41 has zeros on the diagonal of its ξ_L block, where projected
+            // Gauss-Seidel cannot pivot; it is run on the equivalent contact problem instead.
+            let info = nonsmooth_gauss_seidel(ws, laws, *tolerance, *omega, *max_iterations);
+            if info.status != Status::Solved {
+                return Err(LcpFailure::Status(info.status));
+            }
+            info
+        } else {
+            let lcp = LcpRef::new(
+                MatRef::from_column_major_slice(&ws.a[..s * s], s, s),
+                ColRef::from_slice(&ws.b[..s]),
+            )
+            .map_err(LcpFailure::Input)?;
+            let warm = if matches!(options.solver, SolverChoice::Pgs { .. }) {
+                for (a, &i) in ws.active.iter().enumerate() {
+                    ws.warm[a] = ws.prev[i][0];
+                }
+                Some(&ws.warm[..s])
+            } else {
+                None
+            };
+            solver.solve(lcp, warm, &mut ws.solution).map_err(LcpFailure::Solver)?;
+            if ws.solution.status != Status::Solved {
+                return Err(LcpFailure::Status(ws.solution.status));
+            }
+            LcpInfo {
+                method: ws.solution.method,
+                status: ws.solution.status,
+                iterations: ws.solution.iterations,
+                residual: ws.solution.residual.max(),
+            }
+        };
+
+        // u_E = ũ + M⁻¹(w_N − μ w_T) P_N + M⁻¹ w_T P_R (eq. 7.36).
+        let z = &ws.solution.z;
+        ws.tmp.copy_from_slice(&ws.u_free);
+        for a in 0..na {
+            let p_n = z[a].max(0.0);
+            ws.prev[ws.active[a]] = [p_n, 0.0, 0.0];
+            if p_n != 0.0 {
+                for (u, y) in ws.tmp.iter_mut().zip(&ws.y_n[a * f..(a + 1) * f]) {
+                    *u += y * p_n;
+                }
+            }
+        }
+        for (k, &a) in ws.frictional.iter().enumerate() {
+            let p_r = z[na + k].max(0.0);
+            let i = ws.active[a];
+            ws.prev[i][1] = p_r;
+            ws.prev[i][2] = z[na + nf + k].max(0.0);
+            if p_r != 0.0 {
+                for (u, x) in ws.tmp.iter_mut().zip(&ws.x_t[k * f..(k + 1) * f]) {
+                    *u += x * p_r;
+                }
+            }
+        }
+        Ok((s, solved))
+    }
+
+    /// Turns a failure of the contact step into the public error, with the LCP instance.
+    fn lcp_error(&self, failure: LcpFailure) -> StepError {
+        let t = self.t;
+        match failure {
+            LcpFailure::NonFinite { what, index } => StepError::NonFinite { what, index, t },
+            LcpFailure::Input(e) | LcpFailure::Solver(e) => StepError::Lcp(e),
+            LcpFailure::Status(status) => {
+                let na = self.ws.active.len();
+                let s = na + 2 * self.ws.frictional.len();
+                let lcp =
+                    Lcp::from_column_major(s, &self.ws.a[..s * s], &self.ws.b[..s]).map(Box::new);
+                match lcp {
+                    Ok(lcp) => StepError::LcpFailed {
+                        step: self.step,
+                        t,
+                        q: self.q.clone(),
+                        u: self.u.clone(),
+                        status,
+                        lcp,
+                    },
+                    Err(e) => StepError::Lcp(e),
+                }
+            }
+        }
+    }
+
+    /// Steps until t_end (the last step may end up to Δt/2 past it), calling `observer` after
+    /// every step; stops early when the observer breaks.
+    ///
+    /// The number of steps is the nearest whole number of Δt in `t_end − t` (rounded up when
+    /// it is not within 1e-6 Δt of one), and time is t_0 + kΔt, so no round-off accumulates.
+    ///
+    /// # Errors
+    /// [`StepError::EndBeforeStart`] when t_end < t, and every error of [`Self::step`].
+    pub fn run_until<O: Observer<M>>(
+        &mut self,
+        t_end: f64,
+        observer: &mut O,
+    ) -> Result<RunSummary, StepError> {
+        if !t_end.is_finite() {
+            return Err(StepError::NonFinite { what: "t_end", index: 0, t: t_end });
+        }
+        if t_end < self.t {
+            return Err(StepError::EndBeforeStart { t: self.t, t_end });
+        }
+        let x = (t_end - self.t) / self.options.dt;
+        let n = if (x - x.round()).abs() < 1e-6 { x.round() } else { x.ceil() } as u64;
+        let mut summary =
+            RunSummary { steps: 0, lcp_solves: 0, t_end: self.t, stopped_early: false };
+        for _ in 0..n {
+            let (lcp_size, lcp) = self.advance()?;
+            let report = self.report(lcp_size, lcp);
+            summary.steps += 1;
+            if report.lcp.is_some_and(|l| l.method != Method::Trivial) {
+                summary.lcp_solves += 1;
+            }
+            summary.t_end = report.t;
+            let flow = observer.observe(&self.mechanism, &report);
+            if flow.is_break() {
+                summary.stopped_early = summary.t_end < t_end;
+                break;
+            }
+        }
+        Ok(summary)
+    }
+
+    /// Runs until t_end and records every step (row 0 is the current state).
+    ///
+    /// # Errors
+    /// Every error of [`Self::run_until`].
+    pub fn record_until(&mut self, t_end: f64) -> Result<Record, StepError> {
+        let mut recorder = Recorder::new();
+        recorder.push_initial(&self.mechanism, self.t, &self.q, &self.u);
+        self.run_until(t_end, &mut recorder)?;
+        Ok(recorder.record)
+    }
+}
+
+/// Projected (nonsmooth) Gauss-Seidel on the contact problem in (P_N, P_T), equivalent to
+/// the LCP of eq. 7.41: sweeps over the contacts, projecting P_N onto R+ and P_T onto
+/// [−μP_N, μP_N] with the diagonal of the Delassus matrix G, warm-started from the previous
+/// step's impulses. Writes z = (P_N; P_R; ξ_L) of eq. 7.41 into `ws.solution.z` and checks it
+/// with the LCP's own residual.
+fn nonsmooth_gauss_seidel(
+    ws: &mut Workspace,
+    laws: &[moreau_setvalued::ContactLaw],
+    tolerance: f64,
+    omega: f64,
+    max_iterations: usize,
+) -> LcpInfo {
+    let f = ws.q_m.len();
+    let na = ws.active.len();
+    let nf = ws.frictional.len();
+    let m = na + nf;
+    let s = na + 2 * nf;
+    // M⁻¹ w_N = y_N + μ x_T for frictional contacts, y_N otherwise.
+    let column = |ws: &Workspace, c: usize, out: &mut [f64]| {
+        if c < na {
+            out.copy_from_slice(&ws.y_n[c * f..(c + 1) * f]);
+            if let Some(k) = ws.frictional.iter().position(|&a| a == c) {
+                let mu = laws[ws.active[c]].mu();
+                for (o, x) in out.iter_mut().zip(&ws.x_t[k * f..(k + 1) * f]) {
+                    *o += mu * x;
+                }
+            }
+        } else {
+            let k = c - na;
+            out.copy_from_slice(&ws.x_t[k * f..(k + 1) * f]);
+        }
+    };
+    let row = |ws: &Workspace, r: usize| -> std::ops::Range<usize> {
+        let a = if r < na { r } else { ws.frictional[r - na] };
+        a * f..(a + 1) * f
+    };
+    let mut x = std::mem::take(&mut ws.tmp);
+    for c in 0..m {
+        column(ws, c, &mut x);
+        for r in 0..m {
+            let w = if r < na { &ws.w_n[row(ws, r)] } else { &ws.w_t[row(ws, r)] };
+            ws.g[r + c * m] = dot(w, &x);
+        }
+    }
+    ws.tmp = x;
+    let mu_of = |k: usize| laws[ws.active[ws.frictional[k]]].mu();
+    let (g, b, p) = (&ws.g[..m * m], &ws.b, &mut ws.p[..m]);
+    for a in 0..na {
+        p[a] = ws.prev[ws.active[a]][0];
+    }
+    for k in 0..nf {
+        let [p_n, p_r, _] = ws.prev[ws.active[ws.frictional[k]]];
+        p[na + k] = p_r - mu_of(k) * p_n;
+    }
+    let xi = |p: &[f64], r: usize| -> f64 {
+        let mut v = b[r];
+        for c in 0..m {
+            v += g[r + c * m] * p[c];
+        }
+        v
+    };
+    let scale = b[..na + nf].iter().fold(1.0f64, |acc, v| acc.max(v.abs()));
+    let mut iterations = 0;
+    let mut converged = false;
+    while iterations < max_iterations {
+        iterations += 1;
+        for a in 0..na {
+            let d = g[a + a * m];
+            p[a] = (p[a] - omega * xi(p, a) / d).max(0.0);
+        }
+        for k in 0..nf {
+            let r = na + k;
+            let bound = mu_of(k) * p[ws.frictional[k]];
+            let d = g[r + r * m];
+            p[r] = (p[r] - omega * xi(p, r) / d).clamp(-bound, bound);
+        }
+        // Natural residual of the contact laws at the new impulses.
+        let mut res = 0.0f64;
+        for a in 0..na {
+            res = res.max((p[a] - (p[a] - xi(p, a)).max(0.0)).abs());
+        }
+        for k in 0..nf {
+            let r = na + k;
+            let bound = mu_of(k) * p[ws.frictional[k]];
+            res = res.max((p[r] - (p[r] - xi(p, r)).clamp(-bound, bound)).abs());
+        }
+        if res <= tolerance * scale {
+            converged = true;
+            break;
+        }
+    }
+    // z = (P_N; P_R = P_T + μ P_N; ξ_L = max(0, −ξ_T)) of eq. 7.41, and its residual.
+    let z = &mut ws.solution.z;
+    z.clear();
+    z.resize(s, 0.0);
+    for a in 0..na {
+        z[a] = p[a];
+    }
+    for k in 0..nf {
+        z[na + k] = p[na + k] + mu_of(k) * p[ws.frictional[k]];
+        z[na + nf + k] = (-xi(p, na + k)).max(0.0);
+    }
+    let w = &mut ws.solution.w;
+    w.clear();
+    w.resize(s, 0.0);
+    for r in 0..s {
+        let mut v = ws.b[r];
+        for c in 0..s {
+            v += ws.a[r + c * s] * z[c];
+        }
+        w[r] = v;
+    }
+    let lcp = LcpRef::new(
+        MatRef::from_column_major_slice(&ws.a[..s * s], s, s),
+        ColRef::from_slice(&ws.b[..s]),
+    );
+    let residual = match lcp {
+        Ok(lcp) => moreau_lcp::Residual::compute(lcp, z, w).max(),
+        Err(_) => f64::INFINITY,
+    };
+    let status = if converged { Status::Solved } else { Status::IterationLimit };
+    LcpInfo { method: Method::Pgs, status, iterations, residual }
+}
+
+/// Internal failure of a contact step, turned into a [`StepError`] with context.
+enum LcpFailure {
+    NonFinite { what: &'static str, index: usize },
+    Input(moreau_lcp::LcpError),
+    Solver(moreau_lcp::LcpError),
+    Status(Status),
+}
+
+#[allow(dead_code)]
+fn _assert_send_sync() {
+    fn is<T: Send + Sync>() {}
+    is::<StepError>();
+}
+
+impl<M: Mechanism> std::fmt::Debug for Stepper<M> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Stepper")
+            .field("t", &self.t)
+            .field("q", &self.q)
+            .field("u", &self.u)
+            .field("options", &self.options)
+            .finish_non_exhaustive()
+    }
+}

@@ -1,0 +1,179 @@
+//! Rheonomic contacts, frictionless rows, simultaneous impacts and input validation.
+
+mod common;
+
+use std::ops::ControlFlow;
+
+use common::{Ball, Block, G, Rod};
+use moreau_setvalued::ContactLaw;
+use moreau_stepper::{SolverChoice, StepError, StepReport, Stepper, StepperOptions};
+
+#[test]
+fn moving_floor_reverses_the_relative_velocity_at_impact() {
+    // A floor oscillating as A sin(Ω t) meets the falling ball; Newton's law acts on the
+    // relative velocity γ_N = v − ẏ_floor, with ẏ_floor taken at the step's midpoint.
+    for eps in [0.0, 0.5, 1.0] {
+        let mut ball = Ball::new(eps);
+        ball.amplitude = 0.05;
+        ball.omega = 20.0;
+        let floor = ball.clone();
+        let dt = 1e-4;
+        let mut s = Stepper::new(ball, &[0.6], &[0.0], 0.0, StepperOptions::new(dt)).unwrap();
+        let mut checked = 0;
+        let mut v_a = 0.0;
+        s.run_until(1.0, &mut |r: &StepReport<'_>| {
+            let c = r.contacts[0];
+            if c.p_n > 0.0 {
+                let t_m = r.t - 0.5 * dt;
+                let w_hat = -floor.floor(t_m).1;
+                let gamma_a = v_a + w_hat;
+                let gamma_e = r.u[0] + w_hat;
+                assert!((c.gamma_n - gamma_e).abs() < 1e-12);
+                assert!(
+                    (gamma_e + eps * gamma_a).abs() < 1e-12,
+                    "ε = {eps}: {gamma_e} vs {gamma_a}"
+                );
+                checked += 1;
+            }
+            v_a = r.u[0];
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+        assert!(checked > 0);
+    }
+}
+
+#[test]
+fn floor_moving_up_lifts_a_resting_ball() {
+    // A floor rising at constant speed V (A sin Ωt with tiny Ω ≈ V t): the plastic ball rides
+    // on it with v = V.
+    let mut ball = Ball::new(0.0);
+    ball.amplitude = 1.0;
+    ball.omega = 0.01;
+    let mut s = Stepper::new(ball, &[0.1], &[0.0], 0.0, StepperOptions::new(1e-3)).unwrap();
+    let r = s.record_until(0.5).unwrap();
+    let last = r.len() - 1;
+    let v_floor = 0.01 * (0.01f64 * 0.4995).cos();
+    assert!((r.u[last][0] - v_floor).abs() < 1e-9);
+    // Each step's impulse carries gravity plus the floor's acceleration (≈ 0).
+    assert!((r.p_n[last][0] - G * 1e-3).abs() < 1e-6);
+}
+
+#[test]
+fn frictionless_contacts_give_the_same_trajectory_with_or_without_friction_rows() {
+    // A rod falling at an angle, so its ends hit with a tangential velocity.
+    for solver in [SolverChoice::Auto, SolverChoice::Lemke] {
+        let rod = Rod::new(0.5, 0.0);
+        let q0 = [0.0, 0.4, 0.3];
+        let u0 = [1.0, -1.0, 2.0];
+        let base = StepperOptions::new(1e-3).with_solver(solver.clone());
+        let mut full = base.clone();
+        full.friction_rows_when_frictionless = true;
+        let mut a = Stepper::new(rod.clone(), &q0, &u0, 0.0, base).unwrap();
+        let mut b = Stepper::new(rod, &q0, &u0, 0.0, full).unwrap();
+        let mut sizes = (0, 0);
+        for _ in 0..2000 {
+            let ra = a.step().unwrap();
+            sizes.0 = sizes.0.max(ra.lcp_size);
+            let rb = b.step().unwrap();
+            sizes.1 = sizes.1.max(rb.lcp_size);
+        }
+        for k in 0..3 {
+            assert!((a.q()[k] - b.q()[k]).abs() < 1e-10, "{solver:?}: q differs");
+            assert!((a.u()[k] - b.u()[k]).abs() < 1e-10, "{solver:?}: u differs");
+        }
+        assert_eq!(sizes, (2, 6), "LCP sizes with normal rows only and with all rows");
+    }
+}
+
+#[test]
+fn rod_landing_flat_hits_with_both_ends_at_once() {
+    // Simultaneous plastic impact of both ends: equal impulses, no rotation.
+    for mu in [0.0, 0.5] {
+        let rod = Rod::new(0.0, mu);
+        let mut s =
+            Stepper::new(rod, &[0.0, 0.2, 0.0], &[0.3, 0.0, 0.0], 0.0, StepperOptions::new(1e-3))
+                .unwrap();
+        let mut first = None;
+        while first.is_none() {
+            let r = s.step().unwrap();
+            if r.contacts[0].p_n > 0.0 || r.contacts[1].p_n > 0.0 {
+                first = Some((r.contacts[0], r.contacts[1], r.lcp_size, r.u.to_vec()));
+            }
+        }
+        let (c0, c1, size, u) = first.unwrap();
+        assert_eq!(size, if mu > 0.0 { 6 } else { 2 });
+        assert!((c0.p_n - c1.p_n).abs() < 1e-12 * c0.p_n, "{} vs {}", c0.p_n, c1.p_n);
+        assert!(u[1].abs() < 1e-12 && u[2].abs() < 1e-12, "u after impact {u:?}");
+        // Friction can stop the sliding (μ P_N > m v_x): the rod sticks; without it, v_x stays.
+        let v_x = if mu > 0.0 { 0.0 } else { 0.3 };
+        assert!((u[0] - v_x).abs() < 1e-12, "μ = {mu}: v_x = {}", u[0]);
+    }
+}
+
+#[test]
+fn invalid_input_is_rejected_with_typed_errors() {
+    let ball = || Ball::new(0.5);
+    let err = |r: Result<Stepper<Ball>, StepError>| r.unwrap_err();
+    assert!(matches!(
+        err(Stepper::new(ball(), &[1.0], &[0.0], 0.0, StepperOptions::new(0.0))),
+        StepError::InvalidTimeStep { .. }
+    ));
+    assert!(matches!(
+        err(Stepper::new(ball(), &[1.0], &[0.0], 0.0, StepperOptions::new(-1e-3))),
+        StepError::InvalidTimeStep { .. }
+    ));
+    assert!(matches!(
+        err(Stepper::new(ball(), &[1.0], &[0.0], 0.0, StepperOptions::new(f64::NAN))),
+        StepError::InvalidTimeStep { .. }
+    ));
+    assert!(matches!(
+        err(Stepper::new(ball(), &[f64::NAN], &[0.0], 0.0, StepperOptions::new(1e-3))),
+        StepError::NonFinite { what: "q0", .. }
+    ));
+    assert!(matches!(
+        err(Stepper::new(ball(), &[1.0, 2.0], &[0.0], 0.0, StepperOptions::new(1e-3))),
+        StepError::Dimension { what: "q0", expected: 1, found: 2 }
+    ));
+    let pgs = SolverChoice::Pgs { tolerance: 1e-10, omega: 2.5, max_iterations: 10 };
+    assert!(matches!(
+        err(Stepper::new(ball(), &[1.0], &[0.0], 0.0, StepperOptions::new(1e-3).with_solver(pgs))),
+        StepError::Lcp(_)
+    ));
+    assert!(ContactLaw::new(1.5, 0.0, 0.1).is_err());
+    assert!(ContactLaw::new(0.5, -0.1, 0.1).is_err());
+    assert!(ContactLaw::new(0.5, 0.0, -0.1).is_err());
+    assert!(SolverChoice::parse("simplex").is_err());
+
+    // A mass matrix that is not positive definite stops the first step.
+    let mut b = ball();
+    b.m = -1.0;
+    let mut s = Stepper::new(b, &[1.0], &[0.0], 0.0, StepperOptions::new(1e-3)).unwrap();
+    assert!(matches!(s.step().unwrap_err(), StepError::MassNotSpd { .. }));
+    // And an end time in the past is refused.
+    let mut s = Stepper::new(ball(), &[1.0], &[0.0], 1.0, StepperOptions::new(1e-3)).unwrap();
+    assert!(matches!(s.record_until(0.5).unwrap_err(), StepError::EndBeforeStart { .. }));
+}
+
+#[test]
+fn run_until_takes_whole_steps_without_drift() {
+    let mut s = Stepper::new(
+        Block::new(0.3, 0.5),
+        &[0.0, 0.0],
+        &[0.0, 0.0],
+        0.0,
+        StepperOptions::new(1e-4),
+    )
+    .unwrap();
+    let summary = s.run_until(1.0, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).unwrap();
+    assert_eq!(summary.steps, 10_000);
+    assert_eq!(s.t(), 1.0);
+    // An observer that breaks stops the run.
+    let summary = s
+        .run_until(2.0, &mut |r: &StepReport<'_>| {
+            if r.t >= 1.5 { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+        })
+        .unwrap();
+    assert!(summary.stopped_early);
+    assert!((s.t() - 1.5).abs() < 1e-12);
+}
