@@ -26,6 +26,7 @@ pub(crate) struct Lu {
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
     colmax: Vec<f64>,
+    rowscale: Vec<f64>,
     k: usize,
     stack: Option<MemBuffer>,
     stack_for: usize,
@@ -43,19 +44,36 @@ impl Lu {
             self.perm.resize(k, 0);
             self.perm_inv.resize(k, 0);
             self.colmax.resize(k, 0.0);
+            self.rowscale.resize(k, 0.0);
         }
         if k == 0 {
             return true;
         }
+        // Rows are equilibrated by powers of two (exact in floating point) so that partial
+        // pivoting is not misled by rows of very different magnitude.
+        self.rowscale[..k].fill(0.0);
         for j in 0..k {
-            let mut cmax = 0.0f64;
             let col = &mut self.a[j * k..(j + 1) * k];
             for (i, slot) in col.iter_mut().enumerate() {
                 let v = entry(i, j);
                 *slot = v;
-                cmax = cmax.max(v.abs());
+                self.rowscale[i] = self.rowscale[i].max(v.abs());
             }
-            if !cmax.is_finite() || cmax == 0.0 {
+        }
+        for r in self.rowscale[..k].iter_mut() {
+            if !(r.is_finite() && *r > 0.0) {
+                return false;
+            }
+            *r = pow2_inverse(*r);
+        }
+        for j in 0..k {
+            let mut cmax = 0.0f64;
+            let col = &mut self.a[j * k..(j + 1) * k];
+            for (slot, r) in col.iter_mut().zip(&self.rowscale[..k]) {
+                *slot *= r;
+                cmax = cmax.max(slot.abs());
+            }
+            if cmax == 0.0 {
                 return false;
             }
             self.colmax[j] = cmax;
@@ -141,6 +159,9 @@ impl Lu {
             return;
         }
         let rhs = &mut rhs[..k];
+        for (x, r) in rhs.iter_mut().zip(&self.rowscale[..k]) {
+            *x *= r;
+        }
         if k >= FAER_MIN {
             let Some(buf) = self.stack.as_mut() else { return };
             let lu = MatRef::from_column_major_slice(&self.a[..k * k], k, k);
@@ -171,6 +192,40 @@ impl Lu {
             }
         }
     }
+}
+
+/// One step of iterative refinement of `x` for `M_{rows, cols} x = -q_rows` with the
+/// factors in `lu` (M row-major, n columns); `r` is scratch of length `rows.len()`.
+///
+/// It restores a componentwise small backward error when the rows or columns of the
+/// system are of very different magnitude.
+pub(crate) fn refine(
+    lu: &mut Lu,
+    m_rows: &[f64],
+    n: usize,
+    rows: &[usize],
+    cols: &[usize],
+    q: &[f64],
+    x: &mut [f64],
+    r: &mut [f64],
+) {
+    for (t, &i) in rows.iter().enumerate() {
+        let row = &m_rows[i * n..(i + 1) * n];
+        let mut acc = -q[i];
+        for (u, &j) in cols.iter().enumerate() {
+            acc -= row[j] * x[u];
+        }
+        r[t] = acc;
+    }
+    lu.solve(r);
+    for (xi, ri) in x.iter_mut().zip(r.iter()).take(cols.len()) {
+        *xi += ri;
+    }
+}
+
+/// The power of two nearest to `1 / x` (x > 0, finite): scaling by it is exact.
+pub(crate) fn pow2_inverse(x: f64) -> f64 {
+    (-x.log2().round()).exp2()
 }
 
 /// Reorders `v` so that `v_new[i] = v_old[perm[i]]`, using `mark` as scratch.

@@ -5,7 +5,10 @@ use std::cell::Cell;
 
 use serde::{Deserialize, Serialize};
 
-use crate::dense::Lu;
+use crate::dense::{Lu, refine};
+
+/// Above this relative residual a candidate gets a step of iterative refinement.
+const REFINE_ABOVE: f64 = 1e-14;
 use crate::solution::{check_warm_start, finish_row_major};
 use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 
@@ -88,6 +91,7 @@ pub struct Enumeration {
     rows: Vec<usize>,
     cols: Vec<usize>,
     rhs: Vec<f64>,
+    scratch: Vec<f64>,
     by_count: Vec<u32>,
     by_count_n: usize,
     lu: Lu,
@@ -102,6 +106,7 @@ impl Default for Enumeration {
             rows: Vec::new(),
             cols: Vec::new(),
             rhs: Vec::new(),
+            scratch: Vec::new(),
             by_count: Vec::new(),
             by_count_n: usize::MAX,
             lu: Lu::default(),
@@ -176,6 +181,7 @@ impl Enumeration {
         self.m_rows.resize(n * n, 0.0);
         self.q.resize(n, 0.0);
         self.rhs.resize(n, 0.0);
+        self.scratch.resize(n, 0.0);
         if self.rows.capacity() < n {
             self.rows.reserve(n);
             self.cols.reserve(n);
@@ -197,16 +203,35 @@ impl Enumeration {
             self.rhs[t] = -self.q[i];
         }
         self.lu.solve(&mut self.rhs);
+        // Cheap rejection before the O(n^2) residual: a clearly negative z_j.
+        let zmax = self.rhs[..k].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if self.rhs[..k].iter().any(|&v| v < -1e-6 * zmax) {
+            return Some(Residual::INFINITE);
+        }
+        let mut r = self.scatter(n, z, w);
+        if r.relative > REFINE_ABOVE {
+            refine(&mut self.lu, &self.m_rows, n, &self.rows, &self.cols, &self.q, &mut self.rhs, &mut self.scratch);
+            let r2 = self.scatter(n, z, w);
+            if r2.relative < r.relative {
+                r = r2;
+            } else {
+                for (t, &i) in self.rows.iter().enumerate() {
+                    self.rhs[t] = -self.q[i];
+                }
+                self.lu.solve(&mut self.rhs);
+                r = self.scatter(n, z, w);
+            }
+        }
+        Some(r)
+    }
+
+    /// z = the solution in `rhs` on `cols` (clamped at 0, zero elsewhere), w = M z + q.
+    fn scatter(&self, n: usize, z: &mut [f64], w: &mut [f64]) -> Residual {
         z.fill(0.0);
         for (t, &j) in self.cols.iter().enumerate() {
             z[j] = self.rhs[t].max(0.0);
         }
-        // Cheap rejection before the O(n^2) residual: a clearly negative z_j.
-        let zmax = self.rhs[..k].iter().fold(1.0f64, |a, v| a.max(v.abs()));
-        if self.rhs[..k].iter().any(|&v| v < -self.options.tolerance * zmax) {
-            return Some(Residual::INFINITE);
-        }
-        Some(finish_row_major(&self.m_rows, n, &self.q, z, w))
+        finish_row_major(&self.m_rows, n, &self.q, z, w)
     }
 
     /// Tries every principal basis; returns the number of singular `M_αα`.

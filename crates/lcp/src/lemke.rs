@@ -3,16 +3,21 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::dense::Lu;
+use crate::dense::{Lu, pow2_inverse, refine};
 use crate::solution::{check_warm_start, finish_row_major};
 use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 
 const NONE: usize = usize::MAX;
 
+/// Above this relative residual the re-solved basis gets a step of iterative refinement.
+const REFINE_ABOVE: f64 = 1e-14;
+
 /// The covering vector d > 0 of Lemke's augmented problem `w = q + M z + d z_0`.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub enum Covering {
-    /// d = (1, ..., 1).
+    /// d = (1, ..., 1) for the row-equilibrated problem: d_i = 1 / r_i, with r_i the
+    /// power of two nearest to `1 / max_j |M_ij|` (so d = 1 when the rows of M have
+    /// largest entries between 0.7 and 1.4).
     #[default]
     Ones,
     /// A given vector; every entry must be finite and > 0, and its length n.
@@ -125,6 +130,7 @@ pub struct Lemke {
 #[derive(Default)]
 struct Workspace {
     n: usize,
+    ones: bool,
     m_rows: Vec<f64>,
     q: Vec<f64>,
     d: Vec<f64>,
@@ -204,6 +210,7 @@ impl Lemke {
         ws.prepare(n);
         lcp.copy_m_row_major(&mut ws.m_rows);
         lcp.copy_q(&mut ws.q);
+        ws.ones = d.is_none();
         match d {
             Some(d) => ws.d.copy_from_slice(d),
             None => ws.d.fill(1.0),
@@ -259,14 +266,26 @@ impl Workspace {
 
     /// Tableau `x_B = q̄ + T x_N` for the basis {w}: `T = [M | d]`, `q̄ = q`.
     /// Variables: `w_i = i`, `z_i = n + i`, `z_0 = 2 n`.
+    ///
+    /// Each row is scaled by a power of two r_i near `1 / max_j |M_ij|` (exact in floating
+    /// point). Scaling row i of (M, d, q) by r_i > 0 only scales w_i, so the pivot sequence
+    /// is the same in exact arithmetic, while the relative pivot tolerance and the tie
+    /// tests become independent of the magnitudes of the rows. [`Covering::Ones`] puts
+    /// ones in the scaled rows (d_i = 1 / r_i in the original units), so that rows of very
+    /// different magnitude are covered alike.
     fn init_tableau(&mut self) {
         let n = self.n;
         let width = n + 2;
         for i in 0..n {
+            let src = &self.m_rows[i * n..(i + 1) * n];
+            let big = src.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let r = if big > 0.0 { pow2_inverse(big) } else { 1.0 };
             let row = &mut self.tab[i * width..(i + 1) * width];
-            row[..n].copy_from_slice(&self.m_rows[i * n..(i + 1) * n]);
-            row[n] = self.d[i];
-            row[n + 1] = self.q[i];
+            for (dst, v) in row[..n].iter_mut().zip(src) {
+                *dst = v * r;
+            }
+            row[n] = if self.ones { 1.0 } else { self.d[i] * r };
+            row[n + 1] = self.q[i] * r;
             self.basic[i] = i;
             self.row_of[i] = i;
             self.col_of[i] = NONE;
@@ -445,11 +464,17 @@ impl Workspace {
             self.rhs[t] = -self.q[i];
         }
         self.lu.solve(&mut self.rhs);
-        out.z.fill(0.0);
-        for (t, &i) in self.alpha.iter().enumerate() {
-            out.z[i] = self.rhs[t].max(0.0);
+        self.scatter(out);
+        if out.residual.relative > REFINE_ABOVE {
+            let before = out.residual;
+            std::mem::swap(&mut out.z, &mut self.w_alt);
+            refine(&mut self.lu, &self.m_rows, n, &self.alpha, &self.alpha, &self.q, &mut self.rhs, &mut self.z_alt);
+            self.scatter(out);
+            if !(out.residual.relative < before.relative) {
+                std::mem::swap(&mut out.z, &mut self.w_alt);
+                out.residual = finish_row_major(&self.m_rows, n, &self.q, &out.z, &mut out.w);
+            }
         }
-        out.residual = finish_row_major(&self.m_rows, n, &self.q, &out.z, &mut out.w);
         out.method = Method::Lemke;
         if out.residual.relative <= tol {
             out.status = Status::Solved;
@@ -457,6 +482,15 @@ impl Workspace {
         } else {
             false
         }
+    }
+
+    /// z = the basic solution in `rhs` (clamped at 0), w = M z + q, and its residual.
+    fn scatter(&mut self, out: &mut Solution) {
+        out.z.fill(0.0);
+        for (t, &i) in self.alpha.iter().enumerate() {
+            out.z[i] = self.rhs[t].max(0.0);
+        }
+        out.residual = finish_row_major(&self.m_rows, self.n, &self.q, &out.z, &mut out.w);
     }
 
     /// Uses the basic values of the tableau as z (clamped at 0); keeps the better of it and

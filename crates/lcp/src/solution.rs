@@ -75,25 +75,35 @@ impl fmt::Display for Method {
 /// The residual of a candidate (z, w) for LCP(M, q): one definition shared by every
 /// solver, test and report.
 ///
-/// With `s_q = max(1, ‖q‖∞)`, `s_z = max(1, ‖z‖∞)` and
-/// `s_w = max(1, ‖q‖∞, max_i Σ_j |M_ij z_j|)` (the magnitude of the terms that make up
-/// w, so that round-off in `M z + q` is measured against it):
-///
 /// | field | definition |
 /// |---|---|
-/// | `natural` | `‖min(z, w)‖∞ / s_q` (the natural-map residual) |
+/// | `natural` | `‖min(z, w)‖∞ / max(1, ‖q‖∞)` (the natural-map residual) |
 /// | `complementarity` | `max_i |z_i w_i|` |
 /// | `z_violation` | `max(0, -min_i z_i)` |
 /// | `w_violation` | `max(0, -min_i w_i)` |
 /// | `equation` | `‖M z + q - w‖∞` |
-/// | `relative` | `max(z_violation / s_z, w_violation / s_w, equation / s_w, complementarity / (s_z s_w), ‖min(z, w)‖∞ / max(s_z, s_w))` |
+/// | `relative` | the scale-free acceptance measure below |
 ///
-/// A solver reports [`Status::Solved`] only when `relative <= tolerance`. `relative` is
-/// invariant under scaling of the problem (M, q) -> (c M, c q) for large data, and
-/// remains meaningful when the entries of M span many orders of magnitude, where a
-/// fixed absolute bound on `|z_i w_i|` would reject exact solutions.
+/// With the row scale `s_i = max(|q_i|, Σ_j |M_ij z_j|)` (the magnitude of the terms that
+/// make up w_i, against which the round-off of `(M z + q)_i` is measured) and
+/// `Z = ‖z‖∞`,
 ///
-/// If z or w has the wrong length or a non-finite entry, every field is `+∞`.
+/// `relative = max_i max( z⁻_i / Z, w⁻_i / s_i, |M z + q - w|_i / s_i, min(z⁺_i / Z, w⁺_i / s_i) )`
+///
+/// where `x⁺ = max(x, 0)`, `x⁻ = max(-x, 0)` and `0 / 0 = 0`. The last term is the
+/// complementarity of z_i and w_i, each measured in its own scale. A solver reports
+/// [`Status::Solved`] only when `relative <= tolerance`.
+///
+/// `relative` does not change when a row of (M, q) is multiplied by a positive number
+/// (which leaves the solutions unchanged), so rows of very different magnitude (entries
+/// of M from 1e-9 to 1e6) are each checked to the tolerance; and it is never larger than
+/// the residual bound `max(-min z, -min w, max|z_i w_i|, ‖M z + q - w‖∞) /
+/// max(1, ‖q‖∞, ‖|M| |z|‖∞)` of the step LCP's recipe would allow for a
+/// solution whose entries are at most 1, so a solution it accepts also passes that recipe
+/// there; for larger or badly scaled data it is the stricter and the more meaningful test.
+///
+/// If z or w has the wrong length or a non-finite entry (or the products overflow), every
+/// field is `+∞`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Residual {
     /// `‖min(z, w)‖∞ / max(1, ‖q‖∞)`.
@@ -110,56 +120,76 @@ pub struct Residual {
     pub relative: f64,
 }
 
+/// `x / s` with `0 / 0 = 0` (x >= 0, s >= 0).
+#[inline]
+fn ratio(x: f64, s: f64) -> f64 {
+    if x <= 0.0 {
+        0.0
+    } else if s > 0.0 {
+        x / s
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Running maxima for a residual; shared by the generic and the row-major kernels.
-#[derive(Default)]
 struct Acc {
     q_max: f64,
     z_max: f64,
-    mz_max: f64,
     natural: f64,
     complementarity: f64,
     z_violation: f64,
     w_violation: f64,
     equation: f64,
+    relative: f64,
 }
 
 impl Acc {
+    fn new(z: &[f64]) -> Acc {
+        Acc {
+            q_max: 0.0,
+            z_max: z.iter().fold(0.0f64, |a, v| a.max(v.abs())),
+            natural: 0.0,
+            complementarity: 0.0,
+            z_violation: 0.0,
+            w_violation: 0.0,
+            equation: 0.0,
+            relative: 0.0,
+        }
+    }
+
+    /// One row: `mz_abs = Σ_j |M_ij z_j|`, `mzq = (M z + q)_i` as computed.
     #[inline]
     fn row(&mut self, q: f64, z: f64, w: f64, mz_abs: f64, mzq: f64) {
         self.q_max = self.q_max.max(q.abs());
-        self.z_max = self.z_max.max(z.abs());
-        self.mz_max = self.mz_max.max(mz_abs);
         self.natural = self.natural.max(z.min(w).abs());
         self.complementarity = self.complementarity.max((z * w).abs());
         self.z_violation = self.z_violation.max(-z);
         self.w_violation = self.w_violation.max(-w);
-        self.equation = self.equation.max((mzq - w).abs());
+        let eq = (mzq - w).abs();
+        self.equation = self.equation.max(eq);
+        let s = q.abs().max(mz_abs);
+        let zm = self.z_max;
+        let r = ratio(-z, zm).max(ratio(-w, s)).max(ratio(eq, s)).max(ratio(z, zm).min(ratio(w, s)));
+        self.relative = self.relative.max(r);
     }
 
     fn finish(self) -> Residual {
-        let s_q = self.q_max.max(1.0);
-        let s_z = self.z_max.max(1.0);
-        let s_w = s_q.max(self.mz_max);
-        let relative = (self.z_violation / s_z)
-            .max(self.w_violation / s_w)
-            .max(self.equation / s_w)
-            .max(self.complementarity / (s_z * s_w))
-            .max(self.natural / s_z.max(s_w));
         let r = Residual {
-            natural: self.natural / s_q,
+            natural: self.natural / self.q_max.max(1.0),
             complementarity: self.complementarity,
             z_violation: self.z_violation,
             w_violation: self.w_violation,
             equation: self.equation,
-            relative,
+            relative: self.relative,
         };
         if [r.natural, r.complementarity, r.z_violation, r.w_violation, r.equation, r.relative]
             .iter()
-            .all(|v| v.is_finite())
+            .any(|v| v.is_nan())
         {
-            r
-        } else {
             Residual::INFINITE
+        } else {
+            r
         }
     }
 }
@@ -183,7 +213,7 @@ impl Residual {
         }
         let m = lcp.m();
         let q = lcp.q();
-        let mut acc = Acc::default();
+        let mut acc = Acc::new(z);
         for i in 0..n {
             let mut sum = q[i];
             let mut abs = 0.0;
@@ -211,7 +241,7 @@ impl Residual {
 /// Sets `w = M z + q` (M row-major, `m[i n + j] = M_ij`) and returns the residual of
 /// (z, w); `equation` is then zero by construction.
 pub(crate) fn finish_row_major(m: &[f64], n: usize, q: &[f64], z: &[f64], w: &mut [f64]) -> Residual {
-    let mut acc = Acc::default();
+    let mut acc = Acc::new(&z[..n]);
     for i in 0..n {
         let row = &m[i * n..(i + 1) * n];
         let mut sum = q[i];
@@ -329,7 +359,7 @@ pub(crate) fn check_warm_start(n: usize, warm_start: Option<&[f64]>) -> Result<(
 
 /// The residual of z = 0, w = q.
 pub(crate) fn residual_of_zero(q: &[f64]) -> Residual {
-    let mut acc = Acc::default();
+    let mut acc = Acc::new(&[]);
     for &qi in q {
         acc.row(qi, 0.0, qi, 0.0, qi);
     }

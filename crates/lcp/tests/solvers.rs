@@ -1,0 +1,414 @@
+//! Planted solutions, scaling, small edge cases and input validation for every solver.
+#![allow(non_snake_case)]
+
+mod common;
+
+use common::{Rng, assert_solves, planted, random_p_matrix, random_spd, rel_dist};
+use faer::{Col, Mat};
+use moreau_lcp::{
+    Auto, Covering, Enumeration, EnumerationOptions, Lcp, LcpError, LcpRef, Lemke, LemkeOptions,
+    Method, Pgs, PgsOptions, Residual, Solution, Solver, Status,
+};
+
+#[test]
+fn planted_spd_problems_all_solvers_agree() {
+    let mut rng = Rng::new(1);
+    for trial in 0..40 {
+        let n = 1 + (trial % 12);
+        let (lcp, z_star) = planted(random_spd(n, &mut rng), &mut rng, false);
+        let lemke = Lemke::default().solve(&lcp).unwrap();
+        let pgs = Pgs::default().solve(&lcp).unwrap();
+        let enumeration = Enumeration::default().solve(&lcp).unwrap();
+        let auto = Auto::default().solve(&lcp).unwrap();
+        for (name, s) in [("lemke", &lemke), ("pgs", &pgs), ("enum", &enumeration), ("auto", &auto)] {
+            assert_eq!(s.status, Status::Solved, "{name} trial {trial}");
+            assert_solves(&lcp, &s.z, 1e-8);
+            let tol = if name == "pgs" { 1e-6 } else { 1e-9 };
+            assert!(rel_dist(&z_star, &s.z) < tol, "{name} trial {trial}: {:?} vs {:?}", s.z, z_star);
+        }
+    }
+}
+
+#[test]
+fn planted_p_matrix_problems_all_solvers_agree() {
+    let mut rng = Rng::new(2);
+    for trial in 0..40 {
+        let n = 1 + (trial % 10);
+        let (lcp, z_star) = planted(random_p_matrix(n, &mut rng), &mut rng, trial % 2 == 0);
+        for (name, s) in [
+            ("lemke", Lemke::default().solve(&lcp).unwrap()),
+            ("pgs", Pgs::default().solve(&lcp).unwrap()),
+            ("enum", Enumeration::default().solve(&lcp).unwrap()),
+            ("auto", Auto::default().solve(&lcp).unwrap()),
+        ] {
+            assert_eq!(s.status, Status::Solved, "{name} trial {trial}");
+            let tol = if name == "pgs" { 1e-7 } else { 1e-9 };
+            assert!(rel_dist(&z_star, &s.z) < tol, "{name} trial {trial}: {:?} vs {:?}", s.z, z_star);
+        }
+    }
+}
+
+#[test]
+fn larger_spd_problems_lemke_and_pgs_agree() {
+    let mut rng = Rng::new(3);
+    for n in [30, 45, 90] {
+        let (lcp, z_star) = planted(random_spd(n, &mut rng), &mut rng, false);
+        let lemke = Lemke::default().solve(&lcp).unwrap();
+        assert_eq!(lemke.status, Status::Solved);
+        assert!(rel_dist(&z_star, &lemke.z) < 1e-9, "n = {n}");
+        let pgs = Pgs::new(PgsOptions { max_iterations: 100_000, ..PgsOptions::default() })
+            .unwrap()
+            .solve(&lcp)
+            .unwrap();
+        assert_eq!(pgs.status, Status::Solved, "pgs n = {n}");
+        assert!(rel_dist(&z_star, &pgs.z) < 1e-6, "pgs n = {n}");
+    }
+}
+
+#[test]
+fn badly_scaled_matrix_is_solved_accurately() {
+    // Entries of M span 1e-9 to 1e6: a diagonal scaling D1 A D2 of a P-matrix A keeps the
+    // P-property and the planted solution moves to D2^{-1} z.
+    let mut rng = Rng::new(4);
+    for trial in 0..20 {
+        let n = 2 + trial % 6;
+        let a = random_p_matrix(n, &mut rng);
+        let d1: Vec<f64> = (0..n).map(|i| if i % 2 == 0 { 1e-9 } else { 1e6 }).collect();
+        let d2: Vec<f64> = (0..n).map(|_| 10f64.powf(rng.uniform(-3.0, 3.0))).collect();
+        let (base, z_base) = planted(a.clone(), &mut rng, false);
+        let m = Mat::from_fn(n, n, |i, j| d1[i] * a[(i, j)] * d2[j]);
+        let q = Col::from_fn(n, |i| d1[i] * base.q()[i]);
+        let lcp = Lcp::new(m, q).unwrap();
+        let z_star: Vec<f64> = (0..n).map(|j| z_base[j] / d2[j]).collect();
+        for (name, s) in [
+            ("lemke", Lemke::default().solve(&lcp).unwrap()),
+            ("enum", Enumeration::default().solve(&lcp).unwrap()),
+            ("auto", Auto::default().solve(&lcp).unwrap()),
+        ] {
+            assert_eq!(s.status, Status::Solved, "{name} trial {trial}: {:?} {:?} vs {:?}", s.residual, s.z, z_star);
+            // Normwise: the columns scaled by 1e-3..1e3 make componentwise bounds meaningless
+            // for the small components.
+            assert!(rel_dist(&z_star, &s.z) < 1e-9, "{name} trial {trial}: {:?} vs {:?}", s.z, z_star);
+            assert!(s.residual.relative <= 1e-9);
+        }
+    }
+}
+
+#[test]
+fn scalar_problems_have_the_closed_form_answers() {
+    // a > 0: z = max(0, -b/a).
+    for (a, b) in [(2.0, -3.0), (2.0, 3.0), (1e-6, -1.0), (5.0, 0.0)] {
+        let lcp = Lcp::from_rows(&[vec![a]], &[b]).unwrap();
+        let expected: f64 = (-b / a).max(0.0);
+        for s in [
+            Lemke::default().solve(&lcp).unwrap(),
+            Pgs::default().solve(&lcp).unwrap(),
+            Enumeration::default().solve(&lcp).unwrap(),
+            Auto::default().solve(&lcp).unwrap(),
+        ] {
+            assert_eq!(s.status, Status::Solved);
+            assert!((s.z[0] - expected).abs() <= 1e-12 * expected.max(1.0), "a={a} b={b}: {}", s.z[0]);
+            assert!((s.w[0] - (a * s.z[0] + b)).abs() < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn scalar_with_negative_a_and_positive_b_has_two_solutions() {
+    let (a, b) = (-2.0, 3.0);
+    let lcp = Lcp::from_rows(&[vec![a]], &[b]).unwrap();
+    let all = Enumeration::default().solve_all(lcp.view()).unwrap();
+    let mut zs: Vec<f64> = all.iter().map(|s| s.z[0]).collect();
+    zs.sort_by(f64::total_cmp);
+    assert_eq!(zs.len(), 2);
+    assert_eq!(zs[0], 0.0);
+    assert!((zs[1] - 1.5).abs() < 1e-14);
+    // q >= 0: the trivial solution.
+    let s = Auto::default().solve(&lcp).unwrap();
+    assert_eq!((s.status, s.method, s.z[0]), (Status::Solved, Method::Trivial, 0.0));
+}
+
+#[test]
+fn scalar_with_negative_a_and_negative_b_has_none() {
+    let lcp = Lcp::from_rows(&[vec![-2.0]], &[-3.0]).unwrap();
+    assert!(Enumeration::default().solve_all(lcp.view()).unwrap().is_empty());
+    let e = Enumeration::default().solve(&lcp).unwrap();
+    assert_eq!(e.status, Status::NoSolution);
+    let l = Lemke::default().solve(&lcp).unwrap();
+    assert_eq!(l.status, Status::RayTermination);
+    assert!(l.residual.relative > 1e-9);
+    let a = Auto::default().solve(&lcp).unwrap();
+    assert_eq!((a.status, a.method), (Status::NoSolution, Method::Enumeration));
+    assert!(!a.is_solved());
+}
+
+#[test]
+fn zero_scalar_problems() {
+    // M = 0, q = 0: z = 0 solves (any z >= 0 does).
+    let lcp = Lcp::from_rows(&[vec![0.0]], &[0.0]).unwrap();
+    assert!(Auto::default().solve(&lcp).unwrap().is_solved());
+    // M = 0, q < 0: w = q < 0 for every z, no solution.
+    let lcp = Lcp::from_rows(&[vec![0.0]], &[-1.0]).unwrap();
+    assert_eq!(Enumeration::default().solve(&lcp).unwrap().status, Status::NoSolution);
+    assert_eq!(Auto::default().solve(&lcp).unwrap().status, Status::NoSolution);
+    assert!(matches!(
+        Pgs::default().solve(&lcp),
+        Err(LcpError::NonPositiveDiagonal { index: 0, value }) if value == 0.0
+    ));
+}
+
+#[test]
+fn pgs_reports_iteration_limit_and_divergence_honestly() {
+    // w1 = z1 - 2 z2 - 1, w2 = -2 z1 + z2 - 1: w1 + w2 = -(z1 + z2) - 2 < 0, infeasible.
+    // PGS sets z1 = 1 + 2 z2, z2 = 1 + 2 z1: the iterates grow fourfold per sweep.
+    let lcp = Lcp::from_rows(&[vec![1.0, -2.0], vec![-2.0, 1.0]], &[-1.0, -1.0]).unwrap();
+    let s = Pgs::new(PgsOptions { max_iterations: 50, ..PgsOptions::default() }).unwrap().solve(&lcp).unwrap();
+    assert_eq!(s.status, Status::IterationLimit);
+    assert_eq!(s.iterations, 50);
+    assert!(s.residual.relative > 1e-10);
+    // After 4^k overflows (k about 512) the last finite iterate is returned.
+    let s = Pgs::new(PgsOptions { max_iterations: 2000, ..PgsOptions::default() }).unwrap().solve(&lcp).unwrap();
+    assert_eq!(s.status, Status::NumericalFailure);
+    assert!(s.iterations > 500 && s.iterations < 2000, "{}", s.iterations);
+    assert!(s.z.iter().all(|v| v.is_finite()));
+    // The problem is infeasible, which enumeration proves.
+    assert_eq!(Enumeration::default().solve(&lcp).unwrap().status, Status::NoSolution);
+    // PGS solves a problem that is not diagonally dominant when its sweep lands on a
+    // solution: w1 = z1 + 2 z2 - 1, w2 = 2 z1 + z2 - 1 gives z = (1, 0) after one sweep.
+    let lcp = Lcp::from_rows(&[vec![1.0, 2.0], vec![2.0, 1.0]], &[-1.0, -1.0]).unwrap();
+    let s = Pgs::default().solve(&lcp).unwrap();
+    assert_eq!((s.status, s.iterations, s.z.as_slice()), (Status::Solved, 1, [1.0, 0.0].as_slice()));
+}
+
+#[test]
+fn pgs_warm_start_at_the_solution_needs_no_sweep() {
+    let mut rng = Rng::new(5);
+    let (lcp, z_star) = planted(random_spd(6, &mut rng), &mut rng, false);
+    let mut pgs = Pgs::default();
+    let mut out = Solution::new();
+    pgs.solve_into(lcp.view(), Some(&z_star), &mut out).unwrap();
+    assert_eq!((out.status, out.iterations), (Status::Solved, 0));
+    let cold = Pgs::default().solve(&lcp).unwrap();
+    assert!(cold.iterations > 0);
+    // A nearby warm start takes fewer sweeps than a cold one.
+    let near: Vec<f64> = z_star.iter().map(|v| v * 1.001).collect();
+    pgs.solve_into(lcp.view(), Some(&near), &mut out).unwrap();
+    assert!(out.is_solved() && out.iterations < cold.iterations);
+}
+
+#[test]
+fn pgs_over_relaxation_converges_for_spd() {
+    let mut rng = Rng::new(6);
+    let (lcp, z_star) = planted(random_spd(8, &mut rng), &mut rng, false);
+    for omega in [0.5, 1.0, 1.3, 1.8] {
+        let s = Pgs::new(PgsOptions { omega, max_iterations: 100_000, ..PgsOptions::default() })
+            .unwrap()
+            .solve(&lcp)
+            .unwrap();
+        assert_eq!(s.status, Status::Solved, "omega {omega}");
+        assert!(rel_dist(&z_star, &s.z) < 1e-6);
+    }
+}
+
+#[test]
+fn non_finite_and_malformed_input_is_rejected() {
+    let nan = f64::NAN;
+    assert!(matches!(
+        Lcp::from_rows(&[vec![1.0, 0.0], vec![0.0, nan]], &[1.0, 1.0]),
+        Err(LcpError::NonFinite { what: "M", index: (1, 1) })
+    ));
+    assert!(matches!(
+        Lcp::from_rows(&[vec![1.0]], &[f64::INFINITY]),
+        Err(LcpError::NonFinite { what: "q", index: (0, 0) })
+    ));
+    assert!(matches!(Lcp::from_rows(&[], &[]), Err(LcpError::Empty)));
+    assert!(matches!(
+        Lcp::from_rows(&[vec![1.0, 2.0], vec![1.0]], &[1.0, 1.0]),
+        Err(LcpError::NotSquare { rows: 2, cols: 1 })
+    ));
+    assert!(matches!(
+        Lcp::from_rows(&[vec![1.0]], &[1.0, 2.0]),
+        Err(LcpError::DimensionMismatch { what: "q", expected: 1, found: 2 })
+    ));
+    assert!(matches!(
+        Lcp::from_column_major(2, &[1.0, 2.0, 3.0], &[1.0, 1.0]),
+        Err(LcpError::DimensionMismatch { expected: 4, found: 3, .. })
+    ));
+    let m = Mat::<f64>::zeros(2, 3);
+    let q = Col::<f64>::zeros(2);
+    assert!(matches!(LcpRef::new(m.as_ref(), q.as_ref()), Err(LcpError::NotSquare { rows: 2, cols: 3 })));
+    // A transposed (row-major) view is validated and solved like any other.
+    let m = Mat::from_fn(2, 2, |i, j| [[2.0, 1.0], [0.0, 2.0]][j][i]);
+    let q = Col::from_fn(2, |i| [-1.0, -1.0][i]);
+    let view = LcpRef::new(m.transpose(), q.as_ref()).unwrap();
+    let mut out = Solution::new();
+    Lemke::default().solve_into(view, None, &mut out).unwrap();
+    assert!(out.is_solved());
+    assert!((out.z[0] - 0.25).abs() < 1e-15 && (out.z[1] - 0.5).abs() < 1e-15, "{:?}", out.z);
+    assert_eq!(view.to_owned().m()[(0, 1)], 1.0);
+}
+
+#[test]
+fn warm_start_errors() {
+    let lcp = Lcp::from_rows(&[vec![1.0]], &[-1.0]).unwrap();
+    let mut out = Solution::new();
+    for solver in [&mut Pgs::default() as &mut dyn Solver, &mut Lemke::default(), &mut Auto::default()] {
+        assert!(matches!(
+            solver.solve_into(lcp.view(), Some(&[1.0, 2.0]), &mut out),
+            Err(LcpError::WarmStartLength { expected: 1, found: 2 })
+        ));
+        assert!(matches!(
+            solver.solve_into(lcp.view(), Some(&[f64::NAN]), &mut out),
+            Err(LcpError::NonFinite { what: "warm start", .. })
+        ));
+    }
+}
+
+#[test]
+fn options_are_validated() {
+    for omega in [0.0, 2.0, -1.0, f64::NAN] {
+        assert!(matches!(
+            Pgs::new(PgsOptions { omega, ..PgsOptions::default() }),
+            Err(LcpError::InvalidOption { name: "omega", .. })
+        ));
+    }
+    assert!(Pgs::new(PgsOptions { tolerance: 0.0, ..PgsOptions::default() }).is_err());
+    assert!(Pgs::new(PgsOptions { max_iterations: 0, ..PgsOptions::default() }).is_err());
+    assert!(Lemke::new(LemkeOptions { max_pivots: 0, ..LemkeOptions::default() }).is_err());
+    assert!(Lemke::new(LemkeOptions { tolerance: f64::INFINITY, ..LemkeOptions::default() }).is_err());
+    assert!(matches!(
+        Lemke::new(LemkeOptions { covering: Covering::Custom(vec![1.0, 0.0]), ..LemkeOptions::default() }),
+        Err(LcpError::InvalidOption { name: "covering", .. })
+    ));
+    assert!(matches!(
+        Enumeration::new(EnumerationOptions { max_n: 40, ..EnumerationOptions::default() }),
+        Err(LcpError::InvalidOption { name: "max_n", .. })
+    ));
+    // A covering vector of the wrong length is an input error at solve time.
+    let mut lemke =
+        Lemke::new(LemkeOptions { covering: Covering::Custom(vec![1.0, 2.0]), ..LemkeOptions::default() }).unwrap();
+    let lcp = Lcp::from_rows(&[vec![1.0]], &[-1.0]).unwrap();
+    assert!(matches!(lemke.solve(&lcp), Err(LcpError::DimensionMismatch { what: "covering vector d", .. })));
+}
+
+#[test]
+fn custom_covering_vector_gives_the_same_unique_solution() {
+    let mut rng = Rng::new(7);
+    let (lcp, z_star) = planted(random_p_matrix(7, &mut rng), &mut rng, false);
+    let d: Vec<f64> = (0..7).map(|_| rng.uniform(0.2, 5.0)).collect();
+    let s = Lemke::new(LemkeOptions { covering: Covering::Custom(d), ..LemkeOptions::default() })
+        .unwrap()
+        .solve(&lcp)
+        .unwrap();
+    assert_eq!(s.status, Status::Solved);
+    assert!(rel_dist(&z_star, &s.z) < 1e-10);
+}
+
+#[test]
+fn enumeration_size_guard() {
+    let n = 21;
+    let lcp = Lcp::new(Mat::identity(n, n), Col::from_fn(n, |_| -1.0)).unwrap();
+    assert!(matches!(Enumeration::default().solve(&lcp), Err(LcpError::TooLarge { n: 21, max: 20 })));
+    assert!(matches!(Enumeration::default().solve_all(lcp.view()), Err(LcpError::TooLarge { .. })));
+    // Auto skips enumeration for such sizes and still solves with Lemke.
+    let s = Auto::default().solve(&lcp).unwrap();
+    assert_eq!((s.status, s.method), (Status::Solved, Method::Lemke));
+    assert!(s.z.iter().all(|&v| (v - 1.0).abs() < 1e-15));
+}
+
+#[test]
+fn residual_definition() {
+    let lcp = Lcp::from_rows(&[vec![2.0, 0.0], vec![0.0, 1.0]], &[-4.0, 1.0]).unwrap();
+    // Exact solution z = (2, 0), w = (0, 1).
+    let r = Residual::compute(lcp.view(), &[2.0, 0.0], &[0.0, 1.0]);
+    assert_eq!(r.max(), 0.0);
+    assert_eq!(r.relative, 0.0);
+    // A wrong candidate z = (1, -0.5), claimed w = (0, 1).
+    let r = Residual::compute(lcp.view(), &[1.0, -0.5], &[0.0, 1.0]);
+    assert_eq!(r.z_violation, 0.5);
+    assert_eq!(r.w_violation, 0.0);
+    assert_eq!(r.complementarity, 0.5);
+    // M z + q - w = (-2, 0.5 - 1).
+    assert_eq!(r.equation, 2.0);
+    // min(z, w) = (0, -0.5), divided by max(1, ‖q‖∞) = 4.
+    assert_eq!(r.natural, 0.125);
+    assert_eq!(r.max(), 2.0);
+    // Z = 1; row 0: s_0 = max(4, 2) = 4, equation 2 / 4; row 1: s_1 = max(1, 0.5) = 1,
+    // z violation 0.5 / 1 and equation 0.5 / 1.
+    assert_eq!(r.relative, 0.5);
+    // A candidate that violates complementarity only: z = (2, 1), w = M z + q = (0, 2).
+    let r = Residual::compute(lcp.view(), &[2.0, 1.0], &[0.0, 2.0]);
+    assert_eq!((r.z_violation, r.w_violation, r.equation), (0.0, 0.0, 0.0));
+    assert_eq!(r.complementarity, 2.0);
+    // min(z_1 / Z, w_1 / s_1) = min(1 / 2, 2 / max(1, 1)) = 0.5.
+    assert_eq!(r.relative, 0.5);
+    // Scaling a row of (M, q) leaves `relative` unchanged.
+    let scaled = Lcp::from_rows(&[vec![2e-9, 0.0], vec![0.0, 1.0]], &[-4e-9, 1.0]).unwrap();
+    let r2 = Residual::compute(scaled.view(), &[2.0, 1.0], &[0.0, 2.0]);
+    assert_eq!(r2.relative, 0.5);
+    assert_eq!(Residual::compute(lcp.view(), &[1.0], &[0.0, 1.0]), Residual::INFINITE);
+    assert_eq!(Residual::compute(lcp.view(), &[f64::NAN, 0.0], &[0.0, 1.0]).relative, f64::INFINITY);
+}
+
+#[test]
+fn display_names() {
+    let statuses = [
+        (Status::Solved, "solved"),
+        (Status::NoSolution, "no_solution"),
+        (Status::RayTermination, "ray_termination"),
+        (Status::IterationLimit, "iteration_limit"),
+        (Status::NumericalFailure, "numerical_failure"),
+        (Status::TooLarge, "too_large"),
+    ];
+    for (s, name) in statuses {
+        assert_eq!(s.to_string(), name);
+        assert_eq!(serde_json::to_string(&s).unwrap(), format!("\"{name}\""));
+    }
+    for (m, name) in
+        [(Method::Trivial, "trivial"), (Method::Lemke, "lemke"), (Method::Pgs, "pgs"), (Method::Enumeration, "enumeration")]
+    {
+        assert_eq!(m.to_string(), name);
+        assert_eq!(serde_json::to_string(&m).unwrap(), format!("\"{name}\""));
+    }
+}
+
+#[test]
+fn solutions_and_options_serialize() {
+    let lcp = Lcp::from_rows(&[vec![2.0]], &[-1.0]).unwrap();
+    let s = Auto::default().solve(&lcp).unwrap();
+    let text = serde_json::to_string(&s).unwrap();
+    let back: Solution = serde_json::from_str(&text).unwrap();
+    assert_eq!(back, s);
+    let opts: LemkeOptions = serde_json::from_str(r#"{"max_pivots": 10}"#).unwrap();
+    assert_eq!(opts.max_pivots, 10);
+    assert_eq!(opts.tolerance, LemkeOptions::default().tolerance);
+}
+
+#[test]
+fn solvers_are_send_and_sync() {
+    fn check<T: Send + Sync>() {}
+    check::<Lemke>();
+    check::<Pgs>();
+    check::<Enumeration>();
+    check::<Auto>();
+    check::<Lcp>();
+    check::<LcpRef<'static>>();
+    check::<Solution>();
+    check::<LcpError>();
+}
+
+#[test]
+fn workspace_reuse_across_sizes_gives_the_same_answers() {
+    let mut rng = Rng::new(8);
+    let mut lemke = Lemke::default();
+    let mut pgs = Pgs::default();
+    let mut out = Solution::new();
+    for n in [9, 3, 30, 1, 12, 9] {
+        let (lcp, z_star) = planted(random_spd(n, &mut rng), &mut rng, false);
+        lemke.solve_into(lcp.view(), None, &mut out).unwrap();
+        assert!(out.is_solved() && rel_dist(&z_star, &out.z) < 1e-9, "lemke n = {n}");
+        pgs.solve_into(lcp.view(), None, &mut out).unwrap();
+        assert!(out.is_solved() && rel_dist(&z_star, &out.z) < 1e-6, "pgs n = {n}");
+        assert_eq!(out.z.len(), n);
+    }
+}
