@@ -169,6 +169,16 @@ struct Workspace {
     warm: Vec<f64>,
     prev: Vec<[f64; 3]>,
     solution: Solution,
+    /// Size of the LCP the last step gave to a solver (0 when none).
+    last_size: usize,
+    /// Buffers of the optional position projection.
+    proj_active: Vec<usize>,
+    proj_w: Vec<f64>,
+    proj_x: Vec<f64>,
+    proj_a: Vec<f64>,
+    proj_b: Vec<f64>,
+    proj_solver: Auto,
+    proj_solution: Solution,
 }
 
 /// Moreau's midpoint time-stepper for a [`Mechanism`].
@@ -270,6 +280,14 @@ impl<M: Mechanism> Stepper<M> {
             warm: vec![0.0; 3 * n],
             prev: vec![[0.0; 3]; n],
             solution: Solution::new(),
+            last_size: 0,
+            proj_active: Vec::with_capacity(n),
+            proj_w: vec![0.0; f * n],
+            proj_x: vec![0.0; f * n],
+            proj_a: vec![0.0; n * n],
+            proj_b: vec![0.0; n],
+            proj_solver: Auto::default(),
+            proj_solution: Solution::new(),
         };
         Ok(Self {
             mechanism,
@@ -403,6 +421,7 @@ impl<M: Mechanism> Stepper<M> {
             ws.u_free[k] = self.u[k] + ws.h[k];
         }
 
+        ws.last_size = 0;
         ws.active.clear();
         for i in 0..mech.num_contacts() {
             let g = mech.normal_gap(i, &ws.q_m, t_m);
@@ -461,9 +480,83 @@ impl<M: Mechanism> Stepper<M> {
             }
         }
 
+        if self.options.projection {
+            let t_e = self.t0 + (self.step + 1) as f64 * dt;
+            self.project(t_e)?;
+        }
+
         self.step += 1;
         self.t = self.t0 + self.step as f64 * dt;
         Ok((lcp_size, info))
+    }
+
+    /// Moves q_E back onto the admissible set g_N(q, t_E) ≥ 0 along M⁻¹ W_N:
+    /// q_E ← q_E + M⁻¹ W_N λ with 0 ≤ λ ⊥ W_Nᵀ M⁻¹ W_N λ + g_N ≥ 0, for the contacts that
+    /// penetrate, repeated (at most four times) while the linearisation leaves some
+    /// penetration. Velocities are not changed, so kinetic energy is not changed.
+    fn project(&mut self, t_e: f64) -> Result<(), StepError> {
+        let f = self.q.len();
+        let ws = &mut self.ws;
+        let mech = &self.mechanism;
+        for _ in 0..4 {
+            ws.proj_active.clear();
+            for i in 0..mech.num_contacts() {
+                let g = mech.normal_gap(i, &self.q, t_e);
+                if !g.is_finite() {
+                    return Err(StepError::NonFinite { what: "g_N", index: i, t: t_e });
+                }
+                if g < 0.0 {
+                    ws.proj_active.push(i);
+                    ws.proj_b[ws.proj_active.len() - 1] = g;
+                }
+            }
+            let k = ws.proj_active.len();
+            if k == 0 {
+                break;
+            }
+            for (a, &i) in ws.proj_active.iter().enumerate() {
+                let (w_n, x) =
+                    (&mut ws.proj_w[a * f..(a + 1) * f], &mut ws.proj_x[a * f..(a + 1) * f]);
+                mech.contact(i, &self.q, t_e, w_n, &mut ws.tmp);
+                x.copy_from_slice(w_n);
+                ws.chol.solve(x);
+            }
+            for c in 0..k {
+                for r in 0..k {
+                    ws.proj_a[r + c * k] =
+                        dot(&ws.proj_w[r * f..(r + 1) * f], &ws.proj_x[c * f..(c + 1) * f]);
+                }
+            }
+            let lcp = LcpRef::new(
+                MatRef::from_column_major_slice(&ws.proj_a[..k * k], k, k),
+                ColRef::from_slice(&ws.proj_b[..k]),
+            )?;
+            ws.proj_solver.solve_into(lcp, None, &mut ws.proj_solution)?;
+            if ws.proj_solution.status != Status::Solved {
+                // A projection that cannot be computed leaves q_E as the scheme gave it.
+                break;
+            }
+            for (c, lambda) in ws.proj_solution.z.iter().enumerate() {
+                for (q, x) in self.q.iter_mut().zip(&ws.proj_x[c * f..(c + 1) * f]) {
+                    *q += x * lambda.max(0.0);
+                }
+            }
+        }
+        check_finite("q", &self.q, t_e)
+    }
+
+    /// The LCP (A, b) of eq. 7.41 that the last step assembled and gave to the solver, if it
+    /// needed one (not when no contact was closed or the zero impulse solved it at once).
+    pub fn last_lcp(&self) -> Option<LcpRef<'_>> {
+        let s = self.ws.last_size;
+        if s == 0 {
+            return None;
+        }
+        LcpRef::new(
+            MatRef::from_column_major_slice(&self.ws.a[..s * s], s, s),
+            ColRef::from_slice(&self.ws.b[..s]),
+        )
+        .ok()
     }
 
     /// Assembles and solves the LCP of the active contacts; writes u_E into `ws.tmp` and the
@@ -576,6 +669,7 @@ impl<M: Mechanism> Stepper<M> {
             A[na + nf + l + c * s] = 2.0 * laws[ws.active[c]].mu();
         }
 
+        ws.last_size = s;
         let solved = if s == 1 && matches!(options.solver, SolverChoice::Auto) && A[0] > 0.0 {
             // A scalar problem with A > 0 and b < 0 has the one solution P_N = −b/A.
             ws.solution.z.clear();

@@ -177,3 +177,62 @@ fn run_until_takes_whole_steps_without_drift() {
     assert!(summary.stopped_early);
     assert!((s.t() - 1.5).abs() < 1e-12);
 }
+
+#[test]
+fn projection_removes_the_penetration_and_keeps_energy_from_growing() {
+    for eps in [0.0, 0.5, 1.0] {
+        let dt = 1e-3;
+        let plain = StepperOptions::new(dt);
+        let mut projected = plain.clone();
+        projected.projection = true;
+        let run = |opts: StepperOptions| {
+            Stepper::new(Ball::new(eps), &[1.0], &[0.0], 0.0, opts)
+                .unwrap()
+                .record_until(5.0)
+                .unwrap()
+        };
+        let (a, b) = (run(plain), run(projected));
+        let deepest =
+            |r: &moreau_stepper::Record| r.q.iter().map(|q| q[0] - 0.1).fold(0.0, f64::min);
+        // The scheme as written penetrates by up to v Δt / 2 at an impact (for ε = 1 the end
+        // position q_E = q_A of the impact step is outside).
+        let v1 = (2.0 * G * 0.9f64).sqrt();
+        assert!(deepest(&a) >= -v1 * dt, "eps = {eps}: {}", deepest(&a));
+        if eps < 1.0 {
+            assert!(deepest(&a) < -1e-5, "eps = {eps}: {}", deepest(&a));
+        }
+        assert!(deepest(&b) >= -1e-15, "eps = {eps}: projected run penetrates by {}", deepest(&b));
+        let e = b.total_energy();
+        let gain = e.iter().map(|x| x - e[0]).fold(f64::NEG_INFINITY, f64::max);
+        assert!(gain <= 1e-12, "eps = {eps}: projected energy grows by {gain}");
+    }
+}
+
+#[test]
+fn last_lcp_exposes_the_assembled_problem() {
+    let mut s = Stepper::new(
+        Rod::new(0.0, 0.5),
+        &[0.0, 0.2, 0.0],
+        &[0.3, 0.0, 0.0],
+        0.0,
+        StepperOptions::new(1e-3),
+    )
+    .unwrap();
+    assert!(s.last_lcp().is_none());
+    loop {
+        let r = s.step().unwrap();
+        if r.contacts[0].p_n > 0.0 {
+            break;
+        }
+    }
+    let lcp = s.last_lcp().expect("the impact step solved an LCP").to_owned();
+    assert_eq!(lcp.n(), 6);
+    // The ξ_L block of eq. 7.41: rows 4-5 are (2μ, −I, 0).
+    assert_eq!(lcp.m()[(4, 0)], 1.0);
+    assert_eq!(lcp.m()[(4, 2)], -1.0);
+    assert_eq!(lcp.m()[(4, 4)], 0.0);
+    let mut sol = moreau_lcp::Solution::new();
+    use moreau_lcp::Solver;
+    moreau_lcp::Enumeration::default().solve_into(lcp.view(), None, &mut sol).unwrap();
+    assert!(sol.is_solved());
+}
