@@ -1,0 +1,297 @@
+//! The registry of models: [`ModelKind`], [`ModelParams`] and [`AnyModel`].
+
+use std::fmt;
+use std::str::FromStr;
+
+use moreau_kinematics::{ContactKinematics, ContactPoint};
+use moreau_setvalued::ContactLaw;
+use moreau_stepper::Mechanism;
+use serde::{Deserialize, Serialize};
+
+use crate::draw::Drawing;
+use crate::{
+    Ball, BallParams, Cam, CamParams, ModelError, PainleveParams, PainleveRod, SliderCrank,
+    SliderCrankIdeal, SliderCrankIdealParams, SliderCrankParams, Woodpecker, WoodpeckerParams,
+};
+
+/// The models of the report, by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelKind {
+    /// The bouncing ball (7.1), `ball`.
+    Ball,
+    /// The woodpecker toy (7.2), `woodpecker`.
+    Woodpecker,
+    /// The slider-crank with a clearance joint (7.3), `slider-crank`.
+    SliderCrank,
+    /// The ideal slider-crank (7.3, ideal joint), `slider-crank-ideal`.
+    SliderCrankIdeal,
+    /// The cam with a flat-face follower (7.4), `cam`.
+    Cam,
+    /// Painlevé's rod (7.5), `painleve`.
+    Painleve,
+}
+
+impl ModelKind {
+    /// Every model, in the report's order.
+    pub const ALL: [ModelKind; 6] = [
+        ModelKind::Ball,
+        ModelKind::Woodpecker,
+        ModelKind::SliderCrank,
+        ModelKind::SliderCrankIdeal,
+        ModelKind::Cam,
+        ModelKind::Painleve,
+    ];
+
+    /// The model's name, as accepted by [`FromStr`].
+    pub fn name(self) -> &'static str {
+        match self {
+            ModelKind::Ball => "ball",
+            ModelKind::Woodpecker => "woodpecker",
+            ModelKind::SliderCrank => "slider-crank",
+            ModelKind::SliderCrankIdeal => "slider-crank-ideal",
+            ModelKind::Cam => "cam",
+            ModelKind::Painleve => "painleve",
+        }
+    }
+
+    /// Names of the coordinates q.
+    pub fn coordinate_names(self) -> &'static [&'static str] {
+        match self {
+            ModelKind::Ball => Ball::COORDINATES,
+            ModelKind::Woodpecker => Woodpecker::COORDINATES,
+            ModelKind::SliderCrank => SliderCrank::COORDINATES,
+            ModelKind::SliderCrankIdeal => SliderCrankIdeal::COORDINATES,
+            ModelKind::Cam => Cam::COORDINATES,
+            ModelKind::Painleve => PainleveRod::COORDINATES,
+        }
+    }
+
+    /// Names of the velocities u.
+    pub fn velocity_names(self) -> &'static [&'static str] {
+        match self {
+            ModelKind::Ball => Ball::VELOCITIES,
+            ModelKind::Woodpecker => Woodpecker::VELOCITIES,
+            ModelKind::SliderCrank => SliderCrank::VELOCITIES,
+            ModelKind::SliderCrankIdeal => SliderCrankIdeal::VELOCITIES,
+            ModelKind::Cam => Cam::VELOCITIES,
+            ModelKind::Painleve => PainleveRod::VELOCITIES,
+        }
+    }
+}
+
+impl fmt::Display for ModelKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for ModelKind {
+    type Err = ModelError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        ModelKind::ALL.into_iter().find(|k| k.name() == s).ok_or_else(|| ModelError::BadValue {
+            key: "model".to_owned(),
+            value: s.to_owned(),
+            reason: format!(
+                "unknown model; accepted: {}",
+                ModelKind::ALL.map(ModelKind::name).join(", ")
+            ),
+        })
+    }
+}
+
+/// The parameters of any model, tagged by the model's name in the field `model`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "model", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ModelParams {
+    /// Bouncing ball.
+    Ball(BallParams),
+    /// Woodpecker toy.
+    Woodpecker(WoodpeckerParams),
+    /// Slider-crank with a clearance joint.
+    SliderCrank(SliderCrankParams),
+    /// Ideal slider-crank.
+    SliderCrankIdeal(SliderCrankIdealParams),
+    /// Cam-follower.
+    Cam(CamParams),
+    /// Painlevé rod.
+    Painleve(PainleveParams),
+}
+
+impl ModelParams {
+    /// The report's parameters of a model.
+    pub fn report(kind: ModelKind) -> Self {
+        match kind {
+            ModelKind::Ball => ModelParams::Ball(BallParams::report()),
+            ModelKind::Woodpecker => ModelParams::Woodpecker(WoodpeckerParams::report()),
+            ModelKind::SliderCrank => ModelParams::SliderCrank(SliderCrankParams::report()),
+            ModelKind::SliderCrankIdeal => {
+                ModelParams::SliderCrankIdeal(SliderCrankIdealParams::report())
+            }
+            ModelKind::Cam => ModelParams::Cam(CamParams::report()),
+            ModelKind::Painleve => ModelParams::Painleve(PainleveParams::report()),
+        }
+    }
+
+    /// Which model these parameters are for.
+    pub fn kind(&self) -> ModelKind {
+        match self {
+            ModelParams::Ball(_) => ModelKind::Ball,
+            ModelParams::Woodpecker(_) => ModelKind::Woodpecker,
+            ModelParams::SliderCrank(_) => ModelKind::SliderCrank,
+            ModelParams::SliderCrankIdeal(_) => ModelKind::SliderCrankIdeal,
+            ModelParams::Cam(_) => ModelKind::Cam,
+            ModelParams::Painleve(_) => ModelKind::Painleve,
+        }
+    }
+
+    /// Validates the parameters and builds the model.
+    ///
+    /// # Errors
+    /// The model's [`ModelError::InvalidParameter`] or [`ModelError::Law`].
+    pub fn build(&self) -> Result<AnyModel, ModelError> {
+        Ok(match self {
+            ModelParams::Ball(p) => AnyModel::Ball(Ball::new(p.clone())?),
+            ModelParams::Woodpecker(p) => AnyModel::Woodpecker(Woodpecker::new(p.clone())?),
+            ModelParams::SliderCrank(p) => AnyModel::SliderCrank(SliderCrank::new(p.clone())?),
+            ModelParams::SliderCrankIdeal(p) => {
+                AnyModel::SliderCrankIdeal(SliderCrankIdeal::new(p.clone())?)
+            }
+            ModelParams::Cam(p) => AnyModel::Cam(Cam::new(p.clone())?),
+            ModelParams::Painleve(p) => AnyModel::Painleve(PainleveRod::new(p.clone())?),
+        })
+    }
+}
+
+/// Any model of the report, as one [`Mechanism`] type (dispatching by `match`).
+#[derive(Clone, Debug)]
+pub enum AnyModel {
+    /// Bouncing ball.
+    Ball(Ball),
+    /// Woodpecker toy.
+    Woodpecker(Woodpecker),
+    /// Slider-crank with a clearance joint.
+    SliderCrank(SliderCrank),
+    /// Ideal slider-crank.
+    SliderCrankIdeal(SliderCrankIdeal),
+    /// Cam-follower.
+    Cam(Cam),
+    /// Painlevé rod.
+    Painleve(PainleveRod),
+}
+
+macro_rules! dispatch {
+    ($self:expr, $m:ident => $e:expr) => {
+        match $self {
+            AnyModel::Ball($m) => $e,
+            AnyModel::Woodpecker($m) => $e,
+            AnyModel::SliderCrank($m) => $e,
+            AnyModel::SliderCrankIdeal($m) => $e,
+            AnyModel::Cam($m) => $e,
+            AnyModel::Painleve($m) => $e,
+        }
+    };
+}
+
+impl AnyModel {
+    /// Which model this is.
+    pub fn kind(&self) -> ModelKind {
+        match self {
+            AnyModel::Ball(_) => ModelKind::Ball,
+            AnyModel::Woodpecker(_) => ModelKind::Woodpecker,
+            AnyModel::SliderCrank(_) => ModelKind::SliderCrank,
+            AnyModel::SliderCrankIdeal(_) => ModelKind::SliderCrankIdeal,
+            AnyModel::Cam(_) => ModelKind::Cam,
+            AnyModel::Painleve(_) => ModelKind::Painleve,
+        }
+    }
+
+    /// Names of the coordinates q (as in EQUATIONS.md).
+    pub fn coordinate_names(&self) -> &'static [&'static str] {
+        self.kind().coordinate_names()
+    }
+
+    /// Names of the velocities u (as in EQUATIONS.md).
+    pub fn velocity_names(&self) -> &'static [&'static str] {
+        self.kind().velocity_names()
+    }
+
+    /// Names of the listed contacts (switched-off contacts are not listed).
+    pub fn contact_names(&self) -> Vec<String> {
+        dispatch!(self, m => m.contact_names())
+    }
+
+    /// The initial state (q0, u0) of the parameters.
+    pub fn initial_state(&self) -> (Vec<f64>, Vec<f64>) {
+        dispatch!(self, m => m.initial_state())
+    }
+
+    /// A drawing of the mechanism at (q, t), in metres.
+    pub fn draw(&self, q: &[f64], t: f64) -> Drawing {
+        dispatch!(self, m => m.draw(q, t))
+    }
+
+    /// Where each listed contact's point is at (q, t) (m), for highlighting active contacts.
+    pub fn contact_points(&self, q: &[f64], t: f64) -> Vec<[f64; 2]> {
+        match self {
+            AnyModel::SliderCrankIdeal(_) => Vec::new(),
+            AnyModel::Ball(m) => m.contact_points(q, t),
+            AnyModel::Woodpecker(m) => m.contact_points(q, t),
+            AnyModel::SliderCrank(m) => m.contact_points(q, t),
+            AnyModel::Cam(m) => m.contact_points(q, t),
+            AnyModel::Painleve(m) => m.contact_points(q, t),
+        }
+    }
+
+    /// The parameters the model was built from.
+    pub fn params(&self) -> ModelParams {
+        match self {
+            AnyModel::Ball(m) => ModelParams::Ball(m.params().clone()),
+            AnyModel::Woodpecker(m) => ModelParams::Woodpecker(m.params().clone()),
+            AnyModel::SliderCrank(m) => ModelParams::SliderCrank(m.params().clone()),
+            AnyModel::SliderCrankIdeal(m) => ModelParams::SliderCrankIdeal(m.params().clone()),
+            AnyModel::Cam(m) => ModelParams::Cam(m.params().clone()),
+            AnyModel::Painleve(m) => ModelParams::Painleve(m.params().clone()),
+        }
+    }
+}
+
+impl ContactKinematics for AnyModel {
+    fn num_coordinates(&self) -> usize {
+        dispatch!(self, m => m.num_coordinates())
+    }
+    fn num_contacts(&self) -> usize {
+        dispatch!(self, m => m.num_contacts())
+    }
+    fn normal_gap(&self, i: usize, q: &[f64], t: f64) -> f64 {
+        dispatch!(self, m => m.normal_gap(i, q, t))
+    }
+    fn contact(
+        &self,
+        i: usize,
+        q: &[f64],
+        t: f64,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) -> ContactPoint {
+        dispatch!(self, m => m.contact(i, q, t, w_n, w_t))
+    }
+}
+
+impl Mechanism for AnyModel {
+    fn laws(&self) -> &[ContactLaw] {
+        dispatch!(self, m => m.laws())
+    }
+    fn mass_matrix(&self, q: &[f64], t: f64, mass: &mut [f64]) {
+        dispatch!(self, m => m.mass_matrix(q, t, mass))
+    }
+    fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]) {
+        dispatch!(self, m => m.forces(q, u, t, h))
+    }
+    fn potential_energy(&self, q: &[f64], t: f64) -> Option<f64> {
+        dispatch!(self, m => m.potential_energy(q, t))
+    }
+    fn constant_mass_matrix(&self) -> bool {
+        dispatch!(self, m => m.constant_mass_matrix())
+    }
+}

@@ -1,0 +1,381 @@
+//! The slider-crank with a translational clearance joint (EQUATIONS.md 7.3):
+//! q = (θ1, θ2, θ3), four frictional corner contacts of the slider with the guide.
+
+use moreau_kinematics::{ContactKinematics, ContactPoint};
+use moreau_setvalued::ContactLaw;
+use moreau_stepper::Mechanism;
+use serde::{Deserialize, Serialize};
+
+use crate::ModelError;
+use crate::draw::{Drawing, Role};
+use crate::params::{LawParams, all_finite, positive, relation};
+use crate::slider_crank_ideal::{SliderCrankIdealInit, SliderCrankIdealParams};
+
+fn enabled() -> bool {
+    true
+}
+
+/// Parameters of the slider-crank with a clearance joint (the report's Table 8.4 in
+/// [`SliderCrankParams::report`]).
+///
+/// The crank (length l1) turns about the origin, the connecting rod (length l2) joins its tip
+/// to the slider's centre, and the slider, a rectangle 2a × 2b, moves between two guide
+/// surfaces Y = ±d/2 with d = 2b + c. The crank is not driven: only its initial speed is
+/// given. Gravity acts along −Y.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SliderCrankParams {
+    /// Crank length l1 (m), < l2.
+    pub l1: f64,
+    /// Connecting-rod length l2 (m).
+    pub l2: f64,
+    /// Half length a of the slider (m).
+    pub a: f64,
+    /// Half height b of the slider (m).
+    pub b: f64,
+    /// Radial clearance c: the guide is d = 2b + c wide (m).
+    pub c: f64,
+    /// Crank mass m1 (kg).
+    pub m1: f64,
+    /// Connecting-rod mass m2 (kg).
+    pub m2: f64,
+    /// Slider mass m3 (kg).
+    pub m3: f64,
+    /// Crank moment of inertia J1 about its centre of mass (kg m²).
+    pub j1: f64,
+    /// Connecting-rod moment of inertia J2 about its centre of mass (kg m²).
+    pub j2: f64,
+    /// Slider moment of inertia J3 (kg m²).
+    pub j3: f64,
+    /// Gravitational acceleration g (m/s²).
+    pub g: f64,
+    /// Normal restitution ε_N of the four corners (dimensionless, in `[0, 1]`).
+    pub eps_n: f64,
+    /// Tangential restitution ε_T of the four corners (dimensionless, in `[0, 1]`).
+    pub eps_t: f64,
+    /// Friction coefficient μ of the four corners (dimensionless, >= 0).
+    pub mu: f64,
+    /// Whether the upper guide surface (corners 1 and 2) is modelled; default `true`.
+    #[serde(default = "enabled")]
+    pub upper_surface: bool,
+    /// Whether the lower guide surface (corners 3 and 4) is modelled; default `true`.
+    #[serde(default = "enabled")]
+    pub lower_surface: bool,
+    /// Initial state; the report's when omitted.
+    #[serde(default = "SliderCrankInit::report")]
+    pub init: SliderCrankInit,
+}
+
+/// Initial state of the slider-crank.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SliderCrankInit {
+    /// Crank angle θ1 (rad).
+    pub th1: f64,
+    /// Connecting-rod angle θ2 (rad).
+    pub th2: f64,
+    /// Slider angle θ3 (rad).
+    pub th3: f64,
+    /// Crank speed ω1 (rad/s).
+    pub w1: f64,
+    /// Connecting-rod speed ω2 (rad/s); −(l1 cos θ1)/(l2 cos θ2) ω1 keeps the slider's
+    /// vertical velocity zero.
+    pub w2: f64,
+    /// Slider angular speed ω3 (rad/s).
+    pub w3: f64,
+}
+
+impl SliderCrankInit {
+    /// The report's initial state: all angles 0, ω1 = 150 rad/s, ω2 = −75 rad/s, ω3 = 0.
+    pub fn report() -> Self {
+        Self { th1: 0.0, th2: 0.0, th3: 0.0, w1: 150.0, w2: -75.0, w3: 0.0 }
+    }
+}
+
+impl SliderCrankParams {
+    /// The report's Table 8.4 (ε_N = 0.4, μ = 0.01, c = 1 mm).
+    pub fn report() -> Self {
+        Self {
+            l1: 0.1530,
+            l2: 0.3060,
+            a: 0.0500,
+            b: 0.0250,
+            c: 0.0010,
+            m1: 0.0380,
+            m2: 0.0380,
+            m3: 0.0760,
+            j1: 7.4e-5,
+            j2: 5.9e-4,
+            j3: 2.7e-6,
+            g: 9.81,
+            eps_n: 0.4,
+            eps_t: 0.0,
+            mu: 0.01,
+            upper_surface: true,
+            lower_surface: true,
+            init: SliderCrankInit::report(),
+        }
+    }
+
+    /// The ideal (no clearance) slider-crank with the same bodies, started at the same crank
+    /// angle and speed.
+    pub fn ideal(&self) -> SliderCrankIdealParams {
+        SliderCrankIdealParams {
+            l1: self.l1,
+            l2: self.l2,
+            a: self.a,
+            b: self.b,
+            m1: self.m1,
+            m2: self.m2,
+            m3: self.m3,
+            j1: self.j1,
+            j2: self.j2,
+            g: self.g,
+            init: SliderCrankIdealInit { th1: self.init.th1, w1: self.init.w1 },
+        }
+    }
+
+    /// Width d = 2b + c of the guide (m).
+    pub fn guide_width(&self) -> f64 {
+        2.0 * self.b + self.c
+    }
+}
+
+/// The slider-crank with a clearance joint as a [`Mechanism`] (EQUATIONS.md 7.3); corners on
+/// a switched-off guide surface are not listed.
+#[derive(Clone, Debug)]
+pub struct SliderCrank {
+    params: SliderCrankParams,
+    /// Which corner (0..4 for corners 1..4) each listed contact is.
+    corners: Vec<usize>,
+    laws: Vec<ContactLaw>,
+}
+
+/// Corner k (0-based) in the slider's frame, and whether it faces the upper surface.
+fn corner_local(a: f64, b: f64, k: usize) -> ([f64; 2], bool) {
+    match k {
+        0 => ([-a, b], true),
+        1 => ([a, b], true),
+        2 => ([-a, -b], false),
+        _ => ([a, -b], false),
+    }
+}
+
+impl SliderCrank {
+    /// Names of the coordinates q.
+    pub const COORDINATES: &'static [&'static str] = &["th1", "th2", "th3"];
+    /// Names of the velocities u.
+    pub const VELOCITIES: &'static [&'static str] = &["w1", "w2", "w3"];
+
+    /// Validates the parameters and builds the model.
+    ///
+    /// # Errors
+    /// [`ModelError::InvalidParameter`] naming the field for a non-positive length, mass or
+    /// inertia, a crank not shorter than the rod, a bad law or a non-finite initial state.
+    pub fn new(params: SliderCrankParams) -> Result<Self, ModelError> {
+        let p = &params;
+        for (f, v) in [
+            ("l1", p.l1),
+            ("l2", p.l2),
+            ("a", p.a),
+            ("b", p.b),
+            ("c", p.c),
+            ("m1", p.m1),
+            ("m2", p.m2),
+            ("m3", p.m3),
+            ("j1", p.j1),
+            ("j2", p.j2),
+            ("j3", p.j3),
+            ("g", p.g),
+        ] {
+            positive(f, v)?;
+        }
+        if p.l1 >= p.l2 {
+            return Err(relation(
+                "l1",
+                p.l1,
+                "the crank l1 must be shorter than the connecting rod l2",
+            ));
+        }
+        let i = &p.init;
+        all_finite(&[
+            ("init.th1", i.th1),
+            ("init.th2", i.th2),
+            ("init.th3", i.th3),
+            ("init.w1", i.w1),
+            ("init.w2", i.w2),
+            ("init.w3", i.w3),
+        ])?;
+        let law = LawParams::new(p.eps_n, p.eps_t, p.mu).law("")?;
+        let corners: Vec<usize> =
+            (0..4).filter(|&k| if k < 2 { p.upper_surface } else { p.lower_surface }).collect();
+        let laws = vec![law; corners.len()];
+        Ok(Self { params, corners, laws })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &SliderCrankParams {
+        &self.params
+    }
+
+    /// Which corner (0..4 for the report's corners 1..4) each listed contact is.
+    pub fn corner_ids(&self) -> &[usize] {
+        &self.corners
+    }
+
+    /// The initial state (q0, u0).
+    pub fn initial_state(&self) -> (Vec<f64>, Vec<f64>) {
+        let i = &self.params.init;
+        (vec![i.th1, i.th2, i.th3], vec![i.w1, i.w2, i.w3])
+    }
+
+    /// Names of the listed contacts.
+    pub fn contact_names(&self) -> Vec<String> {
+        self.corners
+            .iter()
+            .map(|&k| format!("corner {} ({})", k + 1, if k < 2 { "upper" } else { "lower" }))
+            .collect()
+    }
+
+    /// Crank tip l1 (cos θ1, sin θ1) (m).
+    pub fn crank_tip(&self, q: &[f64]) -> [f64; 2] {
+        [self.params.l1 * q[0].cos(), self.params.l1 * q[0].sin()]
+    }
+
+    /// Slider centre (x3, y3) = l1 (c1, s1) + l2 (c2, s2) (m).
+    pub fn slider_center(&self, q: &[f64]) -> [f64; 2] {
+        let p = &self.params;
+        [p.l1 * q[0].cos() + p.l2 * q[1].cos(), p.l1 * q[0].sin() + p.l2 * q[1].sin()]
+    }
+
+    /// Position of corner `k` (0-based: 0..4 are the report's corners 1..4) (m).
+    pub fn corner_position(&self, k: usize, q: &[f64]) -> [f64; 2] {
+        let ([sx, sy], _) = corner_local(self.params.a, self.params.b, k);
+        let [x3, y3] = self.slider_center(q);
+        let (s3, c3) = q[2].sin_cos();
+        [x3 + sx * c3 - sy * s3, y3 + sx * s3 + sy * c3]
+    }
+
+    /// Normalised vertical corner position Y_k = (y_corner − y_centred)/(c/2), with
+    /// y_centred = +b for corners 1, 2 and −b for corners 3, 4: +1 touches the upper surface,
+    /// −1 the lower one, and |Y_k| > 1 is penetration.
+    pub fn normalized_corner(&self, k: usize, q: &[f64]) -> f64 {
+        let centred = if k < 2 { self.params.b } else { -self.params.b };
+        (self.corner_position(k, q)[1] - centred) / (0.5 * self.params.c)
+    }
+
+    /// The slider portrait ((x3 − l2)/l1, y3/(c/2)).
+    pub fn slider_portrait(&self, q: &[f64]) -> [f64; 2] {
+        let p = &self.params;
+        let [x3, y3] = self.slider_center(q);
+        [(x3 - p.l2) / p.l1, y3 / (0.5 * p.c)]
+    }
+
+    fn full_gap(&self, k: usize, q: &[f64]) -> f64 {
+        let ([sx, sy], upper) = corner_local(self.params.a, self.params.b, k);
+        let y3 = self.params.l1 * q[0].sin() + self.params.l2 * q[1].sin();
+        let (s3, c3) = q[2].sin_cos();
+        let y = y3 + sx * s3 + sy * c3;
+        let half = 0.5 * self.params.guide_width();
+        if upper { half - y } else { half + y }
+    }
+
+    /// Locations of the listed contacts' corners at `q`.
+    pub fn contact_points(&self, q: &[f64], _t: f64) -> Vec<[f64; 2]> {
+        self.corners.iter().map(|&k| self.corner_position(k, q)).collect()
+    }
+
+    /// Draws the crank, the connecting rod, the slider, the modelled guide surfaces and the
+    /// joints; closed corners are marked.
+    pub fn draw(&self, q: &[f64], t: f64) -> Drawing {
+        let p = &self.params;
+        let mut d = Drawing::new();
+        let tip = self.crank_tip(q);
+        let centre = self.slider_center(q);
+        let half = 0.5 * p.guide_width();
+        let (x0, x1) = (p.l2 - p.l1 - 2.0 * p.a, p.l2 + p.l1 + 2.0 * p.a);
+        if p.upper_surface {
+            d.line(Role::Guide, vec![[x0, half], [x1, half]]);
+        }
+        if p.lower_surface {
+            d.line(Role::Guide, vec![[x0, -half], [x1, -half]]);
+        }
+        d.line(Role::Crank, vec![[0.0, 0.0], tip]);
+        d.line(Role::Rod, vec![tip, centre]);
+        d.polygon(Role::Slider, [0, 1, 3, 2].iter().map(|&k| self.corner_position(k, q)).collect());
+        let r = 0.04 * p.l1;
+        d.circle(Role::Ground, [0.0, 0.0], r);
+        d.circle(Role::Joint, tip, r);
+        d.circle(Role::Joint, centre, r);
+        for (i, &k) in self.corners.iter().enumerate() {
+            if self.normal_gap(i, q, t) <= 1e-6 * p.c {
+                d.circle(Role::ContactPoint, self.corner_position(k, q), 0.5 * r);
+            }
+        }
+        d
+    }
+}
+
+impl ContactKinematics for SliderCrank {
+    fn num_coordinates(&self) -> usize {
+        3
+    }
+    fn num_contacts(&self) -> usize {
+        self.corners.len()
+    }
+    fn normal_gap(&self, i: usize, q: &[f64], _t: f64) -> f64 {
+        self.full_gap(self.corners[i], q)
+    }
+    fn contact(
+        &self,
+        i: usize,
+        q: &[f64],
+        _t: f64,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) -> ContactPoint {
+        let p = &self.params;
+        let k = self.corners[i];
+        let ([sx, sy], upper) = corner_local(p.a, p.b, k);
+        let (s1, c1) = q[0].sin_cos();
+        let (s2, c2) = q[1].sin_cos();
+        let (s3, c3) = q[2].sin_cos();
+        // The corner's world position (x, y) and its gradients with respect to q.
+        let dy = [p.l1 * c1, p.l2 * c2, sx * c3 - sy * s3];
+        let dx = [-p.l1 * s1, -p.l2 * s2, -sx * s3 - sy * c3];
+        let sign = if upper { -1.0 } else { 1.0 };
+        for j in 0..3 {
+            w_n[j] = sign * dy[j];
+            w_t[j] = dx[j];
+        }
+        let x = p.l1 * c1 + p.l2 * c2 + sx * c3 - sy * s3;
+        ContactPoint { g_n: self.full_gap(k, q), g_t: x, w_n_hat: 0.0, w_t_hat: 0.0 }
+    }
+}
+
+impl Mechanism for SliderCrank {
+    fn laws(&self) -> &[ContactLaw] {
+        &self.laws
+    }
+    fn mass_matrix(&self, q: &[f64], _t: f64, m: &mut [f64]) {
+        let p = &self.params;
+        let m11 = p.j1 + (0.25 * p.m1 + p.m2 + p.m3) * p.l1 * p.l1;
+        let m12 = (0.5 * p.m2 + p.m3) * p.l1 * p.l2 * (q[1] - q[0]).cos();
+        let m22 = p.j2 + (0.25 * p.m2 + p.m3) * p.l2 * p.l2;
+        m[..9].copy_from_slice(&[m11, m12, 0.0, m12, m22, 0.0, 0.0, 0.0, p.j3]);
+    }
+    fn forces(&self, q: &[f64], u: &[f64], _t: f64, h: &mut [f64]) {
+        let p = &self.params;
+        let a = (0.5 * p.m2 + p.m3) * p.l1 * p.l2 * (q[1] - q[0]).sin();
+        h[0] = a * u[1] * u[1] - (0.5 * p.m1 + p.m2 + p.m3) * p.g * p.l1 * q[0].cos();
+        h[1] = -a * u[0] * u[0] - (0.5 * p.m2 + p.m3) * p.g * p.l2 * q[1].cos();
+        h[2] = 0.0;
+    }
+    fn potential_energy(&self, q: &[f64], _t: f64) -> Option<f64> {
+        let p = &self.params;
+        Some(
+            (0.5 * p.m1 + p.m2 + p.m3) * p.g * p.l1 * q[0].sin()
+                + (0.5 * p.m2 + p.m3) * p.g * p.l2 * q[1].sin(),
+        )
+    }
+}

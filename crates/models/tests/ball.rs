@@ -1,0 +1,100 @@
+//! The bouncing ball against its closed form (EQUATIONS.md 7.1).
+
+mod common;
+
+use common::onsets;
+use moreau_models::*;
+
+fn run(eps_n: f64, dt: f64, t_end: f64) -> Simulation {
+    let mut scene = Scene::report(ModelKind::Ball);
+    scene.dt = dt;
+    scene.t_end = t_end;
+    scene.set("eps_n", &eps_n.to_string()).unwrap();
+    scene.run().unwrap()
+}
+
+#[test]
+fn impact_times_follow_the_closed_form_within_a_few_steps() {
+    let p = BallParams::report();
+    let mut worst = Vec::new();
+    for dt in [1e-3, 2.5e-4] {
+        let sim = run(0.9, dt, 4.0);
+        let hits = onsets(&sim.record, 0);
+        let mut w = 0.0f64;
+        for k in 1..=6 {
+            let err = (sim.record.t[hits[k - 1]] - p.impact_time(k)).abs();
+            // Each impact is found at most one step late and the delays add up.
+            assert!(err <= (k as f64 + 1.0) * dt, "dt {dt}, impact {k}: error {err}");
+            w = w.max(err);
+        }
+        worst.push(w);
+    }
+    assert!(worst[1] < worst[0] / 2.0, "errors do not shrink with dt: {worst:?}");
+}
+
+#[test]
+fn first_impact_has_the_closed_form_impulse_and_rebound() {
+    let p = BallParams::report();
+    let dt = 1e-3;
+    let sim = run(0.9, dt, 1.0);
+    let r = &sim.record;
+    let k = onsets(r, 0)[0];
+    let v1 = p.first_impact_speed();
+    // P_N = m (1 + ε_N) v1 up to the gravity impulse of a step and the speed gained in it.
+    let expected = p.m * (1.0 + p.eps_n) * v1;
+    assert!((r.p_n[k][0] - expected).abs() <= p.m * (2.0 + p.eps_n) * p.g * dt);
+    // Newton's law: the rebound speed is ε_N times the impact speed.
+    assert!((r.u[k][0] - p.eps_n * (-r.u[k - 1][0])).abs() <= 2.0 * p.g * dt);
+    assert!(r.u[k - 1][0] < 0.0 && r.u[k][0] > 0.0);
+}
+
+/// Time after which the ball rests (v = 0 and y = R from then on).
+fn rest_time(sim: &Simulation) -> f64 {
+    let r = &sim.record;
+    let k = (0..r.len()).rev().find(|&k| r.u[k][0].abs() > 1e-9).unwrap();
+    r.t[k + 1]
+}
+
+#[test]
+fn ball_comes_to_rest_at_the_accumulation_time() {
+    let mut errors = Vec::new();
+    for (eps, dt) in [(0.9, 1e-3), (0.9, 2.5e-4), (0.7, 1e-3)] {
+        let p = BallParams { eps_n: eps, ..BallParams::report() };
+        let sim = run(eps, dt, 10.0);
+        let err = (rest_time(&sim) - p.accumulation_time()).abs();
+        // About N = ln(g Δt / (2 v1)) / ln ε_N bounces last longer than a step, each found at
+        // most a step late (and left a step late); the shorter ones, which the steps do not
+        // resolve, last Δt/(1 − ε_N) together.
+        let n = ((p.g * dt / (2.0 * p.first_impact_speed())).ln() / eps.ln()).ceil();
+        let bound = 2.0 * (n + 1.0) * dt + dt / (1.0 - eps);
+        assert!(err <= bound, "eps {eps} dt {dt}: rest error {err}, bound {bound}");
+        errors.push(err);
+        // At rest the ball sits on the floor: the midpoint rule leaves at most one step's
+        // penetration g Δt² behind.
+        let y_end = sim.record.q.last().unwrap()[0];
+        assert!((y_end - p.r).abs() <= p.first_impact_speed() * dt);
+    }
+    assert!(errors[1] < errors[0] / 2.0, "{errors:?}");
+}
+
+#[test]
+fn energy_is_conserved_in_flight_and_lost_only_at_impacts() {
+    let p = BallParams::report();
+    let sim = run(1.0, 1e-3, 3.0);
+    let r = &sim.record;
+    let e = r.total_energy();
+    let e0 = p.m * p.g * (p.init.y0 - p.r);
+    assert!((e[0] - e0).abs() < 1e-12);
+    // ε_N = 1: each impact restores the speed, the energy stays within a step's worth of
+    // potential energy m g v1 Δt of the start.
+    for x in &e {
+        assert!((x - e0).abs() <= p.m * p.g * p.first_impact_speed() * 1e-3 * 2.0, "{x} vs {e0}");
+    }
+    let lossy = run(0.5, 1e-3, 3.0);
+    assert!(lossy.record.dissipated.iter().all(|d| *d >= -1e-12));
+    let e = lossy.record.total_energy();
+    // After the first impact only ε_N² of the kinetic energy is left.
+    let k = onsets(&lossy.record, 0)[0];
+    let expected = 0.25 * e0;
+    assert!((e[k + 1] - expected).abs() < 0.05 * e0, "{} vs {expected}", e[k + 1]);
+}
