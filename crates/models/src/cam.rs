@@ -37,8 +37,8 @@ pub struct CamParams {
     pub m: f64,
     /// Cam angular speed ω (rad/s), > 0.
     pub omega: f64,
-    /// Base-circle radius R_b (m); it does not enter the dynamics of a flat-faced follower
-    /// (except in the printed variant's gap) and places the drawing.
+    /// Base-circle radius R_b (m), >= 0; it does not enter the dynamics of a flat-faced
+    /// follower (except in the printed variant's gap); see [`Cam::drawing_radius`].
     pub rb: f64,
     /// Stroke H (m).
     pub stroke: f64,
@@ -204,29 +204,49 @@ impl Cam {
         vec!["cam/follower".to_owned()]
     }
 
-    /// Height of the follower's face in the drawing frame (origin at the cam's axis) (m).
+    /// The base radius the drawing uses: R_b, or the smallest radius for which the cam
+    /// profile a flat face needs is convex (p + p'' ≥ 0 with p = R + s(ψ)) if R_b is smaller,
+    /// with a 10 % margin (m).
+    ///
+    /// A flat-faced follower's dynamics do not depend on the base radius (EQUATIONS.md 7.4), and
+    /// the report's R_b = 3 mm is far too small for this lift law: its profile would undercut
+    /// and loop. Drawing with a larger base circle shows a cam that could be made.
+    pub fn drawing_radius(&self) -> f64 {
+        let p = &self.params;
+        let k = TAU / p.beta;
+        let need = (0..=720)
+            .map(|i| {
+                let psi = p.beta * f64::from(i) / 720.0;
+                let s = p.stroke * (psi / p.beta - (k * psi).sin() / TAU);
+                let s2 = p.stroke / p.beta * k * (k * psi).sin();
+                -(s + s2)
+            })
+            .fold(0.0, f64::max);
+        p.rb.max(1.1 * need)
+    }
+
+    /// Height of the follower's face in the drawing frame (origin at the cam's axis, base
+    /// circle of radius [`Self::drawing_radius`]) (m).
     pub fn face_height(&self, y: f64) -> f64 {
         match self.params.spring_law {
-            SpringLaw::OnFollower => self.params.rb + y,
-            SpringLaw::AsPrinted => y,
+            SpringLaw::OnFollower => self.drawing_radius() + y,
+            SpringLaw::AsPrinted => self.drawing_radius() + y - self.params.rb,
         }
     }
 
-    /// The point where the face touches the cam at time t: (ds/dψ, R_b + s(t)) (m).
+    /// The point where the face touches the cam at time t, in the drawing frame:
+    /// (ds/dψ, R + s(t)) with R = [`Self::drawing_radius`] (m).
     pub fn contact_points(&self, _q: &[f64], t: f64) -> Vec<[f64; 2]> {
         let (s, slope) = self.params.lift_at(self.params.lobe_position(t));
-        vec![[slope, self.params.rb + s]]
+        vec![[slope, self.drawing_radius() + s]]
     }
 
-    /// Draws the cam (the envelope of the face positions p(φ) = R_b + s, turned by ω t + ψ0),
-    /// its axis, the follower with its stem, and the follower's guide; marks the contact when
-    /// it is closed.
-    ///
-    /// The cam outline is the profile that a flat face with this lift law needs; with the
-    /// report's small R_b the law undercuts (p + p'' < 0 on part of the rise), so the outline
-    /// loops there. The dynamics use s(t) only.
+    /// Draws the cam (the envelope of the face positions p(φ) = R + s, turned by ω t + ψ0, with
+    /// R = [`Self::drawing_radius`]), its axis, the follower with its stem, and the follower's
+    /// guide; marks the contact when it is closed.
     pub fn draw(&self, q: &[f64], t: f64) -> Drawing {
         let p = &self.params;
+        let radius = self.drawing_radius();
         let mut d = Drawing::new();
         let theta = p.omega * t + p.psi0;
         let (st, ct) = theta.sin_cos();
@@ -237,13 +257,13 @@ impl Cam {
             // The face with normal φ in the cam's frame touches when θ = π/2 − φ.
             let psi = (PI / 2.0 - phi).rem_euclid(TAU).rem_euclid(p.lobe_angle());
             let (s, slope) = p.lift_at(psi);
-            let (support, dsupport) = (p.rb + s, -slope);
+            let (support, dsupport) = (radius + s, -slope);
             let (sp, cp) = phi.sin_cos();
             let local = [support * cp - dsupport * sp, support * sp + dsupport * cp];
             outline.push([ct * local[0] - st * local[1], st * local[0] + ct * local[1]]);
         }
         d.polygon(Role::Cam, outline);
-        let width = 2.0 * p.stroke / p.beta + p.rb + 0.2 * (p.rb + p.stroke);
+        let width = 2.0 * p.stroke / p.beta + radius + 0.2 * (radius + p.stroke);
         d.circle(Role::Ground, [0.0, 0.0], 0.05 * width);
         let face = self.face_height(q[0]);
         let (plate, stem, len) = (0.05 * width, 0.1 * width, p.stroke + width);
@@ -260,7 +280,7 @@ impl Cam {
                 [-width, face + plate],
             ],
         );
-        let (g0, g1) = (p.rb + p.stroke + 0.5 * width, p.rb + p.stroke + 0.9 * width);
+        let (g0, g1) = (radius + p.stroke + 0.5 * width, radius + p.stroke + 0.9 * width);
         for side in [-1.2 * stem, 1.2 * stem] {
             d.line(Role::Guide, vec![[side, g0], [side, g1]]);
         }

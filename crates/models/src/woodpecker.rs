@@ -249,7 +249,7 @@ impl Woodpecker {
         let bottom = y - 2.5 * p.h_s;
         d.polygon(Role::Pole, vec![[-p.r_o, bottom], [p.r_o, bottom], [p.r_o, top], [-p.r_o, top]]);
         // The sleeve's wall, cut through its axis, on both sides of the pole.
-        let wall = 0.5 * (p.r_m - p.r_o).max(0.25 * p.r_m);
+        let wall = 0.4 * p.r_m;
         for side in [-1.0, 1.0] {
             let inner = side * p.r_m;
             let outer = side * (p.r_m + wall);
