@@ -18,8 +18,9 @@ pub struct AutoOptions {
     /// Default [`LemkeOptions::default`].
     pub lemke: LemkeOptions,
     /// How many other covering vectors Lemke's method tries after the first fails:
+    /// [`Covering::RowScaled`](crate::Covering::RowScaled), then
     /// `d_i = max(|q_i|, 1e-3 ‖q‖∞)`, then `d_i = 1 + i / n`, then deterministic
-    /// pseudo-random vectors with entries in [0.5, 1.5]. Default 3.
+    /// pseudo-random vectors with entries in [0.5, 1.5]. Default 4.
     pub alternative_coverings: usize,
     /// Enumeration is the last resort, used only when n <= `enumeration_max_n`.
     /// Default 12 (the friction LCP of 4 contacts).
@@ -32,7 +33,7 @@ impl Default for AutoOptions {
     fn default() -> Self {
         AutoOptions {
             lemke: LemkeOptions::default(),
-            alternative_coverings: 3,
+            alternative_coverings: 4,
             enumeration_max_n: 12,
             enumeration: EnumerationOptions::default(),
         }
@@ -102,18 +103,19 @@ impl Auto {
         &self.options
     }
 
-    /// Fills `self.d` with alternative covering vector number `k` (1-based).
+    /// Fills `self.d` with alternative covering vector number `k` (2-based; number 1 is
+    /// [`Covering::RowScaled`](crate::Covering::RowScaled)).
     fn covering(&mut self, k: usize) {
         let n = self.q.len();
         match k {
-            1 => {
+            2 => {
                 let qmax = self.q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
                 let floor = (1e-3 * qmax).max(f64::MIN_POSITIVE);
                 for (d, q) in self.d.iter_mut().zip(&self.q) {
                     *d = q.abs().max(floor);
                 }
             }
-            2 => {
+            3 => {
                 for (i, d) in self.d.iter_mut().enumerate() {
                     *d = 1.0 + i as f64 / n as f64;
                 }
@@ -163,8 +165,12 @@ impl Solver for Auto {
         }
         std::mem::swap(out, &mut self.first);
         for k in 1..=self.options.alternative_coverings {
-            self.covering(k);
-            self.lemke.solve_with(lcp, Some(&self.d), out)?;
+            if k == 1 {
+                self.lemke.solve_covering(lcp, None, true, out)?;
+            } else {
+                self.covering(k);
+                self.lemke.solve_with(lcp, Some(&self.d), out)?;
+            }
             if out.is_solved() {
                 return Ok(());
             }

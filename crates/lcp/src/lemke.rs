@@ -15,11 +15,14 @@ const REFINE_ABOVE: f64 = 1e-14;
 /// The covering vector d > 0 of Lemke's augmented problem `w = q + M z + d z_0`.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub enum Covering {
-    /// d = (1, ..., 1) for the row-equilibrated problem: d_i = 1 / r_i, with r_i the
-    /// power of two nearest to `1 / max_j |M_ij|` (so d = 1 when the rows of M have
-    /// largest entries between 0.7 and 1.4).
+    /// d = (1, ..., 1), the classic choice.
     #[default]
     Ones,
+    /// d_i = 1 / r_i, with r_i the power of two nearest to `1 / max_j |M_ij|`: ones for the
+    /// row-equilibrated problem. It covers rows of very different magnitude alike and
+    /// suits badly scaled M (entries from 1e-9 to 1e6), where d = 1 makes the column of
+    /// z_0 span as many orders of magnitude as the rows do.
+    RowScaled,
     /// A given vector; every entry must be finite and > 0, and its length n.
     Custom(Vec<f64>),
 }
@@ -130,7 +133,7 @@ pub struct Lemke {
 #[derive(Default)]
 struct Workspace {
     n: usize,
-    ones: bool,
+    row_scaled: bool,
     m_rows: Vec<f64>,
     q: Vec<f64>,
     d: Vec<f64>,
@@ -182,11 +185,29 @@ impl Lemke {
         d: Option<&[f64]>,
         out: &mut Solution,
     ) -> Result<(), LcpError> {
+        self.solve_covering(lcp, d, false, out)
+    }
+
+    /// As [`Lemke::solve_with`]; `force_row_scaled` selects [`Covering::RowScaled`].
+    pub(crate) fn solve_covering(
+        &mut self,
+        lcp: LcpRef<'_>,
+        d: Option<&[f64]>,
+        force_row_scaled: bool,
+        out: &mut Solution,
+    ) -> Result<(), LcpError> {
+        let d = if force_row_scaled { None } else { d };
         let n = lcp.n();
+        let mut row_scaled = force_row_scaled;
         let d = match d {
             Some(d) => Some(d),
+            None if force_row_scaled => None,
             None => match &self.options.covering {
                 Covering::Ones => None,
+                Covering::RowScaled => {
+                    row_scaled = true;
+                    None
+                }
                 Covering::Custom(d) => Some(d.as_slice()),
             },
         };
@@ -210,7 +231,7 @@ impl Lemke {
         ws.prepare(n);
         lcp.copy_m_row_major(&mut ws.m_rows);
         lcp.copy_q(&mut ws.q);
-        ws.ones = d.is_none();
+        ws.row_scaled = row_scaled;
         match d {
             Some(d) => ws.d.copy_from_slice(d),
             None => ws.d.fill(1.0),
@@ -270,9 +291,9 @@ impl Workspace {
     /// Each row is scaled by a power of two r_i near `1 / max_j |M_ij|` (exact in floating
     /// point). Scaling row i of (M, d, q) by r_i > 0 only scales w_i, so the pivot sequence
     /// is the same in exact arithmetic, while the relative pivot tolerance and the tie
-    /// tests become independent of the magnitudes of the rows. [`Covering::Ones`] puts
-    /// ones in the scaled rows (d_i = 1 / r_i in the original units), so that rows of very
-    /// different magnitude are covered alike.
+    /// tests become independent of the magnitudes of the rows.
+    ///
+    /// With [`Covering::RowScaled`] the column of z_0 holds ones in the scaled rows.
     fn init_tableau(&mut self) {
         let n = self.n;
         let width = n + 2;
@@ -284,7 +305,7 @@ impl Workspace {
             for (dst, v) in row[..n].iter_mut().zip(src) {
                 *dst = v * r;
             }
-            row[n] = if self.ones { 1.0 } else { self.d[i] * r };
+            row[n] = if self.row_scaled { 1.0 } else { self.d[i] * r };
             row[n + 1] = self.q[i] * r;
             self.basic[i] = i;
             self.row_of[i] = i;

@@ -80,8 +80,10 @@ fn badly_scaled_matrix_is_solved_accurately() {
         let q = Col::from_fn(n, |i| d1[i] * base.q()[i]);
         let lcp = Lcp::new(m, q).unwrap();
         let z_star: Vec<f64> = (0..n).map(|j| z_base[j] / d2[j]).collect();
+        let mut row_scaled =
+            Lemke::new(LemkeOptions { covering: Covering::RowScaled, ..LemkeOptions::default() }).unwrap();
         for (name, s) in [
-            ("lemke", Lemke::default().solve(&lcp).unwrap()),
+            ("lemke", row_scaled.solve(&lcp).unwrap()),
             ("enum", Enumeration::default().solve(&lcp).unwrap()),
             ("auto", Auto::default().solve(&lcp).unwrap()),
         ] {
