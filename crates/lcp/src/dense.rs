@@ -33,19 +33,29 @@ pub(crate) struct Lu {
 }
 
 impl Lu {
+    /// Sizes the workspace for systems up to n x n, so that later factorisations of any
+    /// size k <= n do not allocate.
+    pub(crate) fn reserve(&mut self, n: usize) {
+        if self.a.len() < n * n {
+            self.a.resize(n * n, 0.0);
+        }
+        if self.perm.len() < n {
+            self.perm.resize(n, 0);
+            self.perm_inv.resize(n, 0);
+            self.colmax.resize(n, 0.0);
+            self.rowscale.resize(n, 0.0);
+        }
+        if n >= FAER_MIN && (self.stack.is_none() || self.stack_for < n) {
+            self.stack = Some(MemBuffer::new(Self::scratch(n)));
+            self.stack_for = n;
+        }
+    }
+
     /// Fills the k x k matrix with `entry(i, j)`, factors it, and returns `false` when it
     /// is numerically singular (see [`SINGULAR_RELATIVE`]) or has non-finite entries.
     pub(crate) fn factor_with(&mut self, k: usize, mut entry: impl FnMut(usize, usize) -> f64) -> bool {
         self.k = k;
-        if self.a.len() < k * k {
-            self.a.resize(k * k, 0.0);
-        }
-        if self.perm.len() < k {
-            self.perm.resize(k, 0);
-            self.perm_inv.resize(k, 0);
-            self.colmax.resize(k, 0.0);
-            self.rowscale.resize(k, 0.0);
-        }
+        self.reserve(k);
         if k == 0 {
             return true;
         }
@@ -132,10 +142,6 @@ impl Lu {
 
     fn factor_faer(&mut self) -> bool {
         let k = self.k;
-        if self.stack.is_none() || self.stack_for < k {
-            self.stack = Some(MemBuffer::new(Self::scratch(k)));
-            self.stack_for = k;
-        }
         let Some(buf) = self.stack.as_mut() else { return false };
         let mat = MatMut::from_column_major_slice_mut(&mut self.a[..k * k], k, k);
         factor::lu_in_place(

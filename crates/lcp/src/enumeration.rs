@@ -186,6 +186,7 @@ impl Enumeration {
             self.rows.reserve(n);
             self.cols.reserve(n);
         }
+        self.lu.reserve(n);
         lcp.copy_m_row_major(&mut self.m_rows);
         lcp.copy_q(&mut self.q);
         Ok(n)

@@ -283,6 +283,7 @@ impl Workspace {
         if self.alpha.capacity() < n {
             self.alpha.reserve(n);
         }
+        self.lu.reserve(n);
     }
 
     /// Tableau `x_B = q̄ + T x_N` for the basis {w}: `T = [M | d]`, `q̄ = q`.
