@@ -13,6 +13,11 @@ use faer::{MatMut, MatRef, Par};
 /// Largest order factorised with plain loops.
 pub(crate) const SMALL_LIMIT: usize = 24;
 
+/// Largest order for which the inverse is formed explicitly, so that a solve is one
+/// matrix-vector product without divisions (the common case of a few coordinates, where
+/// the triangular solves' divisions dominate).
+pub(crate) const INVERSE_LIMIT: usize = 8;
+
 /// Why a Cholesky factorisation failed.
 #[derive(Debug)]
 pub(crate) enum FactorError {
@@ -35,6 +40,8 @@ impl std::fmt::Display for FactorError {
 pub(crate) struct Cholesky {
     n: usize,
     l: Vec<f64>,
+    /// M⁻¹, column-major, for n ≤ [`INVERSE_LIMIT`].
+    inverse: Vec<f64>,
     buffer: Option<MemBuffer>,
 }
 
@@ -48,7 +55,8 @@ impl Cholesky {
                 Default::default(),
             ))
         });
-        Self { n, l: vec![0.0; n * n], buffer }
+        let inverse = if n <= INVERSE_LIMIT { vec![0.0; n * n] } else { Vec::new() };
+        Self { n, l: vec![0.0; n * n], inverse, buffer }
     }
 
     /// Factorises the column-major matrix `m` (order n), checking symmetry first.
@@ -64,7 +72,18 @@ impl Cholesky {
         }
         self.l.copy_from_slice(m);
         match self.buffer.as_mut() {
-            None => factor_small(&mut self.l, n),
+            None => {
+                factor_small(&mut self.l, n)?;
+                if n <= INVERSE_LIMIT {
+                    for j in 0..n {
+                        let col = &mut self.inverse[j * n..(j + 1) * n];
+                        col.fill(0.0);
+                        col[j] = 1.0;
+                        solve_small(&self.l, n, col);
+                    }
+                }
+                Ok(())
+            }
             Some(buffer) => {
                 let mut l = MatMut::from_column_major_slice_mut(&mut self.l, n, n);
                 llt::factor::cholesky_in_place(
@@ -80,10 +99,56 @@ impl Cholesky {
         }
     }
 
+    /// Writes `out = base + scale · M⁻¹ x`, using `x` as scratch (all of length n).
+    #[inline]
+    pub(crate) fn solve_scaled_add(
+        &self,
+        x: &mut [f64],
+        scale: f64,
+        base: &[f64],
+        out: &mut [f64],
+    ) {
+        let n = self.n;
+        match n {
+            1 => out[0] = base[0] + scale * self.inverse[0] * x[0],
+            2..=INVERSE_LIMIT => {
+                let inv = &self.inverse[..n * n];
+                for i in 0..n {
+                    let mut s = 0.0;
+                    for j in 0..n {
+                        s += inv[i + j * n] * x[j];
+                    }
+                    out[i] = base[i] + scale * s;
+                }
+            }
+            _ => {
+                self.solve(x);
+                for i in 0..n {
+                    out[i] = base[i] + scale * x[i];
+                }
+            }
+        }
+    }
+
     /// Overwrites `x` (length n) with M⁻¹ x.
+    #[inline]
     pub(crate) fn solve(&self, x: &mut [f64]) {
         let n = self.n;
-        if self.buffer.is_none() {
+        if n == 1 {
+            x[0] *= self.inverse[0];
+        } else if n <= INVERSE_LIMIT {
+            let mut y = [0.0; INVERSE_LIMIT];
+            for j in 0..n {
+                let xj = x[j];
+                let col = &self.inverse[j * n..(j + 1) * n];
+                for i in 0..n {
+                    y[i] += col[i] * xj;
+                }
+            }
+            for (xi, yi) in x.iter_mut().zip(&y) {
+                *xi = *yi;
+            }
+        } else if self.buffer.is_none() {
             solve_small(&self.l, n, x);
         } else {
             let l = MatRef::from_column_major_slice(&self.l, n, n);
@@ -186,7 +251,7 @@ mod tests {
 
     #[test]
     fn small_and_faer_paths_solve_the_same_system() {
-        for n in [1, 3, 12, SMALL_LIMIT + 6] {
+        for n in [1, 3, INVERSE_LIMIT, INVERSE_LIMIT + 1, 12, SMALL_LIMIT + 6] {
             let a = spd(n);
             let x_true: Vec<f64> = (0..n).map(|i| (i as f64 + 1.0).sin()).collect();
             let mut b: Vec<f64> =

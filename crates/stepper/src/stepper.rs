@@ -171,6 +171,8 @@ struct Workspace {
     solution: Solution,
     /// Size of the LCP the last step gave to a solver (0 when none).
     last_size: usize,
+    /// Whether some contact report holds an active contact (to be cleared next step).
+    reports_dirty: bool,
     /// Buffers of the optional position projection.
     proj_active: Vec<usize>,
     proj_w: Vec<f64>,
@@ -213,11 +215,13 @@ pub struct Stepper<M: Mechanism> {
     ws: Workspace,
 }
 
+#[inline(always)]
 fn check_finite(what: &'static str, v: &[f64], t: f64) -> Result<(), StepError> {
-    match v.iter().position(|x| !x.is_finite()) {
-        Some(index) => Err(StepError::NonFinite { what, index, t }),
-        None => Ok(()),
+    if v.iter().all(|x| x.is_finite()) {
+        return Ok(());
     }
+    let index = v.iter().position(|x| !x.is_finite()).unwrap_or(0);
+    Err(StepError::NonFinite { what, index, t })
 }
 
 impl<M: Mechanism> Stepper<M> {
@@ -281,6 +285,7 @@ impl<M: Mechanism> Stepper<M> {
             prev: vec![[0.0; 3]; n],
             solution: Solution::new(),
             last_size: 0,
+            reports_dirty: false,
             proj_active: Vec::with_capacity(n),
             proj_w: vec![0.0; f * n],
             proj_x: vec![0.0; f * n],
@@ -413,13 +418,7 @@ impl<M: Mechanism> Stepper<M> {
         }
         mech.forces(&ws.q_m, &self.u, t_m, &mut ws.h);
         check_finite("h", &ws.h, t_m)?;
-        for k in 0..f {
-            ws.h[k] *= dt;
-        }
-        ws.chol.solve(&mut ws.h);
-        for k in 0..f {
-            ws.u_free[k] = self.u[k] + ws.h[k];
-        }
+        ws.chol.solve_scaled_add(&mut ws.h, dt, &self.u, &mut ws.u_free);
 
         ws.last_size = 0;
         ws.active.clear();
@@ -433,8 +432,9 @@ impl<M: Mechanism> Stepper<M> {
             }
         }
 
-        for c in self.contacts.iter_mut() {
-            *c = ContactReport::default();
+        if ws.reports_dirty {
+            self.contacts.fill(ContactReport::default());
+            ws.reports_dirty = false;
         }
         let mut info = None;
         let mut lcp_size = 0;
@@ -446,9 +446,10 @@ impl<M: Mechanism> Stepper<M> {
             info = Some(solved);
         }
         let ws = &mut self.ws;
-        let u_new = if lcp_size > 0 { &ws.tmp } else { &ws.u_free };
+        let u_new = if lcp_size > 0 { &mut ws.tmp } else { &mut ws.u_free };
         check_finite("u", u_new, t_m)?;
-        self.u.copy_from_slice(u_new);
+        // u_A is not needed any more: swap the buffers rather than copy.
+        std::mem::swap(&mut self.u, u_new);
         for k in 0..f {
             self.q[k] = ws.q_m[k] + 0.5 * dt * self.u[k];
         }
@@ -473,6 +474,7 @@ impl<M: Mechanism> Stepper<M> {
                 ContactState::Slip
             };
             self.contacts[i] = ContactReport { active: true, p_n, p_t, gamma_n, gamma_t, state };
+            ws.reports_dirty = true;
         }
         for (i, c) in self.contacts.iter().enumerate() {
             if !c.active {
