@@ -309,7 +309,12 @@ pub fn mean_rate(t: &[f64], y: &[f64], k0: usize, k1: usize) -> Option<f64> {
 
 /// Rows k (at least 1) in which contact `i` (0-based) is hit: it was open before the step,
 /// carries an impulse in it, and approached with γ_N⁻ < −`impact_speed`.
-pub fn impact_rows(phase: &[Vec<Phase>], gamma_pre: &[Vec<f64>], i: usize, impact_speed: f64) -> Vec<usize> {
+pub fn impact_rows(
+    phase: &[Vec<Phase>],
+    gamma_pre: &[Vec<f64>],
+    i: usize,
+    impact_speed: f64,
+) -> Vec<usize> {
     (1..phase.len())
         .filter(|&k| {
             !phase[k - 1][i].is_closed()
@@ -384,7 +389,9 @@ pub fn cam_lobes(
         let hits: Vec<usize> = rows
             .iter()
             .copied()
-            .filter(|&k| phase[k].is_closed() && !phase[k - 1].is_closed() && gamma_pre[k] < -impact_speed)
+            .filter(|&k| {
+                phase[k].is_closed() && !phase[k - 1].is_closed() && gamma_pre[k] < -impact_speed
+            })
             .collect();
         let mut rebound_heights = Vec::new();
         for &h in &hits {
@@ -428,7 +435,11 @@ mod tests {
 
     /// Exact event-driven bouncing ball sampled on a grid: P_N in the step that contains an
     /// impact, v jumps from −v to ε v.
-    fn synthetic_ball(dt: f64, t_end: f64, eps: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>, BallClosedForm) {
+    fn synthetic_ball(
+        dt: f64,
+        t_end: f64,
+        eps: f64,
+    ) -> (Vec<f64>, Vec<f64>, Vec<f64>, BallClosedForm) {
         let cf = BallClosedForm::new(1.0, 0.1, 9.81, eps);
         let times = cf.impact_times(200);
         let steps = (t_end / dt).round() as usize;
@@ -498,9 +509,17 @@ mod tests {
     fn events_classify_impacts_and_transitions() {
         let t = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
         let phase = vec![vec![O, O], vec![L, O], vec![S, S], vec![L, S], vec![O, O], vec![O, O]];
-        let gamma = vec![vec![0.0, 0.0], vec![-1.0, 0.0], vec![0.0, -1e-6], vec![0.0; 2], vec![0.0; 2], vec![0.0; 2]];
+        let gamma = vec![
+            vec![0.0, 0.0],
+            vec![-1.0, 0.0],
+            vec![0.0, -1e-6],
+            vec![0.0; 2],
+            vec![0.0; 2],
+            vec![0.0; 2],
+        ];
         let ev = contact_events(&t, &phase, &gamma, 1e-3);
-        let got: Vec<(usize, usize, EventKind)> = ev.iter().map(|e| (e.row, e.contact, e.kind)).collect();
+        let got: Vec<(usize, usize, EventKind)> =
+            ev.iter().map(|e| (e.row, e.contact, e.kind)).collect();
         assert_eq!(
             got,
             vec![

@@ -9,7 +9,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
-use crate::plot::register_fonts;
+use crate::plot::{clip_polyline, register_fonts};
 
 /// One drawn shape in world coordinates (metres, y up).
 #[derive(Clone, Debug, PartialEq)]
@@ -54,6 +54,9 @@ pub struct Frame {
     pub shapes: Vec<Shape>,
     /// Caption lines (time, contact state, ...).
     pub caption: Vec<String>,
+    /// World window [x0, y0, x1, y1] of this frame (a camera that follows the mechanism);
+    /// the strip's window when `None`. Shapes are cut to the window.
+    pub window: Option<[f64; 4]>,
 }
 
 /// A row (or grid) of frames sharing one world window.
@@ -124,7 +127,64 @@ impl View {
     }
 
     fn map(&self, p: [f64; 2]) -> (f64, f64) {
-        (self.ox + (p[0] - self.window[0]) * self.scale, self.oy + (self.window[3] - p[1]) * self.scale)
+        (
+            self.ox + (p[0] - self.window[0]) * self.scale,
+            self.oy + (self.window[3] - p[1]) * self.scale,
+        )
+    }
+}
+
+/// Cuts a polygon to a window (Sutherland–Hodgman).
+fn clip_polygon(points: &[[f64; 2]], w: [f64; 4]) -> Vec<[f64; 2]> {
+    let mut out = points.to_vec();
+    // Each edge: keep points with sign * (coordinate − bound) >= 0.
+    for (axis, bound, sign) in [(0, w[0], 1.0), (0, w[2], -1.0), (1, w[1], 1.0), (1, w[3], -1.0)] {
+        let input = std::mem::take(&mut out);
+        let n = input.len();
+        for i in 0..n {
+            let (a, b) = (input[i], input[(i + 1) % n]);
+            let (da, db) = (sign * (a[axis] - bound), sign * (b[axis] - bound));
+            if da >= 0.0 {
+                out.push(a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                let t = da / (da - db);
+                out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+            }
+        }
+    }
+    out
+}
+
+/// The parts of a shape inside a window.
+pub fn clip_shape(shape: &Shape, w: [f64; 4]) -> Vec<Shape> {
+    match shape {
+        Shape::Poly { points, closed: true, paint } => {
+            let p = clip_polygon(points, w);
+            if p.len() < 3 {
+                Vec::new()
+            } else {
+                vec![Shape::Poly { points: p, closed: true, paint: *paint }]
+            }
+        }
+        Shape::Poly { points, closed: false, paint } => {
+            let pts: Vec<(f64, f64)> = points.iter().map(|p| (p[0], p[1])).collect();
+            clip_polyline(&pts, (w[0], w[2]), (w[1], w[3]))
+                .into_iter()
+                .map(|piece| Shape::Poly {
+                    points: piece.into_iter().map(|(x, y)| [x, y]).collect(),
+                    closed: false,
+                    paint: *paint,
+                })
+                .collect()
+        }
+        Shape::Circle { center, radius, .. } => {
+            let inside = center[0] + radius >= w[0]
+                && center[0] - radius <= w[2]
+                && center[1] + radius >= w[1]
+                && center[1] - radius <= w[3];
+            if inside { vec![shape.clone()] } else { Vec::new() }
+        }
     }
 }
 
@@ -160,7 +220,13 @@ impl Strip {
     ///
     /// # Errors
     /// When a file cannot be written.
-    pub fn write(&self, dir: &Path, stem: &str, motion: &[Frame], frame_seconds: f64) -> Result<Vec<PathBuf>> {
+    pub fn write(
+        &self,
+        dir: &Path,
+        stem: &str,
+        motion: &[Frame],
+        frame_seconds: f64,
+    ) -> Result<Vec<PathBuf>> {
         register_fonts();
         let svg = dir.join(format!("{stem}.svg"));
         let png = dir.join(format!("{stem}.png"));
@@ -185,7 +251,9 @@ impl Strip {
         let e = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
         root.fill(&WHITE).map_err(e)?;
         let (title, body) = root.split_vertically(TITLE);
-        title.titled(&self.title, ("sans-serif", 22).into_font().style(FontStyle::Bold)).map_err(e)?;
+        title
+            .titled(&self.title, ("sans-serif", 22).into_font().style(FontStyle::Bold))
+            .map_err(e)?;
         let cols = self.columns.max(1).min(self.frames.len().max(1));
         let cells = body.split_evenly((self.rows(), cols));
         let window = self.window();
@@ -197,17 +265,24 @@ impl Strip {
                     RGBColor(200, 200, 200).stroke_width(1),
                 ))
                 .map_err(e)?;
-            let view = View::new(window, self.cell_width, self.cell_height, 12.0);
-            for shape in &frame.shapes {
-                draw_shape(&drawing, &view, shape).map_err(e)?;
+            let w = frame.window.unwrap_or(window);
+            let view = View::new(w, self.cell_width, self.cell_height, 12.0);
+            for shape in frame.shapes.iter().flat_map(|s| clip_shape(s, w)) {
+                draw_shape(&drawing, &view, &shape).map_err(e)?;
             }
-            let style = TextStyle::from(("sans-serif", 14).into_font()).pos(plotters::style::text_anchor::Pos::new(
-                plotters::style::text_anchor::HPos::Center,
-                plotters::style::text_anchor::VPos::Top,
-            ));
+            let style = TextStyle::from(("sans-serif", 14).into_font()).pos(
+                plotters::style::text_anchor::Pos::new(
+                    plotters::style::text_anchor::HPos::Center,
+                    plotters::style::text_anchor::VPos::Top,
+                ),
+            );
             for (i, line) in frame.caption.iter().enumerate() {
-                text.draw_text(line, &style, (self.cell_width as i32 / 2, 4 + (i as u32 * LINE) as i32))
-                    .map_err(e)?;
+                text.draw_text(
+                    line,
+                    &style,
+                    (self.cell_width as i32 / 2, 4 + (i as u32 * LINE) as i32),
+                )
+                .map_err(e)?;
             }
         }
         Ok(())
@@ -240,7 +315,11 @@ fn draw_shape<DB: DrawingBackend>(
             if let Some(fill) = paint.fill {
                 area.draw(&plotters::element::Circle::new(c, r, rgb(fill).filled()))?;
             }
-            area.draw(&plotters::element::Circle::new(c, r, rgb(paint.stroke).stroke_width(paint.width)))?;
+            area.draw(&plotters::element::Circle::new(
+                c,
+                r,
+                rgb(paint.stroke).stroke_width(paint.width),
+            ))?;
         }
     }
     Ok(())
@@ -258,7 +337,6 @@ fn escape(s: &str) -> String {
 /// keyframes), each for `frame_seconds`, with its first caption line under the drawing.
 pub fn animated_svg(title: &str, frames: &[Frame], window: [f64; 4], frame_seconds: f64) -> String {
     let (w, h) = (480u32, 480u32);
-    let view = View::new(window, w, h, 16.0);
     let total = frame_seconds * frames.len().max(1) as f64;
     let n = frames.len().max(1) as f64;
     let mut s = String::new();
@@ -269,7 +347,12 @@ pub fn animated_svg(title: &str, frames: &[Frame], window: [f64; 4], frame_secon
         h + 70
     );
     let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    let _ = writeln!(s, r#"<text x="{}" y="24" font-size="18" text-anchor="middle">{}</text>"#, w / 2, escape(title));
+    let _ = writeln!(
+        s,
+        r#"<text x="{}" y="24" font-size="18" text-anchor="middle">{}</text>"#,
+        w / 2,
+        escape(title)
+    );
     for (j, f) in frames.iter().enumerate() {
         let a = j as f64 / n;
         let b = (j + 1) as f64 / n;
@@ -288,8 +371,10 @@ pub fn animated_svg(title: &str, frames: &[Frame], window: [f64; 4], frame_secon
             s,
             r#"<animate attributeName="visibility" values="{values}" keyTimes="{times}" dur="{total:.4}s" calcMode="discrete" repeatCount="indefinite"/>"#
         );
-        for shape in &f.shapes {
-            match shape {
+        let fw = f.window.unwrap_or(window);
+        let view = View::new(fw, w, h, 16.0);
+        for shape in f.shapes.iter().flat_map(|s| clip_shape(s, fw)) {
+            match &shape {
                 Shape::Poly { points, closed, paint } => {
                     let pts: Vec<String> = points
                         .iter()
@@ -345,11 +430,47 @@ mod tests {
         Frame {
             t,
             shapes: vec![
-                Shape::Poly { points: vec![[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0]], closed: true, paint },
+                Shape::Poly {
+                    points: vec![[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0]],
+                    closed: true,
+                    paint,
+                },
                 Shape::Circle { center: [x + 0.5, 2.0], radius: 0.25, paint },
             ],
             caption: vec![format!("t = {t:.3} s"), "open".into()],
+            window: None,
         }
+    }
+
+    #[test]
+    fn clipping_cuts_polygons_lines_and_circles() {
+        let paint = Paint { stroke: (0, 0, 0), width: 1, fill: None };
+        let w = [0.0, 0.0, 1.0, 1.0];
+        let square = Shape::Poly {
+            points: vec![[-1.0, -1.0], [0.5, -1.0], [0.5, 0.5], [-1.0, 0.5]],
+            closed: true,
+            paint,
+        };
+        match &clip_shape(&square, w)[..] {
+            [Shape::Poly { points, .. }] => {
+                let area: f64 = (0..points.len())
+                    .map(|i| {
+                        let (a, b) = (points[i], points[(i + 1) % points.len()]);
+                        a[0] * b[1] - b[0] * a[1]
+                    })
+                    .sum::<f64>()
+                    / 2.0;
+                assert!((area.abs() - 0.25).abs() < 1e-12, "{area}");
+            }
+            other => panic!("{other:?}"),
+        }
+        let line = Shape::Poly { points: vec![[-1.0, 0.5], [2.0, 0.5]], closed: false, paint };
+        assert_eq!(
+            clip_shape(&line, w),
+            vec![Shape::Poly { points: vec![[0.0, 0.5], [1.0, 0.5]], closed: false, paint }]
+        );
+        let far = Shape::Circle { center: [3.0, 3.0], radius: 0.5, paint };
+        assert!(clip_shape(&far, w).is_empty());
     }
 
     #[test]

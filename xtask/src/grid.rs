@@ -95,7 +95,8 @@ pub fn merge(out: &Path, parts: &[impl AsRef<Path>]) -> Result<usize> {
     let mut size: Option<usize> = None;
     for part in parts {
         let part = part.as_ref();
-        let mut r = csv::Reader::from_path(part).with_context(|| format!("reading {}", part.display()))?;
+        let mut r =
+            csv::Reader::from_path(part).with_context(|| format!("reading {}", part.display()))?;
         let h = r.headers()?.clone();
         ensure!(
             h.get(0) == Some("member") && h.get(1) == Some("members"),
@@ -114,9 +115,12 @@ pub fn merge(out: &Path, parts: &[impl AsRef<Path>]) -> Result<usize> {
         }
         for record in r.records() {
             let record = record.with_context(|| format!("reading {}", part.display()))?;
-            let i: usize = record[0].parse().with_context(|| format!("{}: member '{}'", part.display(), &record[0]))?;
-            let m: usize =
-                record[1].parse().with_context(|| format!("{}: members '{}'", part.display(), &record[1]))?;
+            let i: usize = record[0]
+                .parse()
+                .with_context(|| format!("{}: member '{}'", part.display(), &record[0]))?;
+            let m: usize = record[1]
+                .parse()
+                .with_context(|| format!("{}: members '{}'", part.display(), &record[1]))?;
             match size {
                 None => size = Some(m),
                 Some(s) => ensure!(s == m, "{}: sweep size {m} differs from {s}", part.display()),
@@ -132,8 +136,12 @@ pub fn merge(out: &Path, parts: &[impl AsRef<Path>]) -> Result<usize> {
     let size = size.unwrap_or(0);
     let missing: Vec<usize> = (0..size).filter(|i| !seen.contains(i)).collect();
     ensure!(missing.is_empty(), "members missing from the parts: {missing:?}");
-    ensure!(rows.last().is_none_or(|(i, _)| *i < size), "member index beyond the sweep size {size}");
-    let mut w = csv::Writer::from_path(out).with_context(|| format!("creating {}", out.display()))?;
+    ensure!(
+        rows.last().is_none_or(|(i, _)| *i < size),
+        "member index beyond the sweep size {size}"
+    );
+    let mut w =
+        csv::Writer::from_path(out).with_context(|| format!("creating {}", out.display()))?;
     if let Some(h) = &header {
         w.write_record(h)?;
     }
@@ -208,7 +216,8 @@ mod tests {
 
     #[test]
     fn shards_partition_the_members() -> Result<()> {
-        let shards: Vec<Shard> = (1..=3).map(|k| Shard::parse(&format!("{k}/3"))).collect::<Result<_>>()?;
+        let shards: Vec<Shard> =
+            (1..=3).map(|k| Shard::parse(&format!("{k}/3"))).collect::<Result<_>>()?;
         for i in 0..20 {
             assert_eq!(shards.iter().filter(|s| s.contains(i)).count(), 1);
         }

@@ -29,6 +29,11 @@
 pub mod analysis;
 pub mod frames;
 pub mod grid;
+pub mod keys;
 pub mod plot;
 pub mod report;
+pub mod reproduce;
+pub mod runs;
+pub mod simulate;
+pub mod sweep;
 pub mod table;

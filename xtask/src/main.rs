@@ -1,1 +1,120 @@
-fn main() {}
+//! `cargo xtask`: reproduce the report, simulate one model, run and merge parameter sweeps.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use xtask::grid::{Axis, Shard};
+use xtask::{reproduce, simulate, sweep};
+
+#[derive(Parser)]
+#[command(name = "xtask", about = "Moreau's task runner", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Regenerate every figure and table of the report, summary.json and report.html.
+    Reproduce {
+        /// Output folder.
+        #[arg(long, default_value = "target/reproduce")]
+        out: PathBuf,
+        /// Shorter horizons and fewer runs (for CI).
+        #[arg(long)]
+        quick: bool,
+        /// Worker threads (default: one per core).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
+    /// Run one model and write its record as CSV.
+    Simulate {
+        /// Model: ball, woodpecker, slider-crank, slider-crank-ideal, cam, painleve.
+        model: String,
+        /// Scene file (TOML) to start from instead of the report's scene.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Override a scene key: --set key=value (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Time step Δt (s).
+        #[arg(long)]
+        dt: Option<f64>,
+        /// End time (s).
+        #[arg(long)]
+        tf: Option<f64>,
+        /// LCP solver: auto, lemke, pgs or enum.
+        #[arg(long)]
+        solver: Option<String>,
+        /// Output CSV file.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Run the Cartesian product of parameter values in parallel; one CSV row per member.
+    Sweep {
+        /// Model: ball, woodpecker, slider-crank, slider-crank-ideal, cam, painleve.
+        model: String,
+        /// Swept key and its values: --set key=v1,v2,... (repeatable).
+        #[arg(long = "set", value_name = "KEY=V1,V2,...")]
+        sets: Vec<String>,
+        /// Scene file (TOML) to start from instead of the report's scene.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Run only part K of N (members i with i mod N = K − 1).
+        #[arg(long, value_name = "K/N")]
+        shard: Option<String>,
+        /// Output CSV file.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Join the CSV parts of a sharded sweep, sorted by member.
+    Merge {
+        /// Output CSV file.
+        out: PathBuf,
+        /// The parts.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+    },
+}
+
+fn main() -> Result<()> {
+    match Cli::parse().command {
+        Command::Reproduce { out, quick, jobs } => {
+            let summary = reproduce::run(&reproduce::Options { out: out.clone(), quick, jobs })?;
+            println!(
+                "wrote {} files to {} in {:.1} s (simulations {:.1} s of CPU)",
+                summary.files,
+                out.display(),
+                summary.total_seconds,
+                summary.simulation_seconds
+            );
+        }
+        Command::Simulate { model, scene, sets, dt, tf, solver, out } => {
+            let options = simulate::SimulateOptions { model, scene, sets, dt, tf, solver };
+            let run = simulate::run(&options)?;
+            simulate::write_record(&run, &out)?;
+            println!(
+                "{}: {} steps, {} LCP solves, {:.3} s; wrote {} rows to {}",
+                run.spec.kind,
+                run.sim.steps,
+                run.sim.lcp_solves,
+                run.sim.wall_seconds,
+                run.record().len(),
+                out.display()
+            );
+        }
+        Command::Sweep { model, sets, scene, shard, out } => {
+            let axes = sets.iter().map(|s| Axis::parse(s)).collect::<Result<Vec<_>>>()?;
+            let shard = shard.as_deref().map(Shard::parse).transpose()?;
+            let rows = sweep::run(&sweep::SweepOptions { model, scene, axes, shard }, &out)
+                .context("sweep")?;
+            println!("wrote {rows} members to {}", out.display());
+        }
+        Command::Merge { out, parts } => {
+            let rows = xtask::grid::merge(&out, &parts)?;
+            println!("merged {rows} members into {}", out.display());
+        }
+    }
+    Ok(())
+}

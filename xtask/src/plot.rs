@@ -113,6 +113,8 @@ pub struct Panel {
     pub y_range: Option<(f64, f64)>,
     /// Legend position.
     pub legend: LegendAt,
+    /// Extra room above the data, as a fraction of the data's span (for the legend).
+    pub headroom: f64,
 }
 
 impl Panel {
@@ -127,7 +129,14 @@ impl Panel {
             x_range: None,
             y_range: None,
             legend: LegendAt::UpperRight,
+            headroom: 0.0,
         }
+    }
+
+    /// Leaves `fraction` of the data's span free above the data, for the legend.
+    pub fn headroom(mut self, fraction: f64) -> Self {
+        self.headroom = fraction;
+        self
     }
 
     /// Adds a series.
@@ -199,8 +208,7 @@ pub fn register_fonts() {
             FontStyle::Normal,
             dejavu::sans::regular(),
         );
-        let _ =
-            plotters::style::register_font("sans-serif", FontStyle::Bold, dejavu::sans::bold());
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Bold, dejavu::sans::bold());
     });
 }
 
@@ -227,7 +235,13 @@ pub fn padded_range<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
 impl Figure {
     /// A figure with a title, panels and the number of panels per row.
     pub fn new(title: &str, panels: Vec<Panel>, columns: usize) -> Self {
-        Self { title: title.to_owned(), panels, columns: columns.max(1), panel_width: 640, panel_height: 400 }
+        Self {
+            title: title.to_owned(),
+            panels,
+            columns: columns.max(1),
+            panel_width: 640,
+            panel_height: 400,
+        }
     }
 
     /// Sets the size of one panel in pixels.
@@ -267,7 +281,7 @@ impl Figure {
     pub fn write_svg(&self, path: &Path) -> Result<()> {
         register_fonts();
         let root = SVGBackend::new(path, self.size()).into_drawing_area();
-        self.draw(&root).with_context(|| format!("drawing {}", path.display()))?;
+        self.draw(&root, false).with_context(|| format!("drawing {}", path.display()))?;
         root.present().map_err(|e| anyhow!("writing {}: {e}", path.display()))
     }
 
@@ -278,7 +292,7 @@ impl Figure {
     pub fn write_png(&self, path: &Path) -> Result<()> {
         register_fonts();
         let root = BitMapBackend::new(path, self.size()).into_drawing_area();
-        self.draw(&root).with_context(|| format!("drawing {}", path.display()))?;
+        self.draw(&root, true).with_context(|| format!("drawing {}", path.display()))?;
         root.present().map_err(|e| anyhow!("writing {}: {e}", path.display()))
     }
 
@@ -304,7 +318,13 @@ impl Figure {
         table
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+    /// Draws the figure; `segments` draws solid lines segment by segment (for the bitmap
+    /// backend, whose thick polylines spike at sharp turns).
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        segments: bool,
+    ) -> Result<()> {
         root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
         let (title_area, body) = root.split_vertically(TITLE_HEIGHT);
         title_area
@@ -312,7 +332,7 @@ impl Figure {
             .map_err(|e| anyhow!("{e}"))?;
         let cells = body.split_evenly((self.rows(), self.columns.min(self.panels.len().max(1))));
         for (panel, area) in self.panels.iter().zip(cells.iter()) {
-            draw_panel(panel, area)?;
+            draw_panel(panel, area, segments)?;
         }
         Ok(())
     }
@@ -320,14 +340,18 @@ impl Figure {
 
 const TITLE_HEIGHT: u32 = 40;
 
-fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, Shift>) -> Result<()> {
+fn draw_panel<DB: DrawingBackend>(
+    panel: &Panel,
+    area: &DrawingArea<DB, Shift>,
+    segments: bool,
+) -> Result<()> {
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
-    let (x0, x1) = panel
-        .x_range
-        .unwrap_or_else(|| padded_range(panel.series.iter().flat_map(|s| s.x.iter())));
-    let (y0, y1) = panel
-        .y_range
-        .unwrap_or_else(|| padded_range(panel.series.iter().flat_map(|s| s.y.iter())));
+    let (x0, x1) =
+        panel.x_range.unwrap_or_else(|| padded_range(panel.series.iter().flat_map(|s| s.x.iter())));
+    let (y0, y1) = panel.y_range.unwrap_or_else(|| {
+        let (lo, hi) = padded_range(panel.series.iter().flat_map(|s| s.y.iter()));
+        (lo, hi + panel.headroom * (hi - lo))
+    });
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, ("sans-serif", 18))
         .margin(12)
@@ -353,26 +377,63 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, Shift>) 
     let mut any_label = false;
     for s in &panel.series {
         let c = color(s.color);
-        let points: Vec<(f64, f64)> = s
-            .x
-            .iter()
-            .zip(&s.y)
-            .filter(|(x, y)| x.is_finite() && y.is_finite())
-            .map(|(&x, &y)| (x, y))
-            .collect();
+        let points: Vec<(f64, f64)> =
+            s.x.iter()
+                .zip(&s.y)
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .map(|(&x, &y)| (x, y))
+                .collect();
+        let points = match s.mark {
+            Mark::Line | Mark::ThickLine | Mark::Dashed => decimate(points, (x0, x1), 1500),
+            _ => points,
+        };
+        let inside = |&(x, y): &(f64, f64)| x >= x0 && x <= x1 && y >= y0 && y <= y1;
+        let pieces = || clip_polyline(&points, (x0, x1), (y0, y1));
         let anno = match s.mark {
-            Mark::Line => chart.draw_series(LineSeries::new(points, c.stroke_width(2))).map_err(e)?,
-            Mark::ThickLine => {
-                chart.draw_series(LineSeries::new(points, c.stroke_width(4))).map_err(e)?
+            Mark::Line | Mark::ThickLine => {
+                let style = c.stroke_width(if s.mark == Mark::Line { 2 } else { 4 });
+                let pieces = pieces();
+                if segments {
+                    for piece in &pieces {
+                        chart
+                            .draw_series(
+                                piece.windows(2).map(|w| PathElement::new(vec![w[0], w[1]], style)),
+                            )
+                            .map_err(e)?;
+                    }
+                    chart
+                        .draw_series(LineSeries::new(Vec::<(f64, f64)>::new(), style))
+                        .map_err(e)?
+                } else {
+                    let mut pieces = pieces;
+                    let last = pieces.pop().unwrap_or_default();
+                    for piece in pieces {
+                        chart.draw_series(LineSeries::new(piece, style)).map_err(e)?;
+                    }
+                    chart.draw_series(LineSeries::new(last, style)).map_err(e)?
+                }
             }
-            Mark::Dashed => chart
-                .draw_series(DashedLineSeries::new(points, 8, 5, c.stroke_width(2)))
-                .map_err(e)?,
+            Mark::Dashed => {
+                let mut pieces = pieces();
+                let last = pieces.pop().unwrap_or_default();
+                for piece in pieces {
+                    chart
+                        .draw_series(DashedLineSeries::new(piece, 8, 5, c.stroke_width(2)))
+                        .map_err(e)?;
+                }
+                chart
+                    .draw_series(DashedLineSeries::new(last, 8, 5, c.stroke_width(2)))
+                    .map_err(e)?
+            }
             Mark::Points => chart
-                .draw_series(points.into_iter().map(|p| Circle::new(p, 3, c.filled())))
+                .draw_series(
+                    points.into_iter().filter(inside).map(|p| Circle::new(p, 3, c.filled())),
+                )
                 .map_err(e)?,
             Mark::Rings => chart
-                .draw_series(points.into_iter().map(|p| Circle::new(p, 7, c.stroke_width(3))))
+                .draw_series(
+                    points.into_iter().filter(inside).map(|p| Circle::new(p, 7, c.stroke_width(3))),
+                )
                 .map_err(e)?,
             Mark::Fill => chart
                 .draw_series(std::iter::once(Polygon::new(points, c.mix(0.25).filled())))
@@ -386,7 +447,8 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, Shift>) 
                     Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
                     Mark::Rings => Circle::new((x + 10, y), 6, c.stroke_width(3)).into_dyn(),
                     Mark::Fill => {
-                        Rectangle::new([(x, y - 6), (x + 20, y + 6)], c.mix(0.25).filled()).into_dyn()
+                        Rectangle::new([(x, y - 6), (x + 20, y + 6)], c.mix(0.25).filled())
+                            .into_dyn()
                     }
                     Mark::Dashed => plotters::element::DashedPathElement::new(
                         vec![(x, y), (x + 22, y)],
@@ -424,6 +486,100 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, Shift>) 
     Ok(())
 }
 
+/// Thins a long polyline whose x never decreases to at most four points per bucket of
+/// `buckets` equal x-intervals (the first, lowest, highest and last, in order), which keeps
+/// every extreme visible; other polylines are returned unchanged.
+pub fn decimate(points: Vec<(f64, f64)>, (x0, x1): (f64, f64), buckets: usize) -> Vec<(f64, f64)> {
+    let monotone = points.windows(2).all(|w| w[1].0 >= w[0].0);
+    if !monotone || points.len() <= 4 * buckets || !(x1 > x0) {
+        return points;
+    }
+    let bucket = |x: f64| (((x - x0) / (x1 - x0)) * buckets as f64).floor() as i64;
+    let mut out = Vec::with_capacity(4 * buckets + 4);
+    let mut start = 0;
+    while start < points.len() {
+        let b = bucket(points[start].0);
+        let mut end = start + 1;
+        while end < points.len() && bucket(points[end].0) == b {
+            end += 1;
+        }
+        let chunk = &points[start..end];
+        let (mut lo, mut hi) = (0, 0);
+        for (i, p) in chunk.iter().enumerate() {
+            if p.1 < chunk[lo].1 {
+                lo = i;
+            }
+            if p.1 > chunk[hi].1 {
+                hi = i;
+            }
+        }
+        let mut keep = vec![0, lo, hi, chunk.len() - 1];
+        keep.sort_unstable();
+        keep.dedup();
+        out.extend(keep.into_iter().map(|i| chunk[i]));
+        start = end;
+    }
+    out
+}
+
+/// Cuts a polyline to the box [x0, x1] × [y0, y1]: the visible pieces, with the crossing
+/// points on the box edges (Liang–Barsky clipping of each segment).
+pub fn clip_polyline(
+    points: &[(f64, f64)],
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> Vec<Vec<(f64, f64)>> {
+    let mut pieces: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut current: Vec<(f64, f64)> = Vec::new();
+    let inside = |(x, y): (f64, f64)| x >= x0 && x <= x1 && y >= y0 && y <= y1;
+    if points.len() == 1 && inside(points[0]) {
+        return vec![points.to_vec()];
+    }
+    for w in points.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        let mut visible = true;
+        for (p, q) in [(-dx, a.0 - x0), (dx, x1 - a.0), (-dy, a.1 - y0), (dy, y1 - a.1)] {
+            if p == 0.0 {
+                if q < 0.0 {
+                    visible = false;
+                    break;
+                }
+            } else {
+                let r = q / p;
+                if p < 0.0 {
+                    t0 = t0.max(r);
+                } else {
+                    t1 = t1.min(r);
+                }
+            }
+        }
+        if !visible || t0 > t1 {
+            if !current.is_empty() {
+                pieces.push(std::mem::take(&mut current));
+            }
+            continue;
+        }
+        let start = (a.0 + t0 * dx, a.1 + t0 * dy);
+        let end = (a.0 + t1 * dx, a.1 + t1 * dy);
+        if current.last() != Some(&start) {
+            if !current.is_empty() {
+                pieces.push(std::mem::take(&mut current));
+            }
+            current.push(start);
+        }
+        current.push(end);
+        if t1 < 1.0 {
+            pieces.push(std::mem::take(&mut current));
+        }
+    }
+    if !current.is_empty() {
+        pieces.push(current);
+    }
+    pieces
+}
+
 /// Tick label: short decimal, or scientific notation for very small or large magnitudes.
 pub fn tick(v: f64) -> String {
     let a = v.abs();
@@ -452,6 +608,35 @@ mod tests {
     }
 
     #[test]
+    fn decimation_keeps_the_extremes() {
+        let points: Vec<(f64, f64)> = (0..10_000)
+            .map(|k| (k as f64, if k == 5_003 { 9.0 } else { (k % 7) as f64 }))
+            .collect();
+        let thin = decimate(points.clone(), (0.0, 10_000.0), 100);
+        assert!(thin.len() <= 400, "{}", thin.len());
+        assert!(thin.contains(&(5_003.0, 9.0)));
+        assert_eq!(thin.first(), points.first());
+        assert_eq!(thin.last(), points.last());
+        // A phase portrait (x not monotone) is left alone.
+        let back = vec![(0.0, 0.0), (1.0, 1.0), (0.5, 2.0)];
+        assert_eq!(decimate(back.clone(), (0.0, 1.0), 1), back);
+    }
+
+    #[test]
+    fn clipping_cuts_at_the_box_edges() {
+        // A line from (-1, -1) to (3, 3) in the unit box: one piece from (0, 0) to (1, 1).
+        let pieces = clip_polyline(&[(-1.0, -1.0), (3.0, 3.0)], (0.0, 1.0), (0.0, 1.0));
+        assert_eq!(pieces, vec![vec![(0.0, 0.0), (1.0, 1.0)]]);
+        // Leaving and re-entering gives two pieces.
+        let pieces = clip_polyline(&[(0.5, 0.5), (0.5, 2.0), (0.8, 0.5)], (0.0, 1.0), (0.0, 1.0));
+        assert_eq!(pieces.len(), 2);
+        assert_eq!(pieces[0], vec![(0.5, 0.5), (0.5, 1.0)]);
+        assert!((pieces[1][0].1 - 1.0).abs() < 1e-12 && pieces[1][1] == (0.8, 0.5));
+        // Entirely outside.
+        assert!(clip_polyline(&[(2.0, 2.0), (3.0, 3.0)], (0.0, 1.0), (0.0, 1.0)).is_empty());
+    }
+
+    #[test]
     fn padded_range_handles_flat_and_nan() {
         assert_eq!(padded_range([f64::NAN].iter()), (-1.0, 1.0));
         let (lo, hi) = padded_range([2.0, 2.0].iter());
@@ -469,8 +654,13 @@ mod tests {
                 Panel::new("(a)", "t [s]", "y [m]", "t")
                     .with(Series::line("a", "y_a", x.clone(), vec![1.0, 2.0], 0))
                     .with(Series::line("b", "y_b", x.clone(), vec![3.0, 4.0], 1)),
-                Panel::new("(b)", "t [s]", "v [m/s]", "t")
-                    .with(Series::line("c", "v", vec![0.0, 0.5, 1.0], vec![5.0, 6.0, 7.0], 0)),
+                Panel::new("(b)", "t [s]", "v [m/s]", "t").with(Series::line(
+                    "c",
+                    "v",
+                    vec![0.0, 0.5, 1.0],
+                    vec![5.0, 6.0, 7.0],
+                    0,
+                )),
             ],
             2,
         );

@@ -65,7 +65,9 @@ pub fn flatten(value: &Value) -> Vec<(String, String)> {
                 let text: Vec<String> = items.iter().map(scalar).collect();
                 out.push((prefix.to_owned(), format!("[{}]", text.join(", "))));
             }
-            Value::Array(items) => items.iter().enumerate().for_each(|(i, v)| go(&key(&i.to_string()), v, out)),
+            Value::Array(items) => {
+                items.iter().enumerate().for_each(|(i, v)| go(&key(&i.to_string()), v, out))
+            }
             other => out.push((prefix.to_owned(), scalar(other))),
         }
     }
@@ -172,7 +174,13 @@ impl Report<'_> {
         );
         let _ = writeln!(s, "<h2>Contents</h2><ul>");
         for f in self.figures {
-            let _ = writeln!(s, "<li><a href=\"#{}\">{}</a>: {}</li>", f.stem, html_escape(&f.id), html_escape(&f.caption));
+            let _ = writeln!(
+                s,
+                "<li><a href=\"#{}\">{}</a>: {}</li>",
+                f.stem,
+                html_escape(&f.id),
+                html_escape(&f.caption)
+            );
         }
         let _ = writeln!(s, "<li><a href=\"#runs\">Simulation runs and wall times</a></li></ul>");
         for f in self.figures {
@@ -180,7 +188,8 @@ impl Report<'_> {
             let _ = writeln!(s, "<figure>");
             for file in &f.files {
                 if file.ends_with(".png") {
-                    let bytes = std::fs::read(dir.join(file)).with_context(|| format!("reading {file}"))?;
+                    let bytes =
+                        std::fs::read(dir.join(file)).with_context(|| format!("reading {file}"))?;
                     let _ = writeln!(
                         s,
                         "<img alt=\"{}\" src=\"data:image/png;base64,{}\">",
@@ -188,20 +197,34 @@ impl Report<'_> {
                         base64(&bytes)
                     );
                 } else if file.ends_with("_anim.svg") {
-                    let text = std::fs::read_to_string(dir.join(file)).with_context(|| format!("reading {file}"))?;
+                    let text = std::fs::read_to_string(dir.join(file))
+                        .with_context(|| format!("reading {file}"))?;
                     let _ = writeln!(s, "<p>Animation of the motion ({file}):</p>\n{text}");
                 }
             }
-            let _ = writeln!(s, "<figcaption>{}: {}</figcaption></figure>", html_escape(&f.id), html_escape(&f.caption));
+            let _ = writeln!(
+                s,
+                "<figcaption>{}: {}</figcaption></figure>",
+                html_escape(&f.id),
+                html_escape(&f.caption)
+            );
             if let Some(md) = &f.markdown {
                 let _ = writeln!(s, "{}", markdown_table_to_html(md));
             }
             let _ = writeln!(s, "<div class=\"cols\">");
             let numbers = flatten(&f.key_numbers);
             if !numbers.is_empty() {
-                let _ = writeln!(s, "<div><h3>Key numbers</h3><table><tr><th>quantity</th><th>value</th></tr>");
+                let _ = writeln!(
+                    s,
+                    "<div><h3>Key numbers</h3><table><tr><th>quantity</th><th>value</th></tr>"
+                );
                 for (k, v) in numbers {
-                    let _ = writeln!(s, "<tr><td>{}</td><td>{}</td></tr>", html_escape(&k), html_escape(&v));
+                    let _ = writeln!(
+                        s,
+                        "<tr><td>{}</td><td>{}</td></tr>",
+                        html_escape(&k),
+                        html_escape(&v)
+                    );
                 }
                 let _ = writeln!(s, "</table></div>");
             }
@@ -213,7 +236,12 @@ impl Report<'_> {
                         html_escape(&run.name)
                     );
                     for (k, v) in run_rows(run) {
-                        let _ = writeln!(s, "<tr><td>{}</td><td>{}</td></tr>", html_escape(&k), html_escape(&v));
+                        let _ = writeln!(
+                            s,
+                            "<tr><td>{}</td><td>{}</td></tr>",
+                            html_escape(&k),
+                            html_escape(&v)
+                        );
                     }
                     let _ = writeln!(s, "</table></div>");
                 }
@@ -222,7 +250,11 @@ impl Report<'_> {
             let _ = writeln!(
                 s,
                 "<p>Files: {}. Drawing took {:.2} s.</p></section>",
-                f.files.iter().map(|f| format!("<code>{}</code>", html_escape(f))).collect::<Vec<_>>().join(", "),
+                f.files
+                    .iter()
+                    .map(|f| format!("<code>{}</code>", html_escape(f)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
                 f.draw_seconds
             );
         }
@@ -283,7 +315,11 @@ impl Report<'_> {
                     s.push('\n');
                 }
             }
-            let _ = writeln!(s, "Files: {}\n", f.files.iter().map(|f| format!("`{f}`")).collect::<Vec<_>>().join(", "));
+            let _ = writeln!(
+                s,
+                "Files: {}\n",
+                f.files.iter().map(|f| format!("`{f}`")).collect::<Vec<_>>().join(", ")
+            );
         }
         let _ = writeln!(
             s,
@@ -403,7 +439,13 @@ mod tests {
             steps: 1000,
             lcp_solves: 3,
         }];
-        let report = Report { title: "R", preamble: "p", figures: &figures, runs: &runs, total_seconds: 1.0 };
+        let report = Report {
+            title: "R",
+            preamble: "p",
+            figures: &figures,
+            runs: &runs,
+            total_seconds: 1.0,
+        };
         report.write(dir.path())?;
         let html = std::fs::read_to_string(dir.path().join("report.html"))?;
         assert!(html.contains(&format!("data:image/png;base64,{}", base64(b"png bytes"))));

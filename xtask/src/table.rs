@@ -43,10 +43,15 @@ impl Table {
     /// # Errors
     /// When the file cannot be written.
     pub fn write_csv(&self, path: &Path) -> Result<()> {
-        let mut w = csv::Writer::from_path(path).with_context(|| format!("creating {}", path.display()))?;
+        let mut w =
+            csv::Writer::from_path(path).with_context(|| format!("creating {}", path.display()))?;
         w.write_record(self.headers())?;
         for r in 0..self.rows() {
-            w.write_record(self.columns.iter().map(|(_, v)| v.get(r).map_or(String::new(), |x| format!("{x}"))))?;
+            w.write_record(
+                self.columns
+                    .iter()
+                    .map(|(_, v)| v.get(r).map_or(String::new(), |x| format!("{x}"))),
+            )?;
         }
         w.flush()?;
         Ok(())
@@ -57,17 +62,24 @@ impl Table {
     /// # Errors
     /// When the file cannot be read or a cell is not a number.
     pub fn read_csv(path: &Path) -> Result<Self> {
-        let mut r = csv::Reader::from_path(path).with_context(|| format!("reading {}", path.display()))?;
+        let mut r =
+            csv::Reader::from_path(path).with_context(|| format!("reading {}", path.display()))?;
         let headers: Vec<String> = r.headers()?.iter().map(str::to_owned).collect();
-        let mut columns: Vec<(String, Vec<f64>)> = headers.into_iter().map(|h| (h, Vec::new())).collect();
+        let mut columns: Vec<(String, Vec<f64>)> =
+            headers.into_iter().map(|h| (h, Vec::new())).collect();
         for (line, record) in r.records().enumerate() {
             let record = record?;
             for (c, cell) in record.iter().enumerate() {
                 if cell.is_empty() {
                     continue;
                 }
-                let Some(col) = columns.get_mut(c) else { bail!("row {} has too many cells", line + 2) };
-                col.1.push(cell.parse().with_context(|| format!("row {} column {}: '{cell}'", line + 2, c + 1))?);
+                let Some(col) = columns.get_mut(c) else {
+                    bail!("row {} has too many cells", line + 2)
+                };
+                col.1.push(
+                    cell.parse()
+                        .with_context(|| format!("row {} column {}: '{cell}'", line + 2, c + 1))?,
+                );
             }
         }
         Ok(Self { columns })

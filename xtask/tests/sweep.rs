@@ -1,0 +1,138 @@
+//! Sweeps, shards and merging, and `simulate`'s CSV and error messages.
+
+use std::path::Path;
+
+use anyhow::{Context, Result, ensure};
+use xtask::grid::{Axis, Shard, merge};
+use xtask::simulate::{SimulateOptions, write_record};
+use xtask::sweep::{SweepOptions, run};
+
+fn options(shard: Option<Shard>) -> Result<SweepOptions> {
+    Ok(SweepOptions {
+        model: "ball".into(),
+        scene: None,
+        axes: vec![
+            Axis::parse("eps_n=0.5,0.7,0.9")?,
+            Axis::parse("dt=0.001,0.002")?,
+            Axis::parse("t_end=2")?,
+        ],
+        shard,
+    })
+}
+
+/// The CSV without the measured wall time.
+fn without_wall_time(path: &Path) -> Result<Vec<Vec<String>>> {
+    let mut r = csv::Reader::from_path(path)?;
+    let h: Vec<String> = r.headers()?.iter().map(str::to_owned).collect();
+    let wall = h.iter().position(|c| c == "wall_seconds").context("wall_seconds column")?;
+    let mut rows =
+        vec![h.iter().enumerate().filter(|(i, _)| *i != wall).map(|(_, c)| c.clone()).collect()];
+    for rec in r.records() {
+        let rec = rec?;
+        rows.push(
+            rec.iter().enumerate().filter(|(i, _)| *i != wall).map(|(_, c)| c.to_owned()).collect(),
+        );
+    }
+    Ok(rows)
+}
+
+#[test]
+fn sharded_sweep_merges_to_the_unsharded_one() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let all = dir.path().join("all.csv");
+    assert_eq!(run(&options(None)?, &all)?, 6);
+    let mut parts = Vec::new();
+    for k in 1..=4 {
+        let p = dir.path().join(format!("part{k}.csv"));
+        run(&options(Some(Shard::parse(&format!("{k}/4"))?))?, &p)?;
+        parts.push(p);
+    }
+    let merged = dir.path().join("merged.csv");
+    assert_eq!(merge(&merged, &parts)?, 6);
+    let a = without_wall_time(&all)?;
+    assert_eq!(a, without_wall_time(&merged)?);
+    // Header, then members 0..6 in order with their parameter values and key numbers.
+    assert_eq!(a[0][..5], ["member", "members", "eps_n", "dt", "t_end"]);
+    assert!(a[0].contains(&"rest_time".to_owned()) && a[0].contains(&"first_impact_t".to_owned()));
+    assert_eq!(a[1][..4], ["0", "6", "0.5", "0.001"]);
+    assert_eq!(a[6][..4], ["5", "6", "0.9", "0.002"]);
+    // The ball's first impact is at t1 = sqrt(2 · 0.9 / 9.81) within one step for every member.
+    let col = a[0].iter().position(|c| c == "first_impact_t").context("column")?;
+    for (row, dt) in a[1..].iter().zip([0.001, 0.002, 0.001, 0.002, 0.001, 0.002]) {
+        let t: f64 = row[col].parse()?;
+        assert!((t - (1.8f64 / 9.81).sqrt()).abs() <= dt, "{t}");
+    }
+    // Leaving a part out is caught.
+    let e = merge(&merged, &parts[..3]).unwrap_err().to_string();
+    assert!(e.contains("missing"), "{e}");
+    Ok(())
+}
+
+#[test]
+fn sweep_rejects_unknown_keys_before_running() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let mut o = options(None)?;
+    o.axes.push(Axis::parse("no_such_key=1")?);
+    let e = format!("{:#}", run(&o, &dir.path().join("x.csv")).unwrap_err());
+    ensure!(e.contains("no_such_key") && e.contains("eps_n"), "{e}");
+    Ok(())
+}
+
+#[test]
+fn simulate_writes_named_columns() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let o = SimulateOptions {
+        model: "woodpecker".into(),
+        tf: Some(0.01),
+        sets: vec!["beak.eps_n=0.4".into()],
+        ..SimulateOptions::default()
+    };
+    let result = xtask::simulate::run(&o)?;
+    let path = dir.path().join("w.csv");
+    write_record(&result, &path)?;
+    let mut r = csv::Reader::from_path(&path)?;
+    let h: Vec<String> = r.headers()?.iter().map(str::to_owned).collect();
+    assert_eq!(
+        h,
+        [
+            "t", "y", "phiM", "phiS", "v", "omegaM", "omegaS", "PN1", "PT1", "PN2", "PT2", "PN3",
+            "PT3", "A1", "A2", "A3"
+        ]
+    );
+    let rows: Vec<csv::StringRecord> = r.records().collect::<Result<_, _>>()?;
+    // Row 0 and one row per step of 1e-4 s.
+    assert_eq!(rows.len(), 101);
+    assert_eq!(&rows[0][0], "0");
+    // Contact 2 is closed at t = 0 (g_N2 < 0) and carries an impulse in the first step.
+    assert_eq!(&rows[1][14], "1");
+    assert!(rows[1][9].parse::<f64>()? > 0.0);
+    Ok(())
+}
+
+#[test]
+fn simulate_errors_list_what_is_accepted() {
+    let bad_model = SimulateOptions { model: "pendulum".into(), ..SimulateOptions::default() };
+    let e = format!("{:#}", xtask::simulate::run(&bad_model).unwrap_err());
+    assert!(e.contains("slider-crank") && e.contains("woodpecker"), "{e}");
+    let bad_key = SimulateOptions {
+        model: "ball".into(),
+        sets: vec!["mass=2".into()],
+        ..SimulateOptions::default()
+    };
+    let e = format!("{:#}", xtask::simulate::run(&bad_key).unwrap_err());
+    assert!(e.contains("mass") && e.contains("eps_n") && e.contains("init.y0"), "{e}");
+    let bad_value = SimulateOptions {
+        model: "ball".into(),
+        sets: vec!["eps_n=1.5".into()],
+        ..SimulateOptions::default()
+    };
+    let e = format!("{:#}", xtask::simulate::run(&bad_value).unwrap_err());
+    assert!(e.contains("eps_n"), "{e}");
+    let bad_solver = SimulateOptions {
+        model: "ball".into(),
+        solver: Some("newton".into()),
+        ..SimulateOptions::default()
+    };
+    let e = format!("{:#}", xtask::simulate::run(&bad_solver).unwrap_err());
+    assert!(e.contains("lemke") && e.contains("pgs"), "{e}");
+}
