@@ -229,9 +229,13 @@ pub(crate) fn refine(
     }
 }
 
-/// The power of two nearest to `1 / x` (x > 0, finite): scaling by it is exact.
+/// A power of two within a factor 2 of `1 / x` (x > 0, finite): `2^-e` for the binary
+/// exponent e of x, read from its bits, with e clamped to [-1000, 1000]. Scaling by it is
+/// exact.
 pub(crate) fn pow2_inverse(x: f64) -> f64 {
-    (-x.log2().round()).exp2()
+    let e = ((x.to_bits() >> 52) & 0x7ff) as i64 - 1023;
+    let e = e.clamp(-1000, 1000);
+    f64::from_bits(((1023 - e) as u64) << 52)
 }
 
 /// Reorders `v` so that `v_new[i] = v_old[perm[i]]`, using `mark` as scratch.
@@ -294,6 +298,18 @@ mod tests {
         for k in [1, 2, 3, 5, 9, 17, 31, 32, 40, 64] {
             check(k, k as u64 * 7 + 1);
         }
+    }
+
+    #[test]
+    fn pow2_inverse_is_a_nearby_power_of_two() {
+        for x in [1.0, 0.75, 3.0, 1e-9, 1e6, 5e-300, 1e300] {
+            let r = pow2_inverse(x);
+            assert_eq!(r.to_bits() & ((1u64 << 52) - 1), 0, "{x}: {r} is not a power of two");
+            assert!(r * x > 0.5 && r * x <= 2.0, "{x}: {r}");
+        }
+        // Outside 2^-1000..2^1000 the exponent is clamped, keeping the scale finite.
+        assert_eq!(pow2_inverse(f64::MIN_POSITIVE), 2f64.powi(1000));
+        assert_eq!(pow2_inverse(f64::MAX), 2f64.powi(-1000));
     }
 
     #[test]

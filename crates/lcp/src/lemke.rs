@@ -143,6 +143,8 @@ struct Workspace {
     row_of: Vec<usize>,
     col_of: Vec<usize>,
     ties: Vec<usize>,
+    acol: Vec<f64>,
+    cval: Vec<f64>,
     alpha: Vec<usize>,
     rhs: Vec<f64>,
     z_alt: Vec<f64>,
@@ -259,6 +261,16 @@ impl Lemke {
     }
 }
 
+/// `y += f x` for slices of equal length (a plain loop the compiler vectorises).
+#[inline]
+fn axpy(f: f64, x: &[f64], y: &mut [f64]) {
+    let len = y.len().min(x.len());
+    let (x, y) = (&x[..len], &mut y[..len]);
+    for j in 0..len {
+        y[j] += f * x[j];
+    }
+}
+
 fn status_for(r: Residual, tol: f64, otherwise: Status) -> Status {
     if r.relative <= tol { Status::Solved } else { otherwise }
 }
@@ -275,6 +287,8 @@ impl Workspace {
         self.row_of.resize(2 * n + 1, NONE);
         self.col_of.resize(2 * n + 1, NONE);
         self.rhs.resize(n, 0.0);
+        self.acol.resize(n, 0.0);
+        self.cval.resize(n, 0.0);
         self.z_alt.resize(n, 0.0);
         self.w_alt.resize(n, 0.0);
         if self.ties.capacity() < n {
@@ -367,38 +381,40 @@ impl Workspace {
     fn select_row(&mut self, s: usize, initial: bool, opts: &LemkeOptions) -> Option<usize> {
         let n = self.n;
         let width = n + 2;
-        let a_of = |tab: &[f64], i: usize| {
-            let t = tab[i * width + s];
-            if initial { t } else { -t }
-        };
+        let sign = if initial { 1.0 } else { -1.0 };
+        let tab = &self.tab[..n * width];
+        let (acol, cval) = (&mut self.acol[..n], &mut self.cval[..n]);
         let mut colmax = 0.0f64;
         let mut cmax = 0.0f64;
-        for i in 0..n {
-            colmax = colmax.max(self.tab[i * width + s].abs());
-            cmax = cmax.max(self.tab[i * width + n + 1].abs());
+        for (i, row) in tab.chunks_exact(width).enumerate() {
+            let (a, c) = (sign * row[s], row[n + 1]);
+            acol[i] = a;
+            cval[i] = c;
+            colmax = colmax.max(a.abs());
+            cmax = cmax.max(c.abs());
         }
         let ptol = opts.pivot_tolerance * colmax;
+        // Minimum ratio c_i / a_i over a_i > ptol, compared without dividing.
         let mut best = NONE;
-        let mut theta = f64::INFINITY;
+        let (mut cb, mut ab) = (0.0, 1.0);
         for i in 0..n {
-            let a = a_of(&self.tab, i);
-            if a > ptol {
-                let ratio = self.tab[i * width + n + 1] / a;
-                if ratio < theta {
-                    theta = ratio;
-                    best = i;
-                }
+            let a = acol[i];
+            if a > ptol && (best == NONE || cval[i] * ab < cb * a) {
+                best = i;
+                cb = cval[i];
+                ab = a;
             }
         }
         if best == NONE {
             return None;
         }
         // Rows whose ratio ties with the minimum within the tie tolerance.
+        let theta = cb / ab;
         let eps = opts.tie_tolerance * cmax.max(f64::MIN_POSITIVE);
         self.ties.clear();
         for i in 0..n {
-            let a = a_of(&self.tab, i);
-            if a > ptol && self.tab[i * width + n + 1] - theta * a <= eps {
+            let a = acol[i];
+            if a > ptol && cval[i] - theta * a <= eps {
                 self.ties.push(i);
             }
         }
@@ -414,7 +430,7 @@ impl Workspace {
         let mut pick = self.ties[0];
         for t in 1..self.ties.len() {
             let i = self.ties[t];
-            if self.lex_less(i, a_of(&self.tab, i), pick, a_of(&self.tab, pick)) {
+            if self.lex_less(i, self.acol[i], pick, self.acol[pick]) {
                 pick = i;
             }
         }
@@ -448,12 +464,12 @@ impl Workspace {
         }
         row_r[s] = inv;
         let row_r: &[f64] = row_r;
-        for row in before.chunks_exact_mut(width).chain(after.chunks_exact_mut(width)) {
-            let f = row[s];
-            if f != 0.0 {
-                row[s] = 0.0;
-                for (x, y) in row.iter_mut().zip(row_r) {
-                    *x += f * y;
+        for rows in [before, after] {
+            for row in rows.chunks_exact_mut(width) {
+                let f = row[s];
+                if f != 0.0 {
+                    row[s] = 0.0;
+                    axpy(f, row_r, row);
                 }
             }
         }

@@ -168,10 +168,20 @@ impl Acc {
         self.w_violation = self.w_violation.max(-w);
         let eq = (mzq - w).abs();
         self.equation = self.equation.max(eq);
+        // The w terms against the row scale s_i; the z violation against Z = ‖z‖∞ is added
+        // in `finish`. Divisions only happen for nonzero terms.
         let s = q.abs().max(mz_abs);
-        let zm = self.z_max;
-        let r = ratio(-z, zm).max(ratio(-w, s)).max(ratio(eq, s)).max(ratio(z, zm).min(ratio(w, s)));
-        self.relative = self.relative.max(r);
+        let w_rel = ratio(-w, s).max(ratio(eq, s));
+        self.relative = self.relative.max(w_rel);
+        if z > 0.0 && w > 0.0 {
+            // The complementarity term min(z_i / Z, w_i / s_i) matters only if it can
+            // raise the maximum.
+            let wp = ratio(w, s);
+            if wp > self.relative {
+                let zr = if self.z_max > 0.0 { z / self.z_max } else { 0.0 };
+                self.relative = self.relative.max(zr.min(wp));
+            }
+        }
     }
 
     fn finish(self) -> Residual {
@@ -181,7 +191,7 @@ impl Acc {
             z_violation: self.z_violation,
             w_violation: self.w_violation,
             equation: self.equation,
-            relative: self.relative,
+            relative: self.relative.max(ratio(self.z_violation, self.z_max)),
         };
         if [r.natural, r.complementarity, r.z_violation, r.w_violation, r.equation, r.relative]
             .iter()

@@ -1,0 +1,94 @@
+//! Time per solve of each solver on contact-like problems of size 3, 9, 30 and 90.
+//!
+//! - `friction_3`, `friction_9`: the step LCP with friction (EQUATIONS.md section 5) of
+//!   1 and 3 contacts, from random W_N, W_T, SPD mass matrix and μ;
+//! - `spd_N`: random symmetric positive definite M with planted solutions (the
+//!   frictionless step LCP `W_N' M^-1 W_N` is of this kind).
+//!
+//! Each case cycles over 16 problems; the solver and the solution are reused outside the
+//! timed part, so the times are those of allocation-free solves. The mean pivot or
+//! iteration count of each case is printed before it runs.
+#![allow(missing_docs)]
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::hint::black_box;
+
+use common::{Rng, friction, planted, random_spd};
+use criterion::{Criterion, criterion_group, criterion_main};
+use moreau_lcp::{Auto, Enumeration, Lcp, Lemke, Pgs, Solution, Solver};
+
+fn friction_set(nc: usize, seed: u64) -> Vec<Lcp> {
+    let mut rng = Rng::new(seed);
+    let mut out = Vec::new();
+    while out.len() < 16 {
+        let f = friction(nc, 3 + nc, &mut rng);
+        if Auto::default().solve(&f.lcp).is_ok_and(|s| s.is_solved()) {
+            out.push(f.lcp);
+        }
+    }
+    out
+}
+
+fn spd_set(n: usize, seed: u64) -> Vec<Lcp> {
+    let mut rng = Rng::new(seed);
+    (0..16).map(|_| planted(random_spd(n, &mut rng), &mut rng, false).0).collect()
+}
+
+fn run(c: &mut Criterion, group: &str, name: &str, solver: &mut dyn Solver, problems: &[Lcp]) {
+    let mut out = Solution::new();
+    let mut iterations = 0;
+    for p in problems {
+        solver.solve_into(p.view(), None, &mut out).expect("valid problem");
+        assert!(out.is_solved(), "{group}/{name}: {:?}", out.status);
+        iterations += out.iterations;
+    }
+    eprintln!("{group}/{name}: mean iterations {:.1}", iterations as f64 / problems.len() as f64);
+    let mut k = 0;
+    c.bench_function(&format!("{group}/{name}"), |b| {
+        b.iter(|| {
+            k = (k + 1) % problems.len();
+            solver.solve_into(black_box(problems[k].view()), None, &mut out).expect("valid problem");
+            black_box(out.z[0])
+        })
+    });
+}
+
+fn benches(c: &mut Criterion) {
+    let friction_3 = friction_set(1, 1);
+    let friction_9 = friction_set(3, 2);
+    let spd_3 = spd_set(3, 3);
+    let spd_9 = spd_set(9, 4);
+    let spd_30 = spd_set(30, 5);
+    let spd_90 = spd_set(90, 6);
+
+    let mut lemke = Lemke::default();
+    for (name, set) in [
+        ("friction_3", &friction_3),
+        ("friction_9", &friction_9),
+        ("spd_3", &spd_3),
+        ("spd_9", &spd_9),
+        ("spd_30", &spd_30),
+        ("spd_90", &spd_90),
+    ] {
+        run(c, "lemke", name, &mut lemke, set);
+    }
+    let mut pgs = Pgs::default();
+    for (name, set) in [("spd_3", &spd_3), ("spd_9", &spd_9), ("spd_30", &spd_30), ("spd_90", &spd_90)] {
+        run(c, "pgs", name, &mut pgs, set);
+    }
+    let mut auto = Auto::default();
+    for (name, set) in
+        [("friction_3", &friction_3), ("friction_9", &friction_9), ("spd_30", &spd_30), ("spd_90", &spd_90)]
+    {
+        run(c, "auto", name, &mut auto, set);
+    }
+    let mut enumeration = Enumeration::default();
+    for (name, set) in [("friction_3", &friction_3), ("friction_9", &friction_9), ("spd_9", &spd_9)] {
+        run(c, "enumeration", name, &mut enumeration, set);
+    }
+}
+
+criterion_group!(solvers, benches);
+criterion_main!(solvers);
