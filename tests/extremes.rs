@@ -16,6 +16,7 @@ use std::f64::consts::PI;
 use std::ops::ControlFlow;
 
 use common::{Chain, FlatRod, deepest_penetration, energy_gain, record_is_finite, row};
+use moreau::kinematics::ContactKinematics;
 use moreau::lcp::LcpError;
 use moreau::models::{
     AnyModel, ModelError, ModelKind, PainleveParams, Scene, SliderCrankParams, StopRule,
@@ -128,8 +129,10 @@ fn ball_with_eps_0_rests_from_the_first_impact() {
     for k in first + 1..r.len() {
         assert!((r.p_n[k][0] - G * dt).abs() <= 1e-15, "P_N = {}", r.p_n[k][0]);
     }
+    // The previous midpoint was open, so q_A > R − Δt|u_A|/2 and q_E = q_M > R − Δt|u_A|.
     let pen = 0.1 - r.q[first][0];
-    assert!(pen > 0.0 && pen <= 0.5 * v1 * dt * (1.0 + 1e-12), "penetration {pen}");
+    let u_a = r.u[first - 1][0].abs();
+    assert!(pen > 0.0 && pen <= u_a * dt * (1.0 + 1e-12), "penetration {pen}");
     row(
         "ball ε_N = 0, Δt = 1e-3",
         "rests from the first impact: u = 0 exactly, P_N = m g Δt",
@@ -387,8 +390,11 @@ fn ball_at_every_step_size_hits_the_floor_on_time_and_penetrates_by_less_than_v_
         // Newton's law on the one contact: u_E = −ε_N u_A.
         let (u_a, u_e) = (r.u[k - 1][0], r.u[k][0]);
         assert!((u_e + eps * u_a).abs() <= 1e-12 * v1, "dt {dt}: {u_e} vs {}", -eps * u_a);
+        // The previous midpoint was open (q_A > R − Δt|u_A|/2), so q_M > R − Δt|u_A| and
+        // q_E = q_M + Δt u_E/2 > R − Δt|u_A|(1 − ε_N/2).
         let pen = deepest_penetration(&m, &r);
-        assert!(pen <= 0.5 * v1 * dt * (1.0 + 1e-9) + 1e-15, "dt {dt}: penetration {pen}");
+        let bound = u_a.abs() * dt * (1.0 - 0.5 * eps);
+        assert!(pen <= bound * (1.0 + 1e-9) + 1e-15, "dt {dt}: penetration {pen}");
         row(
             &format!("ball Δt = {dt:.0e}, H = {h:.2e} m"),
             "impact within Δt of t₁; u_E = −ε_N u_A",
@@ -1000,4 +1006,229 @@ fn ball_a_million_steps_with_eps_0_9_comes_to_rest() {
             m.v
         ),
     );
+}
+
+// ---------------------------------------------------------------------------------------
+// Drift in persistent contact, the projection, LCPs without solution, first-order energy
+
+/// A slider-crank with a short rod (l₂ = 1.5 l₁) and a thin slider, μ = ε_N = 0, whose upper
+/// corners slide along the guide for a long stretch of the crank's turn.
+fn short_rod_slider_crank() -> SliderCrankParams {
+    let (l1, w1) = (0.05, -161.95);
+    let l2 = 1.5 * l1;
+    SliderCrankParams {
+        l1,
+        l2,
+        a: 0.0197,
+        b: 0.005,
+        c: 1.39e-4,
+        eps_n: 0.0,
+        eps_t: 0.0,
+        mu: 0.0,
+        init: moreau::models::SliderCrankInit {
+            th1: 0.0,
+            th2: 0.0,
+            th3: 0.0,
+            w1,
+            w2: -l1 / l2 * w1,
+            w3: 0.0,
+        },
+        ..SliderCrankParams::report()
+    }
+}
+
+#[test]
+fn persistent_contact_drifts_into_the_guide_in_proportion_to_dt() {
+    // In persistent contact the LCP keeps γ_N = 0 at each midpoint, but the corner's path is
+    // curved: each step adds O(g̈_N Δt²) of penetration, which accumulates over the contact's
+    // duration to O(Δt). Nothing in the scheme as written pulls it back.
+    let p = short_rod_slider_crank();
+    let mut pens = Vec::new();
+    for dt in [1e-4, 5e-5] {
+        let mut s = Scene::report(ModelKind::SliderCrank);
+        s.params = moreau::models::ModelParams::SliderCrank(p.clone());
+        s.stop_at = None;
+        s.dt = dt;
+        s.t_end = 0.03;
+        let (m, plain, _) = run_with(&s, false, 0.0).unwrap();
+        let (_, projected, _) = run_with(&s, true, 0.0).unwrap();
+        let (pen, pen_proj) =
+            (deepest_penetration(&m, &plain), deepest_penetration(&m, &projected));
+        assert!(record_is_finite(&plain) && record_is_finite(&projected));
+        // Far beyond one step's worth: the largest normal speed times Δt is about 1e-4 m.
+        assert!(pen > 2.0 * p.c, "dt {dt}: penetration {pen}");
+        assert!(pen_proj <= 1e-15, "dt {dt}: projected penetration {pen_proj}");
+        row(
+            &format!("short-rod slider-crank, c = 1.39e-4 m, Δt = {dt:.0e}"),
+            "upper corners slide: drift without / with projection",
+            &format!("penetration {pen:.3e} m ({:.1} c) / {pen_proj:.1e} m", pen / p.c),
+        );
+        pens.push(pen);
+    }
+    let ratio = pens[0] / pens[1];
+    assert!((1.6..2.4).contains(&ratio), "halving Δt divides the drift by {ratio}");
+}
+
+#[test]
+fn projection_of_the_penetrating_corners_alone_can_leave_penetration() {
+    // A slider turned far beyond c/(2a) (a fuzz case). Projecting only the corner that
+    // penetrates (corner 4) along M⁻¹w_N turns the slider and pushes corner 3, on the same
+    // face, in; the next pass frees corner 3 and pushes corner 4 in again. The stepper stops
+    // after four passes. One projection LCP over all four corners frees both at once.
+    let (l1, rod, w1) = (0.10761667052134372, 2.675893235669823, 164.71652101770627);
+    let l2 = rod * l1;
+    let rep = SliderCrankParams::report();
+    let p = SliderCrankParams {
+        l1,
+        l2,
+        a: 0.04131659969911525,
+        b: 0.030740557392355858,
+        c: 2.7777503855992243e-5,
+        m1: rep.m1 * 0.7646035050932377,
+        m2: rep.m2 * 1.3402709924606528,
+        m3: rep.m3 * 1.5841968000758027,
+        j2: rep.j2 * 0.8239706328329293,
+        eps_n: 0.0,
+        eps_t: 0.0,
+        mu: 1.744512096813874,
+        init: moreau::models::SliderCrankInit {
+            th1: 0.0,
+            th2: 0.0,
+            th3: 0.0,
+            w1,
+            w2: -l1 / l2 * w1,
+            w3: 0.0,
+        },
+        ..rep
+    };
+    let model = moreau::models::ModelParams::SliderCrank(p.clone()).build().unwrap();
+    let (q0, u0) = model.initial_state();
+    let mut options = StepperOptions::new(1e-4);
+    options.projection = true;
+    let mut stepper = Stepper::new(model, &q0, &u0, 0.0, options).unwrap();
+    let mut worst = (0.0f64, 0usize, Vec::new());
+    for k in 0..300 {
+        stepper.step().unwrap();
+        let m = stepper.mechanism();
+        let pen = (0..4).map(|i| -m.normal_gap(i, stepper.q(), stepper.t())).fold(0.0, f64::max);
+        if pen > worst.0 {
+            worst = (pen, k, stepper.q().to_vec());
+        }
+    }
+    let (pen, step, q) = worst;
+    assert!(pen.is_finite() && pen <= l1 * w1 * 1e-4);
+    // The slider has turned far past the angle c/(2a) at which it binds in the guide.
+    assert!(q[2].abs() > 5.0 * p.c / (2.0 * p.a), "th3 = {}", q[2]);
+    // One projection over all four corners, 0 ≤ λ ⊥ W_Nᵀ M⁻¹ W_N λ + g_N ≥ 0, repeated to
+    // convergence, frees the slider.
+    let m = stepper.mechanism();
+    let mut q = q;
+    let mut passes = 0;
+    while (0..4).any(|i| m.normal_gap(i, &q, 0.0) < -1e-15) {
+        passes += 1;
+        assert!(passes <= 4, "full projection does not converge");
+        let mut mass = [0.0; 9];
+        m.mass_matrix(&q, 0.0, &mut mass);
+        let mut w = Vec::new();
+        let mut x = Vec::new();
+        for i in 0..4 {
+            let (mut w_n, mut w_t) = (vec![0.0; 3], vec![0.0; 3]);
+            m.contact(i, &q, 0.0, &mut w_n, &mut w_t);
+            x.push(solve3(&mass, [w_n[0], w_n[1], w_n[2]]));
+            w.push(w_n);
+        }
+        let rows: Vec<Vec<f64>> = (0..4)
+            .map(|r| (0..4).map(|c| (0..3).map(|j| w[r][j] * x[c][j]).sum()).collect())
+            .collect();
+        let gaps: Vec<f64> = (0..4).map(|i| m.normal_gap(i, &q, 0.0)).collect();
+        let lcp = moreau::lcp::Lcp::from_rows(&rows, &gaps).unwrap();
+        use moreau::lcp::Solver;
+        let z = moreau::lcp::Auto::default().solve(&lcp).unwrap();
+        assert!(z.is_solved());
+        for c in 0..4 {
+            for j in 0..3 {
+                q[j] += x[c][j] * z.z[c].max(0.0);
+            }
+        }
+    }
+    row(
+        "projection, slider turned 8 × c/(2a) (fuzz case)",
+        "stepper projects penetrating corners only: some left; all four corners: freed",
+        &format!(
+            "stepper leaves {pen:.2e} m at step {step}; full projection converges in {passes} pass(es)"
+        ),
+    );
+}
+
+#[test]
+fn friction_with_tangential_restitution_can_leave_the_step_lcp_without_solution() {
+    // A woodpecker with a longer beak arm (a fuzz case): μ = 1.84 and ε_T = 0.69 at the
+    // beak, μ = 0.76 at the lower sleeve edge. At step 142 both are closed and the LCP of
+    // eq. 7.41 (size 6) has no solution: Lemke ends on a ray and complete enumeration proves
+    // it. The stepper stops with a typed error that carries the instance. With ε_T = 0 the
+    // same toy runs.
+    let f = [1.0, 1.0, 1.0, 1.473838299104488, 0.5579096273671389, 1.0, 1.8382186540343675];
+    let rep = WoodpeckerParams::report();
+    let make = |eps_t: f64| WoodpeckerParams {
+        l_m: rep.l_m * f[3],
+        l_g: rep.l_g * f[4],
+        l_s: rep.l_s * f[6],
+        j_s: rep.j_s * 0.9846034045927093,
+        beak: moreau::models::LawParams::new(0.0, eps_t, 1.839702639234597),
+        lower: moreau::models::LawParams::new(0.0, 0.0, 0.7583672515045705),
+        upper: moreau::models::LawParams::new(0.0, 0.0, 0.0),
+        ..rep.clone()
+    };
+    let mut s = Scene::report(ModelKind::Woodpecker);
+    s.dt = 0.00011159184942331329;
+    s.t_end = 300.0 * s.dt;
+    s.params = moreau::models::ModelParams::Woodpecker(make(0.6923390041536567));
+    let error = s.run().unwrap_err();
+    let ModelError::Step(StepError::LcpFailed { step, status, lcp, q, u, .. }) = error else {
+        panic!("expected LcpFailed, got {error}");
+    };
+    assert_eq!(status, moreau::lcp::Status::NoSolution);
+    assert_eq!(lcp.n(), 6);
+    assert!(q.iter().chain(&u).all(|x| x.is_finite()));
+    let all = moreau::lcp::Enumeration::default().solve_all(lcp.view()).unwrap();
+    assert!(all.is_empty());
+    use moreau::lcp::Solver;
+    let lemke = moreau::lcp::Lemke::default().solve(&lcp).unwrap();
+    assert_eq!(lemke.status, moreau::lcp::Status::RayTermination);
+    s.params = moreau::models::ModelParams::Woodpecker(make(0.0));
+    let sim = s.run().unwrap();
+    assert!(record_is_finite(&sim.record));
+    row(
+        "woodpecker variant, beak μ = 1.84, ε_T = 0.69",
+        "step LCP without solution: typed error LcpFailed(NoSolution) with the instance",
+        &format!(
+            "step {step}, n = 6; enumeration: 0 solutions, Lemke: ray; with ε_T = 0 runs {} steps",
+            sim.steps
+        ),
+    );
+}
+
+#[test]
+fn ideal_slider_crank_energy_error_is_first_order_in_dt() {
+    // Without contacts the report's ideal slider-crank is conservative. The scheme takes the
+    // centrifugal terms of h at u_A, so it is first order for them: the energy error over two
+    // revolutions falls linearly with Δt (by 4 for Δt / 4), and it is a loss.
+    let mut losses = Vec::new();
+    for dt in [4e-5, 1e-5] {
+        let mut s = Scene::report(ModelKind::SliderCrankIdeal);
+        s.dt = dt;
+        let (_, r, _) = run(&s);
+        let e = r.total_energy();
+        let gain = e.iter().map(|x| x - e[0]).fold(f64::NEG_INFINITY, f64::max);
+        assert!(gain <= 1e-12 * e[0], "dt {dt}: energy gain {gain}");
+        let loss = (e[0] - e[e.len() - 1]) / e[0];
+        row(
+            &format!("ideal slider-crank, two revolutions, Δt = {dt:.0e}"),
+            "energy lost by the scheme",
+            &format!("(E₀ − E_end)/E₀ = {loss:.3e}"),
+        );
+        losses.push(loss);
+    }
+    let ratio = losses[0] / losses[1];
+    assert!((3.0..5.5).contains(&ratio), "first order: ratio {ratio}");
 }
