@@ -175,7 +175,7 @@ impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
             self.sum_p_t[i] += c.p_t;
             self.any_active[i] |= c.active;
         }
-        self.sum_dissipated += report.impulse_dissipation;
+        self.sum_dissipated += report.impulse_dissipation();
         self.pending += 1;
         if self.pending >= self.every {
             self.pending = 0;

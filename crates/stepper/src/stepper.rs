@@ -70,9 +70,22 @@ pub struct StepReport<'a> {
     pub lcp_size: usize,
     /// How the LCP was solved, if there was one.
     pub lcp: Option<LcpInfo>,
+    /// M_M, column-major, and the impulse-free velocity ũ, for [`Self::impulse_dissipation`].
+    mass: &'a [f64],
+    u_free: &'a [f64],
+}
+
+impl StepReport<'_> {
     /// Kinetic energy removed by the impulses of the step, ½ũᵀM_Mũ − ½u_EᵀM_Mu_E with
-    /// ũ = u_A + M_M⁻¹h_M Δt the impulse-free velocity (J).
-    pub impulse_dissipation: f64,
+    /// ũ = u_A + M_M⁻¹h_M Δt the impulse-free velocity (J); zero when no impulse acted.
+    /// Computed on demand: it costs two quadratic forms.
+    pub fn impulse_dissipation(&self) -> f64 {
+        if self.contacts.iter().all(|c| c.p_n == 0.0 && c.p_t == 0.0) {
+            return 0.0;
+        }
+        let f = self.u.len();
+        half_quadratic(self.mass, f, self.u_free) - half_quadratic(self.mass, f, self.u)
+    }
 }
 
 /// What [`Stepper::run_until`] did.
@@ -377,13 +390,6 @@ impl<M: Mechanism> Stepper<M> {
 
     /// The report of the step just taken.
     fn report(&self, lcp_size: usize, lcp: Option<LcpInfo>) -> StepReport<'_> {
-        let impulse_dissipation = if lcp_size > 0 {
-            let f = self.q.len();
-            half_quadratic(&self.ws.mass, f, &self.ws.u_free)
-                - half_quadratic(&self.ws.mass, f, &self.u)
-        } else {
-            0.0
-        };
         StepReport {
             step: self.step - 1,
             t: self.t,
@@ -392,7 +398,8 @@ impl<M: Mechanism> Stepper<M> {
             contacts: &self.contacts,
             lcp_size,
             lcp,
-            impulse_dissipation,
+            mass: &self.ws.mass,
+            u_free: &self.ws.u_free,
         }
     }
 
