@@ -163,16 +163,13 @@ fn table8_2(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
     let table = table_rows(run, 7)?;
     let csv = ctx.out.join(format!("{}.csv", e.stem));
     table.write_csv(&csv)?;
-    let md = table.to_markdown(|c, x| match c {
-        8 => format!("{x:.0}"),
-        5 | 6 => format!("{x:.2}"),
-        _ => format!("{x:.6}"),
-    });
+    let md = markdown(&table);
     let md_path = ctx.out.join(format!("{}.md", e.stem));
     let text = format!(
         "# Table 8.2  Bouncing ball around the first impact\n\n{}\n\n{md}\n\
          b is the LCP constant (the column the report heads w_NM); active = 1 when g_N(q_M) ≤ 0 and \
-         the contact enters the LCP; ξ_N = Λ_N/m + b.\n",
+         the contact enters the LCP; ξ_N = Λ_N/m + b. Here b and ξ_N are shown for the steps in \
+         the LCP only; the CSV has them for every step.\n",
         e.caption
     );
     std::fs::write(&md_path, text)?;
@@ -182,6 +179,31 @@ fn table8_2(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
         key_numbers: json!({"first_impact": k.first_impact, "closed_form": k.closed_form}),
         markdown: Some(md),
     })
+}
+
+/// Table 8.2 as Markdown; b and ξ_N are left blank for steps whose contact is not in the LCP.
+fn markdown(table: &Table) -> String {
+    let headers = table.headers();
+    let col = |name: &str| table.column(name).unwrap_or(&[]);
+    let active = col("active");
+    let mut s = format!("| {} |\n|{}\n", headers.join(" | "), "---:|".repeat(headers.len()));
+    for r in 0..table.rows() {
+        let on = active.get(r).is_some_and(|&a| a > 0.5);
+        let cells: Vec<String> = headers
+            .iter()
+            .map(|h| {
+                let x = col(h).get(r).copied().unwrap_or(f64::NAN);
+                match *h {
+                    "active" => format!("{x:.0}"),
+                    "M_M" | "h_M" => format!("{x:.2}"),
+                    "b" | "xi_N" if !on => "—".to_owned(),
+                    _ => format!("{x:.6}"),
+                }
+            })
+            .collect();
+        s.push_str(&format!("| {} |\n", cells.join(" | ")));
+    }
+    s
 }
 
 fn fig8_3(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
@@ -215,4 +237,33 @@ fn fig8_3(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
         key_numbers: json!({"dt_0.001": keys::ball(fine), "dt_0.025": keys::ball(coarse)}),
         markdown: None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_rows_satisfy_the_scalar_lcp() -> Result<()> {
+        let run = RunSpec::new("t", ModelKind::Ball, &[("t_end", "0.6")]).execute()?;
+        let table = table_rows(&run, 3)?;
+        assert_eq!(table.rows(), 1 + 7);
+        let col = |n: &str| table.column(n).map(<[f64]>::to_vec).context(n.to_owned());
+        let (t, v, active, b, lambda, xi) =
+            (col("t")?, col("v")?, col("active")?, col("b")?, col("Lambda_N")?, col("xi_N")?);
+        assert_eq!(t[0], 0.0);
+        // One active step: the impact, with Λ_N = −b/A (A = 1/m = 1) and ξ_N = 0, so that
+        // v_E = −ε_N v_A: the next row's v.
+        let k = active.iter().position(|&a| a > 0.5).context("an active step")?;
+        assert_eq!(active.iter().filter(|&&a| a > 0.5).count(), 1);
+        assert!((lambda[k] + b[k]).abs() < 1e-12 && xi[k].abs() < 1e-12);
+        assert!((v[k + 1] + 0.9 * v[k]).abs() < 1e-12, "{} vs {}", v[k + 1], -0.9 * v[k]);
+        // The impact is the step that contains t1 = sqrt(2H/g).
+        let t1 = (1.8f64 / 9.81).sqrt();
+        assert!(t[k] <= t1 + 1e-3 && t1 <= t[k] + 2e-3, "{} vs {t1}", t[k]);
+        let md = markdown(&table);
+        assert_eq!(md.lines().count(), 2 + 8);
+        assert_eq!(md.matches('—').count(), 2 * 7);
+        Ok(())
+    }
 }

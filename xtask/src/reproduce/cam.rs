@@ -1,10 +1,10 @@
 //! The cam with a flat-face follower: Figs 8.21 and 8.22.
 
 use anyhow::{Result, bail};
-use moreau_models::{AnyModel, CamParams, ModelKind};
+use moreau_models::{AnyModel, CamParams, ModelKind, Role};
 use serde_json::json;
 
-use super::{Ctx, Entry, Output, motion, names, shapes};
+use super::{Ctx, Entry, Output, focus, motion, names, shapes};
 use crate::frames::{Frame, Strip};
 use crate::keys;
 use crate::plot::{Figure, LegendAt, Mark, Panel, Series};
@@ -144,13 +144,33 @@ fn fig8_22(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
         })
         .collect();
     let last = picks.last().map_or(0.0, |(k, _)| r.t[*k]);
+    // Zoom on the follower's face and the top of the cam: the follower's width, from below its
+    // lowest face position to a little above its highest.
+    let faces: Vec<[f64; 4]> = picks
+        .iter()
+        .filter_map(|(k, _)| {
+            focus(
+                &model.draw(&r.q[*k], r.t[*k]),
+                &[Role::Cam, Role::Ground, Role::Guide, Role::ContactPoint],
+            )
+        })
+        .collect();
+    let window = faces
+        .iter()
+        .copied()
+        .reduce(|a, b| [a[0].min(b[0]), a[1].min(b[1]), a[2].max(b[2]), a[3].max(b[3])])
+        .map(|f| {
+            let w = f[2] - f[0];
+            let top = faces.iter().map(|g| g[1]).fold(f64::NEG_INFINITY, f64::max);
+            [f[0] - 0.05 * w, f[1] - 0.35 * w, f[2] + 0.05 * w, top + 0.3 * w]
+        });
     let strip = Strip {
         title: "Fig 8.22  Cam and follower after the up-dead point".to_owned(),
         columns: frames.len().min(5),
         frames,
-        cell_width: 230,
-        cell_height: 260,
-        window: None,
+        cell_width: 260,
+        cell_height: 200,
+        window,
     };
     let anim = motion(run, 0.0, period, 50);
     let files = strip.write(ctx.out, e.stem, &anim, 0.08)?;

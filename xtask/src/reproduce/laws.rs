@@ -98,7 +98,7 @@ fn fig_i2(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
         ("(d) a < 0, b < 0", -1.0, -1.0),
     ];
     let mut panels = Vec::new();
-    let mut numbers = Vec::new();
+    let mut numbers = serde_json::Map::new();
     let mut solver = Enumeration::default();
     for (j, (title, a, b)) in cases.into_iter().enumerate() {
         let lcp = Lcp::from_rows(&[vec![a]], &[b])?;
@@ -140,8 +140,10 @@ fn fig_i2(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
                 .y_range(-1.6, 2.0)
                 .legend(LegendAt::UpperRight),
         );
-        numbers.push(json!({"case": title, "a": a, "b": b, "solutions": solutions.len(),
-            "x": xs, "y": ys}));
+        numbers.insert(
+            tag.to_owned(),
+            json!({"a": a, "b": b, "solutions": solutions.len(), "x": xs, "y": ys}),
+        );
     }
     let fig = Figure::new("Fig I.2  The scalar LCP y = a x + b, 0 ≤ y ⊥ x ≥ 0", panels, 2);
     let files = fig.write(ctx.out, e.stem)?;
