@@ -1,6 +1,7 @@
 //! `cargo xtask`: reproduce the report, simulate one model, run and merge parameter sweeps.
 
 use std::path::PathBuf;
+use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
@@ -78,8 +79,18 @@ enum Command {
     },
 }
 
-fn main() -> Result<()> {
-    match Cli::parse().command {
+fn main() -> ExitCode {
+    match run(Cli::parse().command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(command: Command) -> Result<()> {
+    match command {
         Command::Reproduce { out, quick, jobs } => {
             let summary = reproduce::run(&reproduce::Options { out: out.clone(), quick, jobs })?;
             println!(
