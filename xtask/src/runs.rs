@@ -218,3 +218,10 @@ pub fn run_info(name: &str, scene: &Scene, sim: &Simulation) -> RunInfo {
         lcp_solves: sim.lcp_solves,
     }
 }
+
+// Runs are built and collected across rayon's worker threads.
+const _: fn() = || {
+    fn is<T: Send + Sync>() {}
+    is::<RunSpec>();
+    is::<RunResult>();
+};
