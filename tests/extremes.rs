@@ -828,7 +828,7 @@ fn rod_landing_flat_on_two_contacts_bounces_without_turning() {
                 row(
                     &format!("rod landing flat on two contacts, ε_N = {eps}"),
                     "equal impulses, no rotation, u_E = −ε_N u_A",
-                    &format!("P_N = {p1:.6} N s each, ω = {}", u[2]),
+                    &format!("P_N = {p1:.6} N s each, |ω| = {:.0e} rad/s", u[2].abs()),
                 );
             }
         }

@@ -193,7 +193,8 @@ pub fn energy_gain(r: &Record) -> f64 {
     e.iter().map(|x| x - e[0]).fold(f64::NEG_INFINITY, f64::max)
 }
 
-/// Prints one row of the results table of docs/extremes.md.
+/// Prints one row of the results table of docs/extremes.md (pipes inside cells escaped).
 pub fn row(case: &str, outcome: &str, number: &str) {
-    println!("| {case} | {outcome} | {number} |");
+    let cell = |s: &str| s.replace('|', "\\|");
+    println!("| {} | {} | {} |", cell(case), cell(outcome), cell(number));
 }
