@@ -6,7 +6,7 @@
 use std::hint::black_box;
 use std::ops::ControlFlow;
 
-use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
+use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use moreau::models::{ModelKind, Scene};
 use moreau::stepper::{StepReport, Stepper, StepperOptions};
 
@@ -59,7 +59,9 @@ fn steps(c: &mut Criterion) {
     bench_model(c, ModelKind::SliderCrank, 1e-5, 0.13725);
     let mut group = c.benchmark_group("simulate/ball-specialised");
     group.throughput(Throughput::Elements(10_000));
-    group.bench_function("10000 steps, dt = 1e-3", |b| b.iter(|| specialised_ball(black_box(10_000), 1e-3)));
+    group.bench_function("10000 steps, dt = 1e-3", |b| {
+        b.iter(|| specialised_ball(black_box(10_000), 1e-3))
+    });
     group.finish();
 }
 

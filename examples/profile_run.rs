@@ -6,7 +6,10 @@ use moreau::models::{AnyModel, ModelKind, Scene};
 use moreau::stepper::{Mechanism, RunSummary, StepReport, Stepper};
 
 /// Runs a concrete (not enum-dispatched) mechanism over the scene's horizon.
-fn run<M: Mechanism + Clone>(m: M, scene: &Scene) -> Result<RunSummary, Box<dyn std::error::Error>> {
+fn run<M: Mechanism + Clone>(
+    m: M,
+    scene: &Scene,
+) -> Result<RunSummary, Box<dyn std::error::Error>> {
     let (q0, u0) = scene.build()?.initial_state();
     let mut stepper = Stepper::new(m, &q0, &u0, 0.0, scene.stepper_options())?;
     Ok(stepper.run_until(scene.t_end, &mut |_: &StepReport<'_>| ControlFlow::Continue(()))?)
@@ -27,7 +30,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             (AnyModel::SliderCrank(w), true) => run(w, &scene)?,
             _ => {
                 let mut stepper = scene.stepper()?;
-                stepper.run_until(scene.t_end, &mut |_: &StepReport<'_>| ControlFlow::Continue(()))?
+                stepper
+                    .run_until(scene.t_end, &mut |_: &StepReport<'_>| ControlFlow::Continue(()))?
             }
         };
         steps += summary.steps;

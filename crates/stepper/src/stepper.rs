@@ -500,27 +500,30 @@ impl<M: Mechanism> Stepper<M> {
     }
 
     /// Moves q_E back onto the admissible set g_N(q, t_E) ≥ 0 along M⁻¹ W_N:
-    /// q_E ← q_E + M⁻¹ W_N λ with 0 ≤ λ ⊥ W_Nᵀ M⁻¹ W_N λ + g_N ≥ 0, for the contacts that
-    /// penetrate, repeated (at most four times) while the linearisation leaves some
+    /// q_E ← q_E + M⁻¹ W_N λ with 0 ≤ λ ⊥ W_Nᵀ M⁻¹ W_N λ + g_N ≥ 0 over all contacts, when
+    /// one penetrates, repeated (at most four times) while the linearisation leaves some
     /// penetration. Velocities are not changed, so kinetic energy is not changed.
     fn project(&mut self, t_e: f64) -> Result<(), StepError> {
         let f = self.q.len();
         let ws = &mut self.ws;
         let mech = &self.mechanism;
         for _ in 0..4 {
+            // Every contact enters the projection LCP once one penetrates: pushing a corner
+            // out can push its neighbour on the same face in, and complementarity keeps the
+            // open ones (g_N > 0) free of impulse.
             ws.proj_active.clear();
+            let mut penetrating = false;
             for i in 0..mech.num_contacts() {
                 let g = mech.normal_gap(i, &self.q, t_e);
                 if !g.is_finite() {
                     return Err(StepError::NonFinite { what: "g_N", index: i, t: t_e });
                 }
-                if g < 0.0 {
-                    ws.proj_active.push(i);
-                    ws.proj_b[ws.proj_active.len() - 1] = g;
-                }
+                penetrating |= g < 0.0;
+                ws.proj_active.push(i);
+                ws.proj_b[i] = g;
             }
             let k = ws.proj_active.len();
-            if k == 0 {
+            if !penetrating {
                 break;
             }
             for (a, &i) in ws.proj_active.iter().enumerate() {
@@ -751,6 +754,11 @@ impl<M: Mechanism> Stepper<M> {
         let t = self.t;
         match failure {
             LcpFailure::NonFinite { what, index } => StepError::NonFinite { what, index, t },
+            // Finite M, h and W give a finite LCP unless the state has grown past the range
+            // of f64 in between: report that as the state it is.
+            LcpFailure::Input(moreau_lcp::LcpError::NonFinite { .. }) => {
+                StepError::NonFinite { what: "LCP (A, b): the state has diverged", index: 0, t }
+            }
             LcpFailure::Input(e) | LcpFailure::Solver(e) => StepError::Lcp(e),
             LcpFailure::Status(status) => {
                 let na = self.ws.active.len();
