@@ -49,7 +49,9 @@ fn run(c: &mut Criterion, group: &str, name: &str, solver: &mut dyn Solver, prob
     c.bench_function(&format!("{group}/{name}"), |b| {
         b.iter(|| {
             k = (k + 1) % problems.len();
-            solver.solve_into(black_box(problems[k].view()), None, &mut out).expect("valid problem");
+            solver
+                .solve_into(black_box(problems[k].view()), None, &mut out)
+                .expect("valid problem");
             black_box(out.z[0])
         })
     });
@@ -75,17 +77,23 @@ fn benches(c: &mut Criterion) {
         run(c, "lemke", name, &mut lemke, set);
     }
     let mut pgs = Pgs::default();
-    for (name, set) in [("spd_3", &spd_3), ("spd_9", &spd_9), ("spd_30", &spd_30), ("spd_90", &spd_90)] {
+    for (name, set) in
+        [("spd_3", &spd_3), ("spd_9", &spd_9), ("spd_30", &spd_30), ("spd_90", &spd_90)]
+    {
         run(c, "pgs", name, &mut pgs, set);
     }
     let mut auto = Auto::default();
-    for (name, set) in
-        [("friction_3", &friction_3), ("friction_9", &friction_9), ("spd_30", &spd_30), ("spd_90", &spd_90)]
-    {
+    for (name, set) in [
+        ("friction_3", &friction_3),
+        ("friction_9", &friction_9),
+        ("spd_30", &spd_30),
+        ("spd_90", &spd_90),
+    ] {
         run(c, "auto", name, &mut auto, set);
     }
     let mut enumeration = Enumeration::default();
-    for (name, set) in [("friction_3", &friction_3), ("friction_9", &friction_9), ("spd_9", &spd_9)] {
+    for (name, set) in [("friction_3", &friction_3), ("friction_9", &friction_9), ("spd_9", &spd_9)]
+    {
         run(c, "enumeration", name, &mut enumeration, set);
     }
 }

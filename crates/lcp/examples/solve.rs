@@ -32,13 +32,17 @@ fn parse_args() -> Result<Args, String> {
             "--solver" => {
                 let v = args.next().ok_or("--solver needs a value")?;
                 if !["auto", "lemke", "pgs", "enum"].contains(&v.as_str()) {
-                    return Err(format!("unknown solver '{v}' (expected auto, lemke, pgs or enum)"));
+                    return Err(format!(
+                        "unknown solver '{v}' (expected auto, lemke, pgs or enum)"
+                    ));
                 }
                 solver = v;
             }
             "--repeat" => {
                 let v = args.next().ok_or("--repeat needs a value")?;
-                let n: usize = v.parse().map_err(|_| format!("--repeat expects a positive integer, got '{v}'"))?;
+                let n: usize = v
+                    .parse()
+                    .map_err(|_| format!("--repeat expects a positive integer, got '{v}'"))?;
                 if n == 0 {
                     return Err("--repeat must be at least 1".to_string());
                 }
@@ -59,7 +63,8 @@ fn parse_args() -> Result<Args, String> {
 
 fn run() -> Result<serde_json::Value, String> {
     let args = parse_args()?;
-    let text = std::fs::read_to_string(&args.file).map_err(|e| format!("cannot read '{}': {e}", args.file))?;
+    let text = std::fs::read_to_string(&args.file)
+        .map_err(|e| format!("cannot read '{}': {e}", args.file))?;
     let lcp = Lcp::read_any(&text).map_err(|e| format!("'{}': {e}", args.file))?;
     let mut solver: Box<dyn Solver> = match args.solver.as_str() {
         "lemke" => Box::new(Lemke::default()),
@@ -88,8 +93,10 @@ fn run() -> Result<serde_json::Value, String> {
     }
     if args.solver == "enum" {
         let all = Enumeration::default().solve_all(lcp.view()).map_err(|e| e.to_string())?;
-        let solutions: Vec<serde_json::Value> =
-            all.iter().map(|s| serde_json::json!({ "z": s.z, "w": s.w, "residual": s.residual })).collect();
+        let solutions: Vec<serde_json::Value> = all
+            .iter()
+            .map(|s| serde_json::json!({ "z": s.z, "w": s.w, "residual": s.residual }))
+            .collect();
         json["solutions"] = serde_json::Value::Array(solutions);
     }
     Ok(json)

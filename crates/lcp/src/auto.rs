@@ -59,6 +59,7 @@ impl Default for AutoOptions {
 /// - R. W. Cottle, J.-S. Pang, R. E. Stone, The Linear Complementarity Problem, Academic
 ///   Press, 1992.
 /// - C. Glocker, Set-Valued Force Laws, Springer, 2001.
+#[derive(Default)]
 pub struct Auto {
     options: AutoOptions,
     lemke: Lemke,
@@ -66,19 +67,6 @@ pub struct Auto {
     q: Vec<f64>,
     d: Vec<f64>,
     first: Solution,
-}
-
-impl Default for Auto {
-    fn default() -> Self {
-        Auto {
-            options: AutoOptions::default(),
-            lemke: Lemke::default(),
-            enumeration: Enumeration::default(),
-            q: Vec::new(),
-            d: Vec::new(),
-            first: Solution::new(),
-        }
-    }
 }
 
 impl Auto {
@@ -92,7 +80,10 @@ impl Auto {
         if options.enumeration_max_n > options.enumeration.max_n {
             return Err(LcpError::InvalidOption {
                 name: "enumeration_max_n",
-                reason: format!("must not exceed enumeration.max_n = {}", options.enumeration.max_n),
+                reason: format!(
+                    "must not exceed enumeration.max_n = {}",
+                    options.enumeration.max_n
+                ),
             });
         }
         Ok(Auto { options, lemke, enumeration, ..Auto::default() })

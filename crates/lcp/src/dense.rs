@@ -53,7 +53,11 @@ impl Lu {
 
     /// Fills the k x k matrix with `entry(i, j)`, factors it, and returns `false` when it
     /// is numerically singular (see [`SINGULAR_RELATIVE`]) or has non-finite entries.
-    pub(crate) fn factor_with(&mut self, k: usize, mut entry: impl FnMut(usize, usize) -> f64) -> bool {
+    pub(crate) fn factor_with(
+        &mut self,
+        k: usize,
+        mut entry: impl FnMut(usize, usize) -> f64,
+    ) -> bool {
         self.k = k;
         self.reserve(k);
         if k == 0 {

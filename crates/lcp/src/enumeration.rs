@@ -42,7 +42,8 @@ impl Default for EnumerationOptions {
 
 impl EnumerationOptions {
     pub(crate) fn validate(&self) -> Result<(), LcpError> {
-        let bad = |name: &'static str, reason: String| Err(LcpError::InvalidOption { name, reason });
+        let bad =
+            |name: &'static str, reason: String| Err(LcpError::InvalidOption { name, reason });
         if self.max_n == 0 || self.max_n > MAX_N_LIMIT {
             return bad("max_n", format!("must be in 1..={MAX_N_LIMIT}"));
         }
@@ -211,7 +212,16 @@ impl Enumeration {
         }
         let mut r = self.scatter(n, z, w);
         if r.relative > REFINE_ABOVE {
-            refine(&mut self.lu, &self.m_rows, n, &self.rows, &self.cols, &self.q, &mut self.rhs, &mut self.scratch);
+            refine(
+                &mut self.lu,
+                &self.m_rows,
+                n,
+                &self.rows,
+                &self.cols,
+                &self.q,
+                &mut self.rhs,
+                &mut self.scratch,
+            );
             let r2 = self.scatter(n, z, w);
             if r2.relative < r.relative {
                 r = r2;
@@ -283,7 +293,8 @@ impl Enumeration {
         let mut start = 0;
         while start < self.by_count.len() {
             let k = self.by_count[start].count_ones();
-            let end = start + self.by_count[start..].iter().take_while(|m| m.count_ones() == k).count();
+            let end =
+                start + self.by_count[start..].iter().take_while(|m| m.count_ones() == k).count();
             for a in start..end {
                 for b in start..end {
                     let (kmask, smask) = (self.by_count[a], self.by_count[b]);
@@ -295,12 +306,11 @@ impl Enumeration {
                     self.rows.clear();
                     self.rows.extend((0..n).filter(|&i| smask & (1 << i) != 0));
                     *examined += 1;
-                    if let Some(r) = self.candidate(n, z, w) {
-                        if r.relative <= self.options.tolerance
-                            && visit(z, w, r, *examined) == Next::Stop
-                        {
-                            return true;
-                        }
+                    if let Some(r) = self.candidate(n, z, w)
+                        && r.relative <= self.options.tolerance
+                        && visit(z, w, r, *examined) == Next::Stop
+                    {
+                        return true;
                     }
                 }
             }

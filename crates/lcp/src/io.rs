@@ -32,7 +32,12 @@ struct Tokens<'a> {
 
 impl<'a> Tokens<'a> {
     fn new(text: &'a str, comments: bool) -> Self {
-        Tokens { lines: text.lines().enumerate(), current: "".split_whitespace(), line: 0, comments }
+        Tokens {
+            lines: text.lines().enumerate(),
+            current: "".split_whitespace(),
+            line: 0,
+            comments,
+        }
     }
 
     fn next_token(&mut self) -> Option<(usize, &'a str)> {
@@ -73,9 +78,13 @@ impl<'a> Tokens<'a> {
     fn size(&mut self, what: &str) -> Result<usize, LcpError> {
         let (line, v) = self.integer(what)?;
         if v < 1 {
-            return Err(LcpError::Parse { line, message: format!("{what} must be >= 1, found {v}") });
+            return Err(LcpError::Parse {
+                line,
+                message: format!("{what} must be >= 1, found {v}"),
+            });
         }
-        usize::try_from(v).map_err(|_| LcpError::Parse { line, message: format!("{what} too large") })
+        usize::try_from(v)
+            .map_err(|_| LcpError::Parse { line, message: format!("{what} too large") })
     }
 }
 
@@ -84,7 +93,10 @@ fn check_size(n: usize, text: &str, line: usize) -> Result<(), LcpError> {
     let needed = n.checked_mul(n).and_then(|m| m.checked_add(n));
     match needed {
         Some(k) if k <= text.len() => Ok(()),
-        _ => Err(LcpError::Parse { line, message: format!("n = {n} is larger than the input allows") }),
+        _ => Err(LcpError::Parse {
+            line,
+            message: format!("n = {n} is larger than the input allows"),
+        }),
     }
 }
 
@@ -129,7 +141,11 @@ fn parse_siconos(text: &str) -> Result<Lcp, LcpError> {
         return Err(LcpError::NotSquare { rows, cols });
     }
     if rows != n {
-        return Err(LcpError::DimensionMismatch { what: "Siconos matrix size", expected: n, found: rows });
+        return Err(LcpError::DimensionMismatch {
+            what: "Siconos matrix size",
+            expected: n,
+            found: rows,
+        });
     }
     check_size(n, text, t.line)?;
     let m = (0..n * n).map(|_| t.number("an entry of M")).collect::<Result<Vec<f64>, _>>()?;

@@ -72,11 +72,16 @@ impl LemkeOptions {
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
             return bad("tolerance", "must be finite and > 0");
         }
-        if !(self.pivot_tolerance.is_finite() && self.pivot_tolerance > 0.0 && self.pivot_tolerance < 1.0)
+        if !(self.pivot_tolerance.is_finite()
+            && self.pivot_tolerance > 0.0
+            && self.pivot_tolerance < 1.0)
         {
             return bad("pivot_tolerance", "must be in (0, 1)");
         }
-        if !(self.tie_tolerance.is_finite() && self.tie_tolerance >= 0.0 && self.tie_tolerance < 1.0) {
+        if !(self.tie_tolerance.is_finite()
+            && self.tie_tolerance >= 0.0
+            && self.tie_tolerance < 1.0)
+        {
             return bad("tie_tolerance", "must be in [0, 1)");
         }
         if let Covering::Custom(d) = &self.covering {
@@ -125,6 +130,7 @@ impl LemkeOptions {
 ///   Science 11 (1965) 681-689.
 /// - R. W. Cottle, J.-S. Pang, R. E. Stone, The Linear Complementarity Problem, Academic
 ///   Press, 1992.
+#[derive(Default)]
 pub struct Lemke {
     options: LemkeOptions,
     ws: Workspace,
@@ -150,12 +156,6 @@ struct Workspace {
     z_alt: Vec<f64>,
     w_alt: Vec<f64>,
     lu: Lu,
-}
-
-impl Default for Lemke {
-    fn default() -> Self {
-        Lemke { options: LemkeOptions::default(), ws: Workspace::default() }
-    }
 }
 
 /// How the pivoting phase ended.
@@ -506,7 +506,16 @@ impl Workspace {
         if out.residual.relative > REFINE_ABOVE {
             let before = out.residual;
             std::mem::swap(&mut out.z, &mut self.w_alt);
-            refine(&mut self.lu, &self.m_rows, n, &self.alpha, &self.alpha, &self.q, &mut self.rhs, &mut self.z_alt);
+            refine(
+                &mut self.lu,
+                &self.m_rows,
+                n,
+                &self.alpha,
+                &self.alpha,
+                &self.q,
+                &mut self.rhs,
+                &mut self.z_alt,
+            );
             self.scatter(out);
             if !(out.residual.relative < before.relative) {
                 std::mem::swap(&mut out.z, &mut self.w_alt);

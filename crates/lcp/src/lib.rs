@@ -52,7 +52,15 @@
 //!
 //! Every solver recomputes w = M z + q from its final z and reports the shared
 //! [`Residual`]; [`Status::Solved`] is returned only when [`Residual::relative`] is at or
-//! below the solver's tolerance.
+//! below the solver's tolerance. `relative` measures each w_i against the magnitude of
+//! the terms that make it up, so it is unchanged by a positive scaling of a row of
+//! (M, q) (which does not change the solutions either).
+//!
+//! # Allocation
+//!
+//! Each solver keeps a workspace. `solve_into` with an [`LcpRef`] and a reused
+//! [`Solution`] allocates nothing once a problem of that size has been solved (checked by
+//! a counting-allocator test); [`Enumeration::solve_all`] allocates its result.
 //!
 //! # Notation
 //!

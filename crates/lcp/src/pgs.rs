@@ -52,24 +52,13 @@ impl Default for PgsOptions {
 ///   Press, 1992, §5.2.
 /// - J. J. Moreau, Unilateral contact and dry friction in finite freedom dynamics, in
 ///   Nonsmooth Mechanics and Applications, CISM 302, Springer, 1988.
+#[derive(Default)]
 pub struct Pgs {
     options: PgsOptions,
     m_rows: Vec<f64>,
     q: Vec<f64>,
     inv_diag: Vec<f64>,
     backup: Vec<f64>,
-}
-
-impl Default for Pgs {
-    fn default() -> Self {
-        Pgs {
-            options: PgsOptions::default(),
-            m_rows: Vec::new(),
-            q: Vec::new(),
-            inv_diag: Vec::new(),
-            backup: Vec::new(),
-        }
-    }
 }
 
 impl Pgs {

@@ -250,7 +250,13 @@ impl Residual {
 
 /// Sets `w = M z + q` (M row-major, `m[i n + j] = M_ij`) and returns the residual of
 /// (z, w); `equation` is then zero by construction.
-pub(crate) fn finish_row_major(m: &[f64], n: usize, q: &[f64], z: &[f64], w: &mut [f64]) -> Residual {
+pub(crate) fn finish_row_major(
+    m: &[f64],
+    n: usize,
+    q: &[f64],
+    z: &[f64],
+    w: &mut [f64],
+) -> Residual {
     let mut acc = Acc::new(&z[..n]);
     for i in 0..n {
         let row = &m[i * n..(i + 1) * n];
@@ -281,7 +287,8 @@ pub struct Solution {
     pub z: Vec<f64>,
     /// `w = M z + q`, recomputed from z (velocities ξ_N, ... in the time-stepper).
     pub w: Vec<f64>,
-    /// Pivots (Lemke), sweeps (PGS) or bases examined (enumeration).
+    /// Pivots (Lemke, counting the first one that brings in z_0), sweeps (PGS) or bases
+    /// examined (enumeration); 0 for the trivial solution.
     pub iterations: usize,
     /// The residual of (z, w), see [`Residual`].
     pub residual: Residual,

@@ -71,7 +71,9 @@ fn round_trips_are_exact_in_both_formats() {
         let (mut lcp, _) = planted(random_p_matrix(n, &mut rng), &mut rng, true);
         if trial % 3 == 0 {
             // Awkward magnitudes and signs.
-            let m = faer::Mat::from_fn(n, n, |i, j| lcp.m()[(i, j)] * 10f64.powi((i * 7 + j * 3) as i32 % 31 - 15));
+            let m = faer::Mat::from_fn(n, n, |i, j| {
+                lcp.m()[(i, j)] * 10f64.powi((i * 7 + j * 3) as i32 % 31 - 15)
+            });
             lcp = Lcp::new(m, lcp.q().to_owned()).unwrap();
         }
         let mut plain = Vec::new();
@@ -97,20 +99,35 @@ fn detection_of_ambiguous_plain_files() {
 #[test]
 fn unsupported_storage_is_a_clear_error() {
     let text = "2\n1\n2\n2\n1 1 2 2 0 0\n";
-    assert!(matches!(Lcp::read_siconos(text.as_bytes()), Err(LcpError::UnsupportedStorage { storage: 1 })));
+    assert!(matches!(
+        Lcp::read_siconos(text.as_bytes()),
+        Err(LcpError::UnsupportedStorage { storage: 1 })
+    ));
     assert!(matches!(Lcp::read_any(text), Err(LcpError::UnsupportedStorage { storage: 1 })));
     let text = "2\n2\n2\n2\n4\n0 1 0 1\n";
-    assert!(matches!(Lcp::read_siconos(text.as_bytes()), Err(LcpError::UnsupportedStorage { storage: 2 })));
+    assert!(matches!(
+        Lcp::read_siconos(text.as_bytes()),
+        Err(LcpError::UnsupportedStorage { storage: 2 })
+    ));
 }
 
 #[test]
 fn parse_errors_name_the_line() {
     let err = Lcp::read_plain("2\n1 2\n3 x\n1 1\n".as_bytes()).unwrap_err();
-    assert!(matches!(&err, LcpError::Parse { line: 3, message } if message.contains("'x'")), "{err}");
+    assert!(
+        matches!(&err, LcpError::Parse { line: 3, message } if message.contains("'x'")),
+        "{err}"
+    );
     let err = Lcp::read_plain("2\n1 2\n3 4\n1\n".as_bytes()).unwrap_err();
-    assert!(matches!(&err, LcpError::Parse { message, .. } if message.contains("end of input")), "{err}");
+    assert!(
+        matches!(&err, LcpError::Parse { message, .. } if message.contains("end of input")),
+        "{err}"
+    );
     let err = Lcp::read_plain("1\n1\n1\n5\n".as_bytes()).unwrap_err();
-    assert!(matches!(&err, LcpError::Parse { line: 4, message } if message.contains("after q")), "{err}");
+    assert!(
+        matches!(&err, LcpError::Parse { line: 4, message } if message.contains("after q")),
+        "{err}"
+    );
     let err = Lcp::read_plain("0\n".as_bytes()).unwrap_err();
     assert!(matches!(err, LcpError::Parse { line: 1, .. }));
     let err = Lcp::read_plain("-3\n".as_bytes()).unwrap_err();

@@ -10,7 +10,15 @@ use moreau_lcp::{Auto, Enumeration, Lcp, Lemke, LemkeOptions, Method, Solver, St
 
 /// Murty's matrix transposed: lower triangular, 1 on the diagonal and 2 below.
 fn murty_lower(n: usize, q: impl Fn(usize) -> f64) -> Lcp {
-    let m = Mat::from_fn(n, n, |i, j| if i == j { 1.0 } else if j < i { 2.0 } else { 0.0 });
+    let m = Mat::from_fn(n, n, |i, j| {
+        if i == j {
+            1.0
+        } else if j < i {
+            2.0
+        } else {
+            0.0
+        }
+    });
     Lcp::new(m, Col::from_fn(n, q)).unwrap()
 }
 
@@ -61,7 +69,8 @@ fn murty_exponential_instances_take_two_to_the_n_pivots() {
 #[test]
 fn murty_sixteen_hits_a_lower_pivot_limit_honestly() {
     let lcp = murty_lower(16, |_| -1.0);
-    let mut lemke = Lemke::new(LemkeOptions { max_pivots: 1000, ..LemkeOptions::default() }).unwrap();
+    let mut lemke =
+        Lemke::new(LemkeOptions { max_pivots: 1000, ..LemkeOptions::default() }).unwrap();
     let s = lemke.solve(&lcp).unwrap();
     assert_eq!(s.status, Status::IterationLimit);
     assert_eq!(s.iterations, 1000);
@@ -140,7 +149,8 @@ fn infeasible_positive_semidefinite_problem_ends_on_a_ray() {
     let a = Auto::default().solve(&lcp).unwrap();
     assert_eq!((a.status, a.method), (Status::NoSolution, Method::Enumeration));
     // Without enumeration Auto reports Lemke's status and never claims NoSolution.
-    let mut no_enum = Auto::new(moreau_lcp::AutoOptions { enumeration_max_n: 0, ..Default::default() }).unwrap();
+    let mut no_enum =
+        Auto::new(moreau_lcp::AutoOptions { enumeration_max_n: 0, ..Default::default() }).unwrap();
     let a = no_enum.solve(&lcp).unwrap();
     assert_eq!((a.status, a.method), (Status::RayTermination, Method::Lemke));
 }
@@ -185,7 +195,11 @@ fn solution_hidden_from_principal_bases_is_found_by_the_vertex_pass() {
     assert!(a.is_solved());
     assert_solves(&lcp, &a.z, 1e-12);
     // With the vertex pass disabled the search is incomplete and says so.
-    let mut short = Enumeration::new(moreau_lcp::EnumerationOptions { max_n_degenerate: 1, ..Default::default() }).unwrap();
+    let mut short = Enumeration::new(moreau_lcp::EnumerationOptions {
+        max_n_degenerate: 1,
+        ..Default::default()
+    })
+    .unwrap();
     assert_eq!(short.solve(&lcp).unwrap().status, Status::TooLarge);
 }
 

@@ -75,7 +75,8 @@ fn lemke_nine_by_nine_does_not_allocate() {
         .collect();
     assert!(friction_problems.len() >= 15);
     check(&mut Lemke::default(), &friction_problems, false);
-    let spd: Vec<Lcp> = (0..20).map(|_| planted(random_spd(9, &mut rng), &mut rng, false).0).collect();
+    let spd: Vec<Lcp> =
+        (0..20).map(|_| planted(random_spd(9, &mut rng), &mut rng, false).0).collect();
     check(&mut Lemke::default(), &spd, false);
     check(&mut Auto::default(), &friction_problems, false);
 }
@@ -83,7 +84,8 @@ fn lemke_nine_by_nine_does_not_allocate() {
 #[test]
 fn pgs_nine_by_nine_does_not_allocate() {
     let mut rng = Rng::new(32);
-    let spd: Vec<Lcp> = (0..20).map(|_| planted(random_spd(9, &mut rng), &mut rng, false).0).collect();
+    let spd: Vec<Lcp> =
+        (0..20).map(|_| planted(random_spd(9, &mut rng), &mut rng, false).0).collect();
     check(&mut Pgs::default(), &spd, false);
     check(&mut Pgs::default(), &spd, true);
 }
@@ -92,7 +94,8 @@ fn pgs_nine_by_nine_does_not_allocate() {
 fn larger_lemke_solves_do_not_allocate() {
     // n = 40 uses faer's LU for the final basis: its stack is also reused.
     let mut rng = Rng::new(33);
-    let spd: Vec<Lcp> = (0..5).map(|_| planted(random_spd(40, &mut rng), &mut rng, false).0).collect();
+    let spd: Vec<Lcp> =
+        (0..5).map(|_| planted(random_spd(40, &mut rng), &mut rng, false).0).collect();
     check(&mut Lemke::default(), &spd, false);
 }
 

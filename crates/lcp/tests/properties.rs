@@ -3,7 +3,9 @@
 
 mod common;
 
-use common::{Rng, assert_solves, assert_status_honest, planted, random_p_matrix, random_spd, rel_dist};
+use common::{
+    Rng, assert_solves, assert_status_honest, planted, random_p_matrix, random_spd, rel_dist,
+};
 use moreau_lcp::{Auto, Enumeration, Lcp, Lemke, Pgs, PgsOptions, Residual, Solver, Status};
 use proptest::prelude::*;
 

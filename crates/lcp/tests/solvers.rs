@@ -20,11 +20,17 @@ fn planted_spd_problems_all_solvers_agree() {
         let pgs = Pgs::default().solve(&lcp).unwrap();
         let enumeration = Enumeration::default().solve(&lcp).unwrap();
         let auto = Auto::default().solve(&lcp).unwrap();
-        for (name, s) in [("lemke", &lemke), ("pgs", &pgs), ("enum", &enumeration), ("auto", &auto)] {
+        for (name, s) in [("lemke", &lemke), ("pgs", &pgs), ("enum", &enumeration), ("auto", &auto)]
+        {
             assert_eq!(s.status, Status::Solved, "{name} trial {trial}");
             assert_solves(&lcp, &s.z, 1e-8);
             let tol = if name == "pgs" { 1e-6 } else { 1e-9 };
-            assert!(rel_dist(&z_star, &s.z) < tol, "{name} trial {trial}: {:?} vs {:?}", s.z, z_star);
+            assert!(
+                rel_dist(&z_star, &s.z) < tol,
+                "{name} trial {trial}: {:?} vs {:?}",
+                s.z,
+                z_star
+            );
         }
     }
 }
@@ -43,7 +49,12 @@ fn planted_p_matrix_problems_all_solvers_agree() {
         ] {
             assert_eq!(s.status, Status::Solved, "{name} trial {trial}");
             let tol = if name == "pgs" { 1e-7 } else { 1e-9 };
-            assert!(rel_dist(&z_star, &s.z) < tol, "{name} trial {trial}: {:?} vs {:?}", s.z, z_star);
+            assert!(
+                rel_dist(&z_star, &s.z) < tol,
+                "{name} trial {trial}: {:?} vs {:?}",
+                s.z,
+                z_star
+            );
         }
     }
 }
@@ -81,16 +92,29 @@ fn badly_scaled_matrix_is_solved_accurately() {
         let lcp = Lcp::new(m, q).unwrap();
         let z_star: Vec<f64> = (0..n).map(|j| z_base[j] / d2[j]).collect();
         let mut row_scaled =
-            Lemke::new(LemkeOptions { covering: Covering::RowScaled, ..LemkeOptions::default() }).unwrap();
+            Lemke::new(LemkeOptions { covering: Covering::RowScaled, ..LemkeOptions::default() })
+                .unwrap();
         for (name, s) in [
             ("lemke", row_scaled.solve(&lcp).unwrap()),
             ("enum", Enumeration::default().solve(&lcp).unwrap()),
             ("auto", Auto::default().solve(&lcp).unwrap()),
         ] {
-            assert_eq!(s.status, Status::Solved, "{name} trial {trial}: {:?} {:?} vs {:?}", s.residual, s.z, z_star);
+            assert_eq!(
+                s.status,
+                Status::Solved,
+                "{name} trial {trial}: {:?} {:?} vs {:?}",
+                s.residual,
+                s.z,
+                z_star
+            );
             // Normwise: the columns scaled by 1e-3..1e3 make componentwise bounds meaningless
             // for the small components.
-            assert!(rel_dist(&z_star, &s.z) < 1e-9, "{name} trial {trial}: {:?} vs {:?}", s.z, z_star);
+            assert!(
+                rel_dist(&z_star, &s.z) < 1e-9,
+                "{name} trial {trial}: {:?} vs {:?}",
+                s.z,
+                z_star
+            );
             assert!(s.residual.relative <= 1e-9);
         }
     }
@@ -109,7 +133,11 @@ fn scalar_problems_have_the_closed_form_answers() {
             Auto::default().solve(&lcp).unwrap(),
         ] {
             assert_eq!(s.status, Status::Solved);
-            assert!((s.z[0] - expected).abs() <= 1e-12 * expected.max(1.0), "a={a} b={b}: {}", s.z[0]);
+            assert!(
+                (s.z[0] - expected).abs() <= 1e-12 * expected.max(1.0),
+                "a={a} b={b}: {}",
+                s.z[0]
+            );
             assert!((s.w[0] - (a * s.z[0] + b)).abs() < 1e-12);
         }
     }
@@ -164,12 +192,18 @@ fn pgs_reports_iteration_limit_and_divergence_honestly() {
     // w1 = z1 - 2 z2 - 1, w2 = -2 z1 + z2 - 1: w1 + w2 = -(z1 + z2) - 2 < 0, infeasible.
     // PGS sets z1 = 1 + 2 z2, z2 = 1 + 2 z1: the iterates grow fourfold per sweep.
     let lcp = Lcp::from_rows(&[vec![1.0, -2.0], vec![-2.0, 1.0]], &[-1.0, -1.0]).unwrap();
-    let s = Pgs::new(PgsOptions { max_iterations: 50, ..PgsOptions::default() }).unwrap().solve(&lcp).unwrap();
+    let s = Pgs::new(PgsOptions { max_iterations: 50, ..PgsOptions::default() })
+        .unwrap()
+        .solve(&lcp)
+        .unwrap();
     assert_eq!(s.status, Status::IterationLimit);
     assert_eq!(s.iterations, 50);
     assert!(s.residual.relative > 1e-10);
     // After 4^k overflows (k about 512) the last finite iterate is returned.
-    let s = Pgs::new(PgsOptions { max_iterations: 2000, ..PgsOptions::default() }).unwrap().solve(&lcp).unwrap();
+    let s = Pgs::new(PgsOptions { max_iterations: 2000, ..PgsOptions::default() })
+        .unwrap()
+        .solve(&lcp)
+        .unwrap();
     assert_eq!(s.status, Status::NumericalFailure);
     assert!(s.iterations > 500 && s.iterations < 2000, "{}", s.iterations);
     assert!(s.z.iter().all(|v| v.is_finite()));
@@ -179,7 +213,10 @@ fn pgs_reports_iteration_limit_and_divergence_honestly() {
     // solution: w1 = z1 + 2 z2 - 1, w2 = 2 z1 + z2 - 1 gives z = (1, 0) after one sweep.
     let lcp = Lcp::from_rows(&[vec![1.0, 2.0], vec![2.0, 1.0]], &[-1.0, -1.0]).unwrap();
     let s = Pgs::default().solve(&lcp).unwrap();
-    assert_eq!((s.status, s.iterations, s.z.as_slice()), (Status::Solved, 1, [1.0, 0.0].as_slice()));
+    assert_eq!(
+        (s.status, s.iterations, s.z.as_slice()),
+        (Status::Solved, 1, [1.0, 0.0].as_slice())
+    );
 }
 
 #[test]
@@ -238,7 +275,10 @@ fn non_finite_and_malformed_input_is_rejected() {
     ));
     let m = Mat::<f64>::zeros(2, 3);
     let q = Col::<f64>::zeros(2);
-    assert!(matches!(LcpRef::new(m.as_ref(), q.as_ref()), Err(LcpError::NotSquare { rows: 2, cols: 3 })));
+    assert!(matches!(
+        LcpRef::new(m.as_ref(), q.as_ref()),
+        Err(LcpError::NotSquare { rows: 2, cols: 3 })
+    ));
     // A transposed (row-major) view is validated and solved like any other.
     let m = Mat::from_fn(2, 2, |i, j| [[2.0, 1.0], [0.0, 2.0]][j][i]);
     let q = Col::from_fn(2, |i| [-1.0, -1.0][i]);
@@ -254,7 +294,9 @@ fn non_finite_and_malformed_input_is_rejected() {
 fn warm_start_errors() {
     let lcp = Lcp::from_rows(&[vec![1.0]], &[-1.0]).unwrap();
     let mut out = Solution::new();
-    for solver in [&mut Pgs::default() as &mut dyn Solver, &mut Lemke::default(), &mut Auto::default()] {
+    for solver in
+        [&mut Pgs::default() as &mut dyn Solver, &mut Lemke::default(), &mut Auto::default()]
+    {
         assert!(matches!(
             solver.solve_into(lcp.view(), Some(&[1.0, 2.0]), &mut out),
             Err(LcpError::WarmStartLength { expected: 1, found: 2 })
@@ -277,9 +319,14 @@ fn options_are_validated() {
     assert!(Pgs::new(PgsOptions { tolerance: 0.0, ..PgsOptions::default() }).is_err());
     assert!(Pgs::new(PgsOptions { max_iterations: 0, ..PgsOptions::default() }).is_err());
     assert!(Lemke::new(LemkeOptions { max_pivots: 0, ..LemkeOptions::default() }).is_err());
-    assert!(Lemke::new(LemkeOptions { tolerance: f64::INFINITY, ..LemkeOptions::default() }).is_err());
+    assert!(
+        Lemke::new(LemkeOptions { tolerance: f64::INFINITY, ..LemkeOptions::default() }).is_err()
+    );
     assert!(matches!(
-        Lemke::new(LemkeOptions { covering: Covering::Custom(vec![1.0, 0.0]), ..LemkeOptions::default() }),
+        Lemke::new(LemkeOptions {
+            covering: Covering::Custom(vec![1.0, 0.0]),
+            ..LemkeOptions::default()
+        }),
         Err(LcpError::InvalidOption { name: "covering", .. })
     ));
     assert!(matches!(
@@ -287,10 +334,16 @@ fn options_are_validated() {
         Err(LcpError::InvalidOption { name: "max_n", .. })
     ));
     // A covering vector of the wrong length is an input error at solve time.
-    let mut lemke =
-        Lemke::new(LemkeOptions { covering: Covering::Custom(vec![1.0, 2.0]), ..LemkeOptions::default() }).unwrap();
+    let mut lemke = Lemke::new(LemkeOptions {
+        covering: Covering::Custom(vec![1.0, 2.0]),
+        ..LemkeOptions::default()
+    })
+    .unwrap();
     let lcp = Lcp::from_rows(&[vec![1.0]], &[-1.0]).unwrap();
-    assert!(matches!(lemke.solve(&lcp), Err(LcpError::DimensionMismatch { what: "covering vector d", .. })));
+    assert!(matches!(
+        lemke.solve(&lcp),
+        Err(LcpError::DimensionMismatch { what: "covering vector d", .. })
+    ));
 }
 
 #[test]
@@ -310,7 +363,10 @@ fn custom_covering_vector_gives_the_same_unique_solution() {
 fn enumeration_size_guard() {
     let n = 21;
     let lcp = Lcp::new(Mat::identity(n, n), Col::from_fn(n, |_| -1.0)).unwrap();
-    assert!(matches!(Enumeration::default().solve(&lcp), Err(LcpError::TooLarge { n: 21, max: 20 })));
+    assert!(matches!(
+        Enumeration::default().solve(&lcp),
+        Err(LcpError::TooLarge { n: 21, max: 20 })
+    ));
     assert!(matches!(Enumeration::default().solve_all(lcp.view()), Err(LcpError::TooLarge { .. })));
     // Auto skips enumeration for such sizes and still solves with Lemke.
     let s = Auto::default().solve(&lcp).unwrap();
@@ -349,7 +405,10 @@ fn residual_definition() {
     let r2 = Residual::compute(scaled.view(), &[2.0, 1.0], &[0.0, 2.0]);
     assert_eq!(r2.relative, 0.5);
     assert_eq!(Residual::compute(lcp.view(), &[1.0], &[0.0, 1.0]), Residual::INFINITE);
-    assert_eq!(Residual::compute(lcp.view(), &[f64::NAN, 0.0], &[0.0, 1.0]).relative, f64::INFINITY);
+    assert_eq!(
+        Residual::compute(lcp.view(), &[f64::NAN, 0.0], &[0.0, 1.0]).relative,
+        f64::INFINITY
+    );
 }
 
 #[test]
@@ -366,9 +425,12 @@ fn display_names() {
         assert_eq!(s.to_string(), name);
         assert_eq!(serde_json::to_string(&s).unwrap(), format!("\"{name}\""));
     }
-    for (m, name) in
-        [(Method::Trivial, "trivial"), (Method::Lemke, "lemke"), (Method::Pgs, "pgs"), (Method::Enumeration, "enumeration")]
-    {
+    for (m, name) in [
+        (Method::Trivial, "trivial"),
+        (Method::Lemke, "lemke"),
+        (Method::Pgs, "pgs"),
+        (Method::Enumeration, "enumeration"),
+    ] {
         assert_eq!(m.to_string(), name);
         assert_eq!(serde_json::to_string(&m).unwrap(), format!("\"{name}\""));
     }

@@ -102,7 +102,15 @@ pub fn rel_dist(a: &[f64], b: &[f64]) -> f64 {
 
 /// Murty's problem: M upper triangular with 1 on the diagonal and 2 above, q = -1.
 pub fn murty(n: usize) -> Lcp {
-    let m = Mat::from_fn(n, n, |i, j| if i == j { 1.0 } else if j > i { 2.0 } else { 0.0 });
+    let m = Mat::from_fn(n, n, |i, j| {
+        if i == j {
+            1.0
+        } else if j > i {
+            2.0
+        } else {
+            0.0
+        }
+    });
     Lcp::new(m, Col::from_fn(n, |_| -1.0)).expect("valid Murty problem")
 }
 
@@ -186,6 +194,10 @@ pub fn friction(nc: usize, ndof: usize, rng: &mut Rng) -> Friction {
 /// Asserts the shared status rule: Solved only with an accepted residual.
 pub fn assert_status_honest(sol: &Solution, tol: f64) {
     if sol.is_solved() {
-        assert!(sol.residual.relative <= tol, "solved with relative residual {}", sol.residual.relative);
+        assert!(
+            sol.residual.relative <= tol,
+            "solved with relative residual {}",
+            sol.residual.relative
+        );
     }
 }
