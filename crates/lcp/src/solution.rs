@@ -96,11 +96,9 @@ impl fmt::Display for Method {
 ///
 /// `relative` does not change when a row of (M, q) is multiplied by a positive number
 /// (which leaves the solutions unchanged), so rows of very different magnitude (entries
-/// of M from 1e-9 to 1e6) are each checked to the tolerance; and it is never larger than
-/// the residual bound `max(-min z, -min w, max|z_i w_i|, ‖M z + q - w‖∞) /
-/// max(1, ‖q‖∞, ‖|M| |z|‖∞)` of the step LCP's recipe would allow for a
-/// solution whose entries are at most 1, so a solution it accepts also passes that recipe
-/// there; for larger or badly scaled data it is the stricter and the more meaningful test.
+/// of M from 1e-9 to 1e6) are each checked to the tolerance. A fixed bound such as
+/// `max|z_i w_i| <= 1e-9 max(|q|, |M| |z|)` is not scale invariant: it would reject the
+/// exact solution z = 1e9 of M = 1e-9, q = -1, and accept wrong z in rows of order 1e-9.
 ///
 /// If z or w has the wrong length or a non-finite entry (or the products overflow), every
 /// field is `+∞`.
