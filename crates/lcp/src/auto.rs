@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::lemke::Cover;
 use crate::solution::{check_warm_start, residual_of_zero};
 use crate::{
     Enumeration, EnumerationOptions, LcpError, LcpRef, Lemke, LemkeOptions, Method, Solution,
@@ -150,17 +151,17 @@ impl Solver for Auto {
             out.status = Status::Solved;
             return Ok(());
         }
-        self.lemke.solve_with(lcp, None, out)?;
+        self.lemke.solve_covering(lcp, Cover::FromOptions, out)?;
         if out.is_solved() {
             return Ok(());
         }
         std::mem::swap(out, &mut self.first);
         for k in 1..=self.options.alternative_coverings {
             if k == 1 {
-                self.lemke.solve_covering(lcp, None, true, out)?;
+                self.lemke.solve_covering(lcp, Cover::RowScaled, out)?;
             } else {
                 self.covering(k);
-                self.lemke.solve_with(lcp, Some(&self.d), out)?;
+                self.lemke.solve_covering(lcp, Cover::Given(&self.d), out)?;
             }
             if out.is_solved() {
                 return Ok(());

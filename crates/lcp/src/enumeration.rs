@@ -15,6 +15,9 @@ use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 /// Largest `max_n` accepted: 2^26 bases is already hours of work.
 const MAX_N_LIMIT: usize = 26;
 
+/// Largest `max_n_degenerate` accepted: C(28, 14) = 4e7 systems.
+const MAX_N_DEGENERATE_LIMIT: usize = 14;
+
 /// Two solutions whose z differ by at most this fraction of `max(1, ‖z‖∞)` are the same.
 const DEDUP_RELATIVE: f64 = 1e-7;
 
@@ -30,7 +33,8 @@ pub struct EnumerationOptions {
     pub tolerance: f64,
     /// Largest n for the second, complete vertex search that runs when some principal
     /// submatrix `M_αα` is singular: sum over k of C(n, k)^2 = C(2n, n) square systems
-    /// `M_SK` (C(24, 12) = 2.7 million for n = 12). Default 12.
+    /// `M_SK` (C(24, 12) = 2.7 million for n = 12, about a second). Default 12; at most
+    /// 14 and at most `max_n`.
     pub max_n_degenerate: usize,
 }
 
@@ -47,8 +51,11 @@ impl EnumerationOptions {
         if self.max_n == 0 || self.max_n > MAX_N_LIMIT {
             return bad("max_n", format!("must be in 1..={MAX_N_LIMIT}"));
         }
-        if self.max_n_degenerate > self.max_n {
-            return bad("max_n_degenerate", "must not exceed max_n".to_string());
+        if self.max_n_degenerate > self.max_n.min(MAX_N_DEGENERATE_LIMIT) {
+            return bad(
+                "max_n_degenerate",
+                format!("must not exceed max_n nor {MAX_N_DEGENERATE_LIMIT}"),
+            );
         }
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
             return bad("tolerance", "must be finite and > 0".to_string());

@@ -158,6 +158,16 @@ struct Workspace {
     lu: Lu,
 }
 
+/// The covering vector of one solve.
+pub(crate) enum Cover<'a> {
+    /// The one in the options.
+    FromOptions,
+    /// [`Covering::RowScaled`].
+    RowScaled,
+    /// A given vector (checked: length n, finite, > 0).
+    Given(&'a [f64]),
+}
+
 /// How the pivoting phase ended.
 enum End {
     Complementary,
@@ -180,37 +190,21 @@ impl Lemke {
         &self.options
     }
 
-    /// Solves with covering vector `d` (or the options' covering when `None`).
-    pub(crate) fn solve_with(
-        &mut self,
-        lcp: LcpRef<'_>,
-        d: Option<&[f64]>,
-        out: &mut Solution,
-    ) -> Result<(), LcpError> {
-        self.solve_covering(lcp, d, false, out)
-    }
-
-    /// As [`Lemke::solve_with`]; `force_row_scaled` selects [`Covering::RowScaled`].
+    /// Solves with the given covering vector.
     pub(crate) fn solve_covering(
         &mut self,
         lcp: LcpRef<'_>,
-        d: Option<&[f64]>,
-        force_row_scaled: bool,
+        cover: Cover<'_>,
         out: &mut Solution,
     ) -> Result<(), LcpError> {
-        let d = if force_row_scaled { None } else { d };
         let n = lcp.n();
-        let mut row_scaled = force_row_scaled;
-        let d = match d {
-            Some(d) => Some(d),
-            None if force_row_scaled => None,
-            None => match &self.options.covering {
-                Covering::Ones => None,
-                Covering::RowScaled => {
-                    row_scaled = true;
-                    None
-                }
-                Covering::Custom(d) => Some(d.as_slice()),
+        let (d, row_scaled) = match cover {
+            Cover::Given(d) => (Some(d), false),
+            Cover::RowScaled => (None, true),
+            Cover::FromOptions => match &self.options.covering {
+                Covering::Ones => (None, false),
+                Covering::RowScaled => (None, true),
+                Covering::Custom(d) => (Some(d.as_slice()), false),
             },
         };
         if let Some(d) = d {
@@ -567,6 +561,6 @@ impl Solver for Lemke {
         out: &mut Solution,
     ) -> Result<(), LcpError> {
         check_warm_start(lcp.n(), warm_start)?;
-        self.solve_with(lcp, None, out)
+        self.solve_covering(lcp, Cover::FromOptions, out)
     }
 }

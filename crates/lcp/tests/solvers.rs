@@ -333,6 +333,25 @@ fn options_are_validated() {
         Enumeration::new(EnumerationOptions { max_n: 40, ..EnumerationOptions::default() }),
         Err(LcpError::InvalidOption { name: "max_n", .. })
     ));
+    assert!(matches!(
+        Enumeration::new(EnumerationOptions {
+            max_n_degenerate: 15,
+            ..EnumerationOptions::default()
+        }),
+        Err(LcpError::InvalidOption { name: "max_n_degenerate", .. })
+    ));
+    assert!(
+        Enumeration::new(EnumerationOptions {
+            max_n: 10,
+            max_n_degenerate: 11,
+            ..Default::default()
+        })
+        .is_err()
+    );
+    assert!(matches!(
+        Auto::new(moreau_lcp::AutoOptions { enumeration_max_n: 21, ..Default::default() }),
+        Err(LcpError::InvalidOption { name: "enumeration_max_n", .. })
+    ));
     // A covering vector of the wrong length is an input error at solve time.
     let mut lemke = Lemke::new(LemkeOptions {
         covering: Covering::Custom(vec![1.0, 2.0]),
