@@ -683,10 +683,12 @@ impl<M: Mechanism> Stepper<M> {
 
         ws.last_size = s;
         let solved = if s == 1 && matches!(options.solver, SolverChoice::Auto) && A[0] > 0.0 {
-            // A scalar problem with A > 0 and b < 0 has the one solution P_N = −b/A.
+            // A scalar problem with A > 0 and b < 0 has the one solution P_N = −b/A. It is
+            // what Lemke's method gives after its two pivots (z_0 enters, z_1 replaces it),
+            // written out: the report says Lemke with those two pivots.
             ws.solution.z.clear();
             ws.solution.z.push(-ws.b[0] / A[0]);
-            LcpInfo { method: Method::Lemke, status: Status::Solved, iterations: 1, residual: 0.0 }
+            LcpInfo { method: Method::Lemke, status: Status::Solved, iterations: 2, residual: 0.0 }
         } else if let (SolverChoice::Pgs { tolerance, omega, max_iterations }, true) =
             (&options.solver, nf > 0)
         {

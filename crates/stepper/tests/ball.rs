@@ -179,3 +179,20 @@ fn energy_balance_of_each_step_is_the_work_of_the_impulse() {
         }
     }
 }
+
+#[test]
+fn every_solver_gives_the_same_bouncing_ball() {
+    // The scalar LCP has one solution; the closed form of the default path, Lemke, PGS and
+    // enumeration must all find it.
+    use moreau_stepper::SolverChoice;
+    let reference = run(0.7, 1e-3, 3.0);
+    for solver in [SolverChoice::Lemke, SolverChoice::pgs_default(), SolverChoice::Enumeration] {
+        let opts = StepperOptions::new(1e-3).with_solver(solver.clone());
+        let mut s = Stepper::new(Ball::new(0.7), &[Y0], &[0.0], 0.0, opts).unwrap();
+        let r = s.record_until(3.0).unwrap();
+        for k in 0..r.len() {
+            assert!((r.q[k][0] - reference.q[k][0]).abs() < 1e-12, "{solver:?}, row {k}");
+            assert!((r.p_n[k][0] - reference.p_n[k][0]).abs() < 1e-12, "{solver:?}, row {k}");
+        }
+    }
+}
