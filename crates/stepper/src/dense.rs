@@ -130,6 +130,25 @@ impl Cholesky {
         }
     }
 
+    /// Writes M⁻¹ b into `x` (both of length n).
+    #[inline]
+    pub(crate) fn solve_into(&self, b: &[f64], x: &mut [f64]) {
+        let n = self.n;
+        if n <= INVERSE_LIMIT {
+            let inv = &self.inverse[..n * n];
+            for i in 0..n {
+                let mut s = 0.0;
+                for j in 0..n {
+                    s += inv[i + j * n] * b[j];
+                }
+                x[i] = s;
+            }
+        } else {
+            x.copy_from_slice(b);
+            self.solve(x);
+        }
+    }
+
     /// Overwrites `x` (length n) with M⁻¹ x.
     #[inline]
     pub(crate) fn solve(&self, x: &mut [f64]) {

@@ -637,15 +637,12 @@ impl<M: Mechanism> Stepper<M> {
 
         // Columns M⁻¹ w_T of the frictional contacts and M⁻¹ (w_N − μ w_T) of all.
         for (k, &a) in ws.frictional.iter().enumerate() {
-            let x = &mut ws.x_t[k * f..(k + 1) * f];
-            x.copy_from_slice(&ws.w_t[a * f..(a + 1) * f]);
-            ws.chol.solve(x);
+            ws.chol.solve_into(&ws.w_t[a * f..(a + 1) * f], &mut ws.x_t[k * f..(k + 1) * f]);
         }
         let mut k = 0;
         for a in 0..na {
             let y = &mut ws.y_n[a * f..(a + 1) * f];
-            y.copy_from_slice(&ws.w_n[a * f..(a + 1) * f]);
-            ws.chol.solve(y);
+            ws.chol.solve_into(&ws.w_n[a * f..(a + 1) * f], y);
             if k < nf && ws.frictional[k] == a {
                 let mu = laws[ws.active[a]].mu();
                 for (yj, xj) in y.iter_mut().zip(&ws.x_t[k * f..(k + 1) * f]) {
