@@ -111,11 +111,12 @@ impl LemkeOptions {
 /// method cannot cycle, whatever the zeros in q and ties in the ratios. When z_0 is among
 /// the tied rows it leaves at once.
 ///
-/// **Accuracy.** After a complementary basis is reached, the basic part is re-solved
-/// directly, `M_αα z_α = -q_α` with an LU factorisation (α = basic z), w is recomputed as
-/// `M z + q`, and the result is accepted (`Status::Solved`) only when
-/// [`Residual::relative`] `<= tolerance`; otherwise the tableau values are tried, and
-/// failing both the status is [`Status::NumericalFailure`].
+/// **Accuracy.** After a complementary basis is reached, the tableau's basic values are
+/// taken as z (α = basic z), w is recomputed as `M z + q`, and the result is accepted
+/// (`Status::Solved`) only when [`Residual::relative`] `<= tolerance`. Otherwise the
+/// basic part is re-solved directly, `M_αα z_α = -q_α` with an LU factorisation and one
+/// step of iterative refinement, and checked the same way; failing both, the better
+/// candidate is returned with [`Status::NumericalFailure`].
 ///
 /// **Cost.** A condensed n x (n + 2) tableau (rows: basic variables, columns: the n + 1
 /// non-basic variables and q̄) is pivoted by plain loops over a preallocated buffer:
@@ -155,6 +156,8 @@ struct Workspace {
     rhs: Vec<f64>,
     z_alt: Vec<f64>,
     w_alt: Vec<f64>,
+    z_tab: Vec<f64>,
+    w_tab: Vec<f64>,
     lu: Lu,
 }
 
@@ -243,10 +246,26 @@ impl Lemke {
         let tol = self.options.tolerance;
         match end {
             End::Complementary => {
+                // The tableau's own basic values first: accepted when their residual
+                // passes, which costs one product M z (n^2 multiply-adds).
+                ws.tableau_candidate(out, tol, Status::NumericalFailure);
+                if out.status == Status::Solved {
+                    return Ok(());
+                }
+                // Otherwise re-solve the basis by LU (with refinement) and keep the
+                // better of the two candidates.
+                std::mem::swap(&mut out.z, &mut ws.z_tab);
+                std::mem::swap(&mut out.w, &mut ws.w_tab);
+                let tab_residual = out.residual;
                 if ws.resolve_basis(out, tol) {
                     return Ok(());
                 }
-                ws.tableau_candidate(out, tol, Status::NumericalFailure);
+                if !(out.residual.relative <= tab_residual.relative) {
+                    std::mem::swap(&mut out.z, &mut ws.z_tab);
+                    std::mem::swap(&mut out.w, &mut ws.w_tab);
+                    out.residual = tab_residual;
+                }
+                out.status = Status::NumericalFailure;
             }
             End::Ray => ws.tableau_candidate(out, tol, Status::RayTermination),
             End::Limit => ws.tableau_candidate(out, tol, Status::IterationLimit),
@@ -285,6 +304,8 @@ impl Workspace {
         self.cval.resize(n, 0.0);
         self.z_alt.resize(n, 0.0);
         self.w_alt.resize(n, 0.0);
+        self.z_tab.resize(n, 0.0);
+        self.w_tab.resize(n, 0.0);
         if self.ties.capacity() < n {
             self.ties.reserve(n);
         }
