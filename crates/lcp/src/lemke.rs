@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::dense::{Lu, pow2_inverse, refine};
-use crate::solution::{check_warm_start, finish_row_major};
+use crate::solution::{check_warm_start, finish_row_major, finish_row_major_sparse};
 use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 
 const NONE: usize = usize::MAX;
@@ -284,6 +284,20 @@ fn axpy(f: f64, x: &[f64], y: &mut [f64]) {
     }
 }
 
+/// `max(a, b)` as one compare (`maxsd`); a NaN in `b` is ignored, unlike `f64::max` it
+/// is not special-cased. Used on magnitudes of finite data and tableau entries, where a
+/// NaN can only come from a failed pivot sequence, which the residual check rejects.
+#[inline]
+fn fmax(a: f64, b: f64) -> f64 {
+    if b > a { b } else { a }
+}
+
+/// `max(x, 0)`, with NaN mapped to 0.
+#[inline]
+fn positive_part(x: f64) -> f64 {
+    if x > 0.0 { x } else { 0.0 }
+}
+
 fn status_for(r: Residual, tol: f64, otherwise: Status) -> Status {
     if r.relative <= tol { Status::Solved } else { otherwise }
 }
@@ -329,7 +343,7 @@ impl Workspace {
         let width = n + 2;
         for i in 0..n {
             let src = &self.m_rows[i * n..(i + 1) * n];
-            let big = src.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let big = src.iter().fold(0.0f64, |a, v| fmax(a, v.abs()));
             let r = if big > 0.0 { pow2_inverse(big) } else { 1.0 };
             let row = &mut self.tab[i * width..(i + 1) * width];
             for (dst, v) in row[..n].iter_mut().zip(src) {
@@ -405,8 +419,8 @@ impl Workspace {
             let (a, c) = (sign * row[s], row[n + 1]);
             acol[i] = a;
             cval[i] = c;
-            colmax = colmax.max(a.abs());
-            cmax = cmax.max(c.abs());
+            colmax = fmax(colmax, a.abs());
+            cmax = fmax(cmax, c.abs());
         }
         let ptol = opts.pivot_tolerance * colmax;
         // Minimum ratio c_i / a_i over a_i > ptol, compared without dividing.
@@ -550,7 +564,7 @@ impl Workspace {
     fn scatter(&mut self, out: &mut Solution) {
         out.z.fill(0.0);
         for (t, &i) in self.alpha.iter().enumerate() {
-            out.z[i] = self.rhs[t].max(0.0);
+            out.z[i] = positive_part(self.rhs[t]);
         }
         out.residual = finish_row_major(&self.m_rows, self.n, &self.q, &out.z, &mut out.w);
     }
@@ -560,11 +574,24 @@ impl Workspace {
     fn tableau_candidate(&mut self, out: &mut Solution, tol: f64, otherwise: Status) {
         let n = self.n;
         let width = n + 2;
+        self.alpha.clear();
         for i in 0..n {
             let r = self.row_of[n + i];
-            self.z_alt[i] = if r != NONE { self.tab[r * width + n + 1].max(0.0) } else { 0.0 };
+            self.z_alt[i] = if r != NONE {
+                self.alpha.push(i);
+                positive_part(self.tab[r * width + n + 1])
+            } else {
+                0.0
+            };
         }
-        let res = finish_row_major(&self.m_rows, n, &self.q, &self.z_alt, &mut self.w_alt);
+        let res = finish_row_major_sparse(
+            &self.m_rows,
+            n,
+            &self.q,
+            &self.z_alt,
+            &self.alpha,
+            &mut self.w_alt,
+        );
         if !(out.residual.relative <= res.relative) {
             std::mem::swap(&mut out.z, &mut self.z_alt);
             std::mem::swap(&mut out.w, &mut self.w_alt);

@@ -130,6 +130,13 @@ fn ratio(x: f64, s: f64) -> f64 {
     }
 }
 
+/// `max(a, b)` as one compare; a NaN in `b` is dropped (the residual tracks non-finite
+/// values separately).
+#[inline]
+fn fmax(a: f64, b: f64) -> f64 {
+    if b > a { b } else { a }
+}
+
 /// Running maxima for a residual; shared by the generic and the row-major kernels.
 struct Acc {
     q_max: f64,
@@ -140,60 +147,68 @@ struct Acc {
     w_violation: f64,
     equation: f64,
     relative: f64,
+    /// NaN once any z_i, w_i or `(M z + q)_i` was not finite.
+    finite: f64,
 }
 
 impl Acc {
     fn new(z: &[f64]) -> Acc {
         Acc {
             q_max: 0.0,
-            z_max: z.iter().fold(0.0f64, |a, v| a.max(v.abs())),
+            z_max: z.iter().fold(0.0f64, |a, v| fmax(a, v.abs())),
             natural: 0.0,
             complementarity: 0.0,
             z_violation: 0.0,
             w_violation: 0.0,
             equation: 0.0,
             relative: 0.0,
+            finite: 0.0,
         }
     }
 
     /// One row: `mz_abs = Σ_j |M_ij z_j|`, `mzq = (M z + q)_i` as computed.
     #[inline]
     fn row(&mut self, q: f64, z: f64, w: f64, mz_abs: f64, mzq: f64) {
-        self.q_max = self.q_max.max(q.abs());
-        self.natural = self.natural.max(z.min(w).abs());
-        self.complementarity = self.complementarity.max((z * w).abs());
-        self.z_violation = self.z_violation.max(-z);
-        self.w_violation = self.w_violation.max(-w);
+        // x - x is 0 for finite x and NaN for ±∞ and NaN.
+        self.finite += (z - z) + (w - w) + (mzq - mzq);
+        self.q_max = fmax(self.q_max, q.abs());
+        self.natural = fmax(self.natural, if z < w { z } else { w }.abs());
+        self.complementarity = fmax(self.complementarity, (z * w).abs());
+        self.z_violation = fmax(self.z_violation, -z);
+        self.w_violation = fmax(self.w_violation, -w);
         let eq = (mzq - w).abs();
-        self.equation = self.equation.max(eq);
+        self.equation = fmax(self.equation, eq);
         // The w terms against the row scale s_i; the z violation against Z = ‖z‖∞ is added
         // in `finish`. Divisions only happen for nonzero terms.
-        let s = q.abs().max(mz_abs);
-        let w_rel = ratio(-w, s).max(ratio(eq, s));
-        self.relative = self.relative.max(w_rel);
+        let s = fmax(q.abs(), mz_abs);
+        if w < 0.0 || eq > 0.0 {
+            let w_rel = fmax(ratio(-w, s), ratio(eq, s));
+            self.relative = fmax(self.relative, w_rel);
+        }
         if z > 0.0 && w > 0.0 {
             // The complementarity term min(z_i / Z, w_i / s_i) matters only if it can
             // raise the maximum.
             let wp = ratio(w, s);
             if wp > self.relative {
                 let zr = if self.z_max > 0.0 { z / self.z_max } else { 0.0 };
-                self.relative = self.relative.max(zr.min(wp));
+                self.relative = fmax(self.relative, if zr < wp { zr } else { wp });
             }
         }
     }
 
     fn finish(self) -> Residual {
         let r = Residual {
-            natural: self.natural / self.q_max.max(1.0),
+            natural: self.natural / fmax(self.q_max, 1.0),
             complementarity: self.complementarity,
             z_violation: self.z_violation,
             w_violation: self.w_violation,
             equation: self.equation,
-            relative: self.relative.max(ratio(self.z_violation, self.z_max)),
+            relative: fmax(self.relative, ratio(self.z_violation, self.z_max)),
         };
-        if [r.natural, r.complementarity, r.z_violation, r.w_violation, r.equation, r.relative]
-            .iter()
-            .any(|v| v.is_nan())
+        if self.finite.is_nan()
+            || [r.natural, r.complementarity, r.z_violation, r.w_violation, r.equation, r.relative]
+                .iter()
+                .any(|v| v.is_nan())
         {
             Residual::INFINITE
         } else {
@@ -266,6 +281,33 @@ pub(crate) fn finish_row_major(
             abs += t.abs();
         }
         w[i] = sum;
+        acc.row(q[i], z[i], sum, abs, sum);
+    }
+    acc.finish()
+}
+
+/// As [`finish_row_major`] for a z that is zero outside `cols` (ascending column
+/// indices): only those columns are read, in the same order, so `w` and the residual are
+/// the same as from the dense product (a skipped term `M_ij · 0` adds zero).
+pub(crate) fn finish_row_major_sparse(
+    m: &[f64],
+    n: usize,
+    q: &[f64],
+    z: &[f64],
+    cols: &[usize],
+    w: &mut [f64],
+) -> Residual {
+    let z = &z[..n];
+    let mut acc = Acc::new(z);
+    for ((i, row), wi) in m[..n * n].chunks_exact(n).enumerate().zip(&mut w[..n]) {
+        let mut sum = q[i];
+        let mut abs = 0.0;
+        for &j in cols {
+            let t = row[j] * z[j];
+            sum += t;
+            abs += t.abs();
+        }
+        *wi = sum;
         acc.row(q[i], z[i], sum, abs, sum);
     }
     acc.finish()
