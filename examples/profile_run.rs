@@ -20,7 +20,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let kind: ModelKind = args.next().unwrap_or_else(|| "woodpecker".into()).parse()?;
     let repeats: usize = args.next().unwrap_or_else(|| "100".into()).parse()?;
     let concrete = args.next().as_deref() == Some("concrete");
-    let scene = Scene::report(kind);
+    let mut scene = Scene::report(kind);
+    if let Ok(t_end) = std::env::var("MOREAU_T_END") {
+        scene.set("t_end", &t_end)?;
+    }
     let start = std::time::Instant::now();
     let mut steps = 0;
     for _ in 0..repeats {
