@@ -140,6 +140,9 @@ pub struct Lemke {
 #[derive(Default)]
 struct Workspace {
     n: usize,
+    /// Row length of the tableau: n + 2 rounded up to a multiple of [`LANES`] (the padding
+    /// columns stay zero).
+    width: usize,
     row_scaled: bool,
     m_rows: Vec<f64>,
     q: Vec<f64>,
@@ -274,7 +277,18 @@ impl Lemke {
     }
 }
 
-/// `y += f x` for slices of equal length (a plain loop the compiler vectorises).
+/// Tableau rows are padded to a multiple of this many entries, so that the row update
+/// runs in whole blocks with no remainder loop.
+const LANES: usize = 4;
+
+/// n + 2 (n + 1 non-basic columns and q̄) rounded up to a multiple of [`LANES`].
+#[inline]
+fn padded_width(n: usize) -> usize {
+    (n + 2).div_ceil(LANES) * LANES
+}
+
+/// `y += f x` for rows of equal length, a multiple of [`LANES`] (blocks of four the
+/// compiler turns into packed multiply-adds).
 #[inline]
 fn axpy(f: f64, x: &[f64], y: &mut [f64]) {
     let len = y.len().min(x.len());
@@ -308,7 +322,8 @@ impl Workspace {
         self.m_rows.resize(n * n, 0.0);
         self.q.resize(n, 0.0);
         self.d.resize(n, 1.0);
-        self.tab.resize(n * (n + 2), 0.0);
+        self.width = padded_width(n);
+        self.tab.resize(n * self.width, 0.0);
         self.basic.resize(n, NONE);
         self.nonbasic.resize(n + 1, NONE);
         self.row_of.resize(2 * n + 1, NONE);
@@ -340,7 +355,7 @@ impl Workspace {
     /// With [`Covering::RowScaled`] the column of z_0 holds ones in the scaled rows.
     fn init_tableau(&mut self) {
         let n = self.n;
-        let width = n + 2;
+        let width = self.width;
         for i in 0..n {
             let src = &self.m_rows[i * n..(i + 1) * n];
             let big = src.iter().fold(0.0f64, |a, v| fmax(a, v.abs()));
@@ -351,6 +366,7 @@ impl Workspace {
             }
             row[n] = if self.row_scaled { 1.0 } else { self.d[i] * r };
             row[n + 1] = self.q[i] * r;
+            row[n + 2..].fill(0.0);
             self.basic[i] = i;
             self.row_of[i] = i;
             self.col_of[i] = NONE;
@@ -400,7 +416,7 @@ impl Workspace {
         if r != NONE {
             if r == i { 1.0 } else { 0.0 }
         } else {
-            -self.tab[i * (self.n + 2) + self.col_of[j]]
+            -self.tab[i * self.width + self.col_of[j]]
         }
     }
 
@@ -409,7 +425,7 @@ impl Workspace {
     /// `T_is < 0` take part with `a_i = -T_is`.
     fn select_row(&mut self, s: usize, initial: bool, opts: &LemkeOptions) -> Option<usize> {
         let n = self.n;
-        let width = n + 2;
+        let width = self.width;
         let sign = if initial { 1.0 } else { -1.0 };
         let tab = &self.tab[..n * width];
         let (acol, cval) = (&mut self.acol[..n], &mut self.cval[..n]);
@@ -484,7 +500,7 @@ impl Workspace {
     /// returns the variable that left the basis.
     fn pivot(&mut self, r: usize, s: usize) -> usize {
         let n = self.n;
-        let width = n + 2;
+        let width = self.width;
         let (before, rest) = self.tab[..n * width].split_at_mut(r * width);
         let (row_r, after) = rest.split_at_mut(width);
         let inv = 1.0 / row_r[s];
@@ -573,7 +589,7 @@ impl Workspace {
     /// any candidate already in `out`.
     fn tableau_candidate(&mut self, out: &mut Solution, tol: f64, otherwise: Status) {
         let n = self.n;
-        let width = n + 2;
+        let width = self.width;
         self.alpha.clear();
         for i in 0..n {
             let r = self.row_of[n + i];
