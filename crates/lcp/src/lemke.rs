@@ -441,30 +441,32 @@ impl Workspace {
         let ptol = opts.pivot_tolerance * colmax;
         // Minimum ratio c_i / a_i over a_i > ptol, compared without dividing.
         let mut best = NONE;
-        let (mut cb, mut ab) = (0.0, 1.0);
-        for i in 0..n {
-            let a = acol[i];
-            if a > ptol && (best == NONE || cval[i] * ab < cb * a) {
+        let (mut cb, mut ab) = (f64::INFINITY, 1.0);
+        for (i, (&a, &c)) in acol.iter().zip(cval.iter()).enumerate() {
+            if a > ptol && c * ab < cb * a {
                 best = i;
-                cb = cval[i];
+                cb = c;
                 ab = a;
             }
         }
         if best == NONE {
             return None;
         }
-        // Rows whose ratio ties with the minimum within the tie tolerance.
+        // Rows whose ratio ties with the minimum within the tie tolerance: counted first,
+        // listed (and broken lexicographically) only when there are two or more.
         let theta = cb / ab;
-        let eps = opts.tie_tolerance * cmax.max(f64::MIN_POSITIVE);
+        let eps = opts.tie_tolerance * fmax(cmax, f64::MIN_POSITIVE);
+        let tied = |a: f64, c: f64| a > ptol && c - theta * a <= eps;
+        let count: usize =
+            acol.iter().zip(cval.iter()).map(|(&a, &c)| usize::from(tied(a, c))).sum();
+        if count <= 1 {
+            return Some(best);
+        }
         self.ties.clear();
-        for i in 0..n {
-            let a = acol[i];
-            if a > ptol && cval[i] - theta * a <= eps {
+        for (i, (&a, &c)) in acol.iter().zip(cval.iter()).enumerate() {
+            if tied(a, c) {
                 self.ties.push(i);
             }
-        }
-        if self.ties.len() <= 1 {
-            return Some(best);
         }
         if !initial {
             let z0 = 2 * n;
