@@ -37,3 +37,4 @@ pub mod runs;
 pub mod simulate;
 pub mod sweep;
 pub mod table;
+pub mod tradeoff;

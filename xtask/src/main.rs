@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use xtask::grid::{Axis, Shard};
-use xtask::{reproduce, simulate, sweep};
+use xtask::{reproduce, simulate, sweep, tradeoff};
 
 #[derive(Parser)]
 #[command(name = "xtask", about = "Moreau's task runner", version)]
@@ -69,6 +69,18 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Error against cost for each model, step size and LCP solver: figures, table, orders.
+    Tradeoff {
+        /// Output folder.
+        #[arg(long, default_value = "target/tradeoff")]
+        out: PathBuf,
+        /// Four step sizes from 1e-2 to 3e-4 s and a coarser reference (a few seconds).
+        #[arg(long)]
+        quick: bool,
+        /// Worker threads (default: one per core).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
     /// Join the CSV parts of a sharded sweep, sorted by member.
     Merge {
         /// Output CSV file.
@@ -121,6 +133,16 @@ fn run(command: Command) -> Result<()> {
             let rows = sweep::run(&sweep::SweepOptions { model, scene, axes, shard }, &out)
                 .context("sweep")?;
             println!("wrote {rows} members to {}", out.display());
+        }
+        Command::Tradeoff { out, quick, jobs } => {
+            let summary = tradeoff::run(&tradeoff::Options { out: out.clone(), quick, jobs })?;
+            println!(
+                "wrote {} files to {} in {:.1} s (simulations {:.1} s of CPU)",
+                summary.files.len(),
+                out.display(),
+                summary.total_seconds,
+                summary.simulation_seconds
+            );
         }
         Command::Merge { out, parts } => {
             let rows = xtask::grid::merge(&out, &parts)?;

@@ -48,6 +48,8 @@ pub struct Series {
     pub color: usize,
     /// Whether the series is written to the CSV (construction lines such as axes are not data).
     pub in_csv: bool,
+    /// Text drawn next to each point (empty: none), e.g. the time step Δt of each run.
+    pub point_labels: Vec<String>,
 }
 
 impl Series {
@@ -61,6 +63,7 @@ impl Series {
             mark: Mark::Line,
             color,
             in_csv: true,
+            point_labels: Vec::new(),
         }
     }
 
@@ -73,6 +76,12 @@ impl Series {
     /// The same series kept out of the CSV.
     pub fn not_data(mut self) -> Self {
         self.in_csv = false;
+        self
+    }
+
+    /// The same series with a text next to each point (one per point, in order).
+    pub fn with_point_labels(mut self, labels: Vec<String>) -> Self {
+        self.point_labels = labels;
         self
     }
 }
@@ -462,6 +471,19 @@ fn draw_panel<DB: DrawingBackend>(
                     }
                 }
             });
+        }
+        if !s.point_labels.is_empty() {
+            let style = ("sans-serif", 12).into_font().color(&c);
+            let labelled =
+                s.x.iter()
+                    .zip(&s.y)
+                    .zip(&s.point_labels)
+                    .filter(|((x, y), _)| x.is_finite() && y.is_finite() && inside(&(**x, **y)));
+            chart
+                .draw_series(labelled.map(|((&x, &y), text)| {
+                    EmptyElement::at((x, y)) + Text::new(text.clone(), (5, -14), style.clone())
+                }))
+                .map_err(e)?;
         }
     }
     if any_label {

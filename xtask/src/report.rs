@@ -358,18 +358,53 @@ fn run_rows(run: &RunInfo) -> Vec<(String, String)> {
     rows
 }
 
-/// Converts a simple Markdown table (header, rule, rows) into an HTML table.
+/// Converts simple Markdown (paragraphs and tables separated by blank lines) into HTML.
 fn markdown_table_to_html(md: &str) -> String {
+    let mut s = String::new();
+    for block in md.split("\n\n").map(str::trim).filter(|b| !b.is_empty()) {
+        if block.lines().all(|l| l.trim_start().starts_with('|')) {
+            s.push_str(&one_table_to_html(block));
+        } else {
+            let _ = write!(s, "<p>{}</p>", html_escape(block));
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// The cells of one Markdown table row; `\\|` is a literal bar inside a cell.
+fn split_cells(line: &str) -> Vec<String> {
+    let trimmed = line.trim();
+    let inner = trimmed.strip_prefix('|').unwrap_or(trimmed);
+    let inner = inner.strip_suffix('|').unwrap_or(inner);
+    let (mut cells, mut cell) = (Vec::new(), String::new());
+    let mut chars = inner.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' if chars.peek() == Some(&'|') => {
+                chars.next();
+                cell.push('|');
+            }
+            '|' => cells.push(std::mem::take(&mut cell)),
+            c => cell.push(c),
+        }
+    }
+    cells.push(cell);
+    cells.into_iter().map(|c| c.trim().to_owned()).collect()
+}
+
+/// Converts one Markdown table (header, rule, rows) into an HTML table.
+fn one_table_to_html(md: &str) -> String {
     let mut s = String::from("<table>");
     for (i, line) in md.lines().filter(|l| l.trim_start().starts_with('|')).enumerate() {
         if i == 1 {
             continue;
         }
         let tag = if i == 0 { "th" } else { "td" };
-        let cells: Vec<&str> = line.trim().trim_matches('|').split('|').map(str::trim).collect();
+        let cells = split_cells(line);
         s.push_str("<tr>");
         for c in cells {
-            let _ = write!(s, "<{tag}>{}</{tag}>", html_escape(c));
+            let _ = write!(s, "<{tag}>{}</{tag}>", html_escape(&c));
         }
         s.push_str("</tr>\n");
     }
@@ -458,5 +493,17 @@ mod tests {
         assert!(md.contains("![Fig 1](a.png)"));
         assert!(md.contains("| t1 | 0.5 |"));
         Ok(())
+    }
+
+    #[test]
+    fn markdown_blocks_become_paragraphs_and_separate_tables() {
+        let md =
+            "Orders:\n\n| a | b |\n|---|---|\n| 1 | x \\| y |\n\nRuns:\n\n| c |\n|---|\n| 2 |\n";
+        let html = markdown_table_to_html(md);
+        assert_eq!(html.matches("<table>").count(), 2);
+        assert_eq!(html.matches("<p>").count(), 2);
+        assert!(html.contains("<tr><td>1</td><td>x | y</td></tr>"), "{html}");
+        assert!(html.contains("<tr><th>c</th></tr>\n<tr><td>2</td></tr>"), "{html}");
+        assert_eq!(split_cells("| a |  | b\\|c |"), vec!["a", "", "b|c"]);
     }
 }
