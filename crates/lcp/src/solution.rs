@@ -147,8 +147,8 @@ struct Acc {
     w_violation: f64,
     equation: f64,
     relative: f64,
-    /// NaN once any z_i, w_i or `(M z + q)_i` was not finite.
-    finite: f64,
+    /// `false` once any z_i, w_i or `(M z + q)_i` was not finite.
+    finite: bool,
 }
 
 impl Acc {
@@ -162,15 +162,14 @@ impl Acc {
             w_violation: 0.0,
             equation: 0.0,
             relative: 0.0,
-            finite: 0.0,
+            finite: true,
         }
     }
 
     /// One row: `mz_abs = Σ_j |M_ij z_j|`, `mzq = (M z + q)_i` as computed.
     #[inline]
     fn row(&mut self, q: f64, z: f64, w: f64, mz_abs: f64, mzq: f64) {
-        // x - x is 0 for finite x and NaN for ±∞ and NaN.
-        self.finite += (z - z) + (w - w) + (mzq - mzq);
+        self.finite &= z.is_finite() & w.is_finite() & mzq.is_finite();
         self.q_max = fmax(self.q_max, q.abs());
         self.natural = fmax(self.natural, if z < w { z } else { w }.abs());
         self.complementarity = fmax(self.complementarity, (z * w).abs());
@@ -205,7 +204,7 @@ impl Acc {
             equation: self.equation,
             relative: fmax(self.relative, ratio(self.z_violation, self.z_max)),
         };
-        if self.finite.is_nan()
+        if !self.finite
             || [r.natural, r.complementarity, r.z_violation, r.w_violation, r.equation, r.relative]
                 .iter()
                 .any(|v| v.is_nan())
