@@ -1,8 +1,9 @@
 //! Moreau's task runner: reproduces every figure and table of the reference report from the
 //! project's own simulations, runs one model to CSV, and runs parameter sweeps.
 //!
-//! **For**: `cargo xtask reproduce`, `simulate`, `sweep` and `merge` (see `main.rs`), and the
-//! analysis of recorded runs ([`analysis`]). **Not for**: use as a library by other crates;
+//! **For**: `cargo xtask reproduce`, `simulate`, `sweep`, `merge` and `tradeoff` (see
+//! `main.rs`), the analysis of recorded runs ([`analysis`]) and the speed/accuracy study
+//! ([`tradeoff`]). **Not for**: use as a library by other crates;
 //! the package is not published.
 //!
 //! Principal pieces: [`plot::Figure`] (multi-panel SVG/PNG/CSV figures), [`frames::Strip`]

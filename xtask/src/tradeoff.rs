@@ -867,6 +867,14 @@ impl OrderFit {
 
 /// Least-squares slope of log10 error against log10 h over the points with a finite, positive
 /// step and error; `None` with fewer than two such points or a single step size.
+///
+/// # Example
+/// ```
+/// // e = 0.5 h² at h = 1e-2 and 1e-3: order 2.
+/// let fit = xtask::tradeoff::fit_order(&[1e-2, 1e-3], &[5e-5, 5e-7]).expect("two points");
+/// assert!((fit.order - 2.0).abs() < 1e-12);
+/// assert!((fit.at(1e-4) - 5e-9).abs() < 1e-20);
+/// ```
 pub fn fit_order(dt: &[f64], error: &[f64]) -> Option<OrderFit> {
     let points: Vec<(f64, f64)> = dt
         .iter()
@@ -931,6 +939,28 @@ impl StudyResult {
     /// The metrics of the study's model.
     pub fn metrics(&self) -> &'static [Metric] {
         metrics(self.study.kind)
+    }
+
+    /// The solver whose runs the orders and choices use: Auto when studied.
+    pub fn fitted_solver(&self) -> Solver {
+        fitted_solver(&self.study)
+    }
+
+    /// Errors of metric `k` at or below this are round-off or within the reference's own
+    /// error: they measure nothing about the step.
+    pub fn floor(&self, k: usize) -> f64 {
+        floor(&self.study, &self.reference_error, k)
+    }
+}
+
+fn fitted_solver(study: &Study) -> Solver {
+    if study.solvers.contains(&Solver::Auto) { Solver::Auto } else { study.solvers[0] }
+}
+
+fn floor(study: &Study, reference_error: &[Result<f64, String>], k: usize) -> f64 {
+    match reference_error.get(k) {
+        Some(Ok(e)) if study.reference.is_some() => (REFERENCE_MARGIN * e).max(ROUND_OFF),
+        _ => ROUND_OFF,
     }
 }
 
@@ -1027,16 +1057,12 @@ fn evaluate_study(
             Err(e) => vec![Err(format!("failed: {e}")); ms.len()],
         })
         .collect();
-    let fitted =
-        if study.solvers.contains(&Solver::Auto) { Solver::Auto } else { study.solvers[0] };
+    let fitted = fitted_solver(study);
     let orders = ms
         .iter()
         .enumerate()
         .map(|(k, metric)| {
-            let floor = match reference_error.get(k) {
-                Some(Ok(e)) if study.reference.is_some() => (REFERENCE_MARGIN * e).max(ROUND_OFF),
-                _ => ROUND_OFF,
-            };
+            let floor = floor(study, &reference_error, k);
             let (mut usable, mut below) = (Vec::new(), None::<f64>);
             for (m, e) in runs.iter().zip(&errors) {
                 if m.solver != fitted || m.diverged() {
@@ -1227,6 +1253,7 @@ pub fn markdown(results: &[StudyResult]) -> String {
         }
     }
     s.push_str(&choices(results));
+    s.push_str(&costs_markdown(results));
     let _ = writeln!(
         s,
         "\nRuns: cost and error. Wall times are measured (they vary between machines and runs); \
@@ -1293,15 +1320,91 @@ pub struct Choice {
     pub fastest: (String, f64),
 }
 
+/// The cost and accuracy of one solver on one model.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SolverCost {
+    /// Model name.
+    pub model: String,
+    /// Solver label.
+    pub solver: String,
+    /// Runs that finished (not failed, not diverged) and runs in all.
+    pub finished: (usize, usize),
+    /// Steps per second over the finished runs of at least 1000 steps (total steps over total
+    /// wall time).
+    pub steps_per_s: Option<f64>,
+    /// LCP solves per second over the same runs.
+    pub lcp_solves_per_s: Option<f64>,
+    /// Smallest and largest ratio of the headline error to the fitted solver's at the same
+    /// step, over steps where that error lies above the floor.
+    pub error_ratio: Option<(f64, f64)>,
+}
+
+/// Cost and accuracy of each solver on each model.
+pub fn solver_costs(results: &[StudyResult]) -> Vec<SolverCost> {
+    let mut out = Vec::new();
+    for r in results {
+        let fitted = r.fitted_solver();
+        let floor = r.floor(0);
+        let reference: Vec<(f64, f64)> =
+            headline(r, fitted).into_iter().map(|p| (p.0, p.2)).filter(|p| p.1 > floor).collect();
+        for &solver in &r.study.solvers {
+            let runs: Vec<&Measurement> = r.runs.iter().filter(|m| m.solver == solver).collect();
+            let finished: Vec<&&Measurement> =
+                runs.iter().filter(|m| m.outcome.is_ok() && !m.diverged()).collect();
+            let long: Vec<&&&Measurement> = finished.iter().filter(|m| m.steps >= 1000).collect();
+            let wall: f64 = long.iter().map(|m| m.wall_seconds).sum();
+            let rate = |count: u64| (wall > 0.0).then(|| count as f64 / wall);
+            let ratios = headline(r, solver)
+                .into_iter()
+                .filter_map(|p| reference.iter().find(|q| q.0 == p.0).map(|q| p.2 / q.1));
+            out.push(SolverCost {
+                model: r.study.label().to_owned(),
+                solver: solver.label(),
+                finished: (finished.len(), runs.len()),
+                steps_per_s: rate(long.iter().map(|m| m.steps).sum()),
+                lcp_solves_per_s: rate(long.iter().map(|m| m.lcp_solves).sum()),
+                error_ratio: analysis::range(ratios),
+            });
+        }
+    }
+    out
+}
+
+fn costs_markdown(results: &[StudyResult]) -> String {
+    let mut s = String::from(
+        "\nCost of each solver: steps and LCP solves per second of wall time over its finished \
+         runs of at least 1000 steps, and its headline error relative to the Auto solver's at the \
+         same Δt.\n\n\
+         | model | solver | runs neither failed nor diverged | steps/s | LCP solves/s | error / Auto error |\n\
+         |---|---|---:|---:|---:|---|\n",
+    );
+    let opt = |x: Option<f64>| x.map_or("—".to_owned(), |v| format!("{v:.2e}"));
+    for c in solver_costs(results) {
+        let ratio = c.error_ratio.map_or("—".to_owned(), |(lo, hi)| format!("{lo:.3} – {hi:.3}"));
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} of {} | {} | {} | {ratio} |",
+            c.model,
+            c.solver,
+            c.finished.0,
+            c.finished.1,
+            opt(c.steps_per_s),
+            opt(c.lcp_solves_per_s)
+        );
+    }
+    s
+}
+
 /// For each model and each power of ten between its largest and smallest headline error:
 /// the largest step whose Auto run meets it, and the fastest solver meeting it at that step.
 pub fn choose(results: &[StudyResult]) -> Vec<Choice> {
     let mut out = Vec::new();
     for r in results {
         let metric = &r.metrics()[0];
-        let fitted =
-            if r.study.solvers.contains(&Solver::Auto) { Solver::Auto } else { r.study.solvers[0] };
-        let auto = headline(r, fitted);
+        let fitted = r.fitted_solver();
+        let floor = r.floor(0);
+        let auto: Vec<(f64, f64, f64)> =
+            headline(r, fitted).into_iter().filter(|p| p.2 > floor).collect();
         let Some((lo, hi)) = analysis::range(auto.iter().map(|p| p.2)) else { continue };
         let (top, bottom) = (hi.log10().floor() as i32, lo.log10().ceil() as i32);
         for k in (bottom..=top).rev() {
