@@ -119,8 +119,10 @@ impl LemkeOptions {
 /// candidate is returned with [`Status::NumericalFailure`].
 ///
 /// **Cost.** A condensed n x (n + 2) tableau (rows: basic variables, columns: the n + 1
-/// non-basic variables and q̄) is pivoted by plain loops over a preallocated buffer:
-/// about n (n + 2) multiply-adds per pivot. Warm starts are checked and ignored.
+/// non-basic variables and q̄; each row padded to a multiple of four entries) is pivoted
+/// by plain loops over a preallocated buffer: about n (n + 2) multiply-adds per pivot.
+/// Accepting the tableau's own z costs one product with the basic columns of M; the LU
+/// re-solve runs only when that z fails the residual test. Warm starts are checked and ignored.
 ///
 /// **Secondary ray.** For copositive-plus M (for example positive semidefinite) a
 /// secondary ray proves that the LCP has no solution (Cottle, Pang & Stone 1992,
