@@ -25,7 +25,7 @@
 //! |---|---|
 //! | [`Lcp`], [`LcpRef`] | a validated problem (owned / borrowed, the solvers take [`LcpRef`]) |
 //! | [`Solver`] | `solve_into(lcp, warm_start, &mut solution)`: one trait for all solvers |
-//! | [`Lemke`] ([`LemkeOptions`], [`Covering`]) | complementary pivoting, lexicographic, re-solved basis |
+//! | [`Lemke`] ([`LemkeOptions`], [`Covering`]) | complementary pivoting, lexicographic, checked tableau solution (LU re-solve as fallback) |
 //! | [`Pgs`] ([`PgsOptions`]) | projected Gauss-Seidel with over-relaxation and warm start |
 //! | [`Enumeration`] ([`EnumerationOptions`]) | all complementary bases; every solution; certified "no solution" |
 //! | [`Auto`] ([`AutoOptions`]) | trivial, Lemke, other covering vectors, enumeration: the robust default |
