@@ -1530,14 +1530,16 @@ fn write_figures(results: &[StudyResult], out: &Path) -> Result<Vec<PathBuf>> {
             &format!("log10 error [{}]", metric.unit),
             "log10_wall",
         )
-        .legend(LegendAt::UpperRight);
+        .legend(LegendAt::UpperRight)
+        .headroom(0.3);
         let mut by_dt = Panel::new(
             &title,
             "log10 Δt [s]",
             &format!("log10 error [{}]", metric.unit),
             "log10_dt",
         )
-        .legend(LegendAt::LowerRight);
+        .legend(LegendAt::UpperLeft)
+        .headroom(0.45);
         for (j, &solver) in r.study.solvers.iter().enumerate() {
             let points = headline(r, solver);
             let label = solver.label();
