@@ -194,12 +194,6 @@ impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
     }
 }
 
-impl Default for ContactState {
-    fn default() -> Self {
-        Self::Open
-    }
-}
-
 #[allow(dead_code)]
 fn _assert_send_sync() {
     fn is<T: Send + Sync>() {}

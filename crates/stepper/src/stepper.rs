@@ -11,10 +11,13 @@ use crate::observer::{Observer, Recorder};
 use crate::{Mechanism, Record, SolverChoice, StepError, StepperOptions};
 
 /// Whether a contact is open, sticking or slipping at the end of a step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactState {
     /// No normal impulse: the contact is open or separating (P_N = 0).
+    #[default]
     Open,
     /// P_N > 0 and the tangential velocity γ_T after the step vanishes.
     Stick,
@@ -102,6 +105,10 @@ pub struct RunSummary {
 }
 
 /// The LCP solver held by a stepper.
+///
+/// A stepper holds exactly one, built once, so the size difference between the variants (`Auto`
+/// carries the workspaces of all its fallbacks) costs nothing worth an indirection on every solve.
+#[allow(clippy::large_enum_variant)]
 enum SolverImpl {
     Auto(Auto),
     Lemke(Lemke),
@@ -119,7 +126,6 @@ impl SolverImpl {
                     omega: *omega,
                     tolerance: *tolerance,
                     max_iterations: *max_iterations,
-                    ..PgsOptions::default()
                 })?)
             }
             SolverChoice::Enumeration => Self::Enumeration(Enumeration::default()),
@@ -926,9 +932,7 @@ fn nonsmooth_gauss_seidel(
     let z = &mut ws.solution.z;
     z.clear();
     z.resize(s, 0.0);
-    for a in 0..na {
-        z[a] = p[a];
-    }
+    z[..na].copy_from_slice(&p[..na]);
     for k in 0..nf {
         z[na + k] = p[na + k] + mu_of(k) * p[ws.frictional[k]];
         z[na + nf + k] = (-xi(p, na + k)).max(0.0);
