@@ -6,7 +6,8 @@
 //!   (g(q + h e_j, t) − g(q − h e_j, t)) / (2h), with the step h = `rel_step` · max(|q_j|, `q_scale`);
 //! * ŵ_N = ∂g_N/∂t and ŵ_T = ∂g_T/∂t with the central difference in t, with the step
 //!   h_t = `rel_step` · max(|t|, `t_scale`);
-//! * `normal_gap(i, q, t)` with the g_N returned by `contact(i, q, t, ..)`.
+//! * `normal_gap(i, q, t)` and entry i of `normal_gaps(q, t, ..)` with the g_N returned by
+//!   `contact(i, q, t, ..)`.
 //!
 //! Each comparison yields the absolute difference `abs = |a − r|` between the analytic value a
 //! and the reference r, the relative difference `rel = abs / max(|a|, |r|)` and the scaled
@@ -82,6 +83,8 @@ pub enum Component {
     WNHat,
     /// ŵ_T against ∂g_T/∂t.
     WTHat,
+    /// Entry i of `normal_gaps(q, t, ..)` against the g_N returned by `contact(i, q, t, ..)`.
+    NormalGaps,
 }
 
 impl fmt::Display for Component {
@@ -92,6 +95,7 @@ impl fmt::Display for Component {
             Self::WT { coordinate } => write!(f, "w_T[{coordinate}]"),
             Self::WNHat => write!(f, "ŵ_N"),
             Self::WTHat => write!(f, "ŵ_T"),
+            Self::NormalGaps => write!(f, "normal_gaps vs g_N"),
         }
     }
 }
@@ -151,7 +155,7 @@ pub struct FdReport {
     pub contacts: Vec<Mismatch>,
     /// Number of sample states checked.
     pub samples: usize,
-    /// Number of calls of `contact` and `normal_gap` made.
+    /// Number of calls of `contact`, `normal_gap` and `normal_gaps` made.
     pub evaluations: usize,
     /// The options used.
     pub options: FdOptions,
@@ -258,8 +262,12 @@ pub fn check_jacobians<K: ContactKinematics + ?Sized>(
     let mut shifted = vec![0.0; f];
     let mut worst: Vec<Option<Mismatch>> = vec![None; n];
 
+    let mut gaps = vec![0.0; n];
     for (s, (q, t)) in samples.iter().enumerate() {
         let t = *t;
+        gaps.fill(f64::NAN);
+        probe.evaluations += 1;
+        k.normal_gaps(q, t, &mut gaps);
         for i in 0..n {
             let record = |m: Mismatch, slot: &mut Option<Mismatch>| {
                 if slot.is_none_or(|w| m.scaled > w.scaled) {
@@ -294,6 +302,8 @@ pub fn check_jacobians<K: ContactKinematics + ?Sized>(
             let gap = k.normal_gap(i, q, t);
             finite("normal_gap", gap, i, s)?;
             record(Mismatch::new(i, Component::NormalGap, s, gap, cp.g_n), &mut worst[i]);
+            finite("normal_gaps", gaps[i], i, s)?;
+            record(Mismatch::new(i, Component::NormalGaps, s, gaps[i], cp.g_n), &mut worst[i]);
 
             shifted.copy_from_slice(q);
             for j in 0..f {
@@ -511,8 +521,9 @@ mod tests {
             check_jacobians(&Quadratic { error: 0.0 }, &samples(), FdOptions::default()).unwrap();
         assert_eq!(report.samples, 5);
         assert_eq!(report.contacts.len(), 1);
-        // One full evaluation, one normal_gap, 2 per coordinate per gap pair and 2 in time.
-        assert_eq!(report.evaluations, 5 * (2 + 2 * 2 + 2));
+        // One normal_gaps per sample; per contact one full evaluation, one normal_gap, 2 per
+        // coordinate per gap pair and 2 in time.
+        assert_eq!(report.evaluations, 5 * (1 + 2 + 2 * 2 + 2));
         assert!(report.passed(1e-7), "{report:?}");
         assert!(report.worst().unwrap().scaled < 1e-8);
     }
@@ -564,6 +575,47 @@ mod tests {
             }
             ContactPoint { g_n: q[0], ..ContactPoint::default() }
         }
+    }
+
+    /// Correct per-contact kinematics with a batched gap that drops a term.
+    struct BatchedGapOff;
+
+    impl ContactKinematics for BatchedGapOff {
+        fn num_coordinates(&self) -> usize {
+            1
+        }
+        fn num_contacts(&self) -> usize {
+            2
+        }
+        fn normal_gap(&self, i: usize, q: &[f64], _t: f64) -> f64 {
+            q[0] + i as f64
+        }
+        fn normal_gaps(&self, q: &[f64], _t: f64, g: &mut [f64]) {
+            g[0] = q[0];
+            g[1] = q[0] + 0.5;
+        }
+        fn contact(
+            &self,
+            i: usize,
+            q: &[f64],
+            _t: f64,
+            w_n: &mut [f64],
+            w_t: &mut [f64],
+        ) -> ContactPoint {
+            w_n[0] = 1.0;
+            w_t[0] = 0.0;
+            ContactPoint { g_n: q[0] + i as f64, ..ContactPoint::default() }
+        }
+    }
+
+    #[test]
+    fn a_batched_gap_that_disagrees_is_flagged() {
+        let report =
+            check_jacobians(&BatchedGapOff, &[(vec![0.25], 0.0)], FdOptions::default()).unwrap();
+        let worst = report.worst().unwrap();
+        assert_eq!((worst.contact, worst.component), (1, Component::NormalGaps));
+        assert!((worst.abs - 0.5).abs() < 1e-15, "{worst:?}");
+        assert_eq!(report.failures(1e-6).count(), 1);
     }
 
     #[test]

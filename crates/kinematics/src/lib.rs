@@ -133,6 +133,17 @@ pub trait ContactKinematics {
     fn num_contacts(&self) -> usize;
     /// The normal gap g_N of contact `i` at `(q, t)` alone, for the active-set test.
     fn normal_gap(&self, i: usize, q: &[f64], t: f64) -> f64;
+    /// The normal gaps of all contacts at `(q, t)`, written into `g` (length `n`); the
+    /// time-stepper's active-set test calls this once per step.
+    ///
+    /// The default calls [`Self::normal_gap`] for each contact. Override it when the gaps
+    /// share work (the sines and cosines of the same angles, say); it must give the same
+    /// values, which [`check_jacobians`] verifies.
+    fn normal_gaps(&self, q: &[f64], t: f64, g: &mut [f64]) {
+        for (i, gi) in g.iter_mut().enumerate() {
+            *gi = self.normal_gap(i, q, t);
+        }
+    }
     /// Full kinematics of contact `i` at `(q, t)`: writes `w_N` into `w_n` and `w_T` into
     /// `w_t` (both of length `f`; every entry must be written, the buffers are reused) and
     /// returns g_N, g_T, ŵ_N and ŵ_T.

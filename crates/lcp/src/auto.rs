@@ -44,15 +44,20 @@ impl Default for AutoOptions {
 /// The robust default solver, as in the step LCP's recipe.
 ///
 /// 1. If q >= 0, z = 0 at once ([`Method::Trivial`]).
-/// 2. Lemke's method with the configured covering vector (ones by default).
-/// 3. Lemke's method with up to `alternative_coverings` other positive covering vectors.
-/// 4. If n <= `enumeration_max_n`, complete [`Enumeration`].
+/// 2. With a warm start z⁰, the complementary basis it names (z basic where z⁰_i > 0, w
+///    elsewhere) is solved directly by LU and taken when z ≥ 0 and its residual passes
+///    ([`Method::WarmBasis`]). A time-stepper's previous impulses name the new step's basis
+///    whenever no contact changes its state (closed, sticking, sliding one way), which is
+///    most steps; when they do not, this costs one small solve before Lemke's method.
+/// 3. Lemke's method with the configured covering vector (ones by default).
+/// 4. Lemke's method with up to `alternative_coverings` other positive covering vectors.
+/// 5. If n <= `enumeration_max_n`, complete [`Enumeration`].
 ///
 /// The first accepted result is returned with the method that produced it. The status is
 /// [`Status::NoSolution`] only when enumeration proved that there is no solution;
 /// otherwise a failed solve reports the first Lemke attempt's status
 /// ([`Status::RayTermination`], [`Status::IterationLimit`] or
-/// [`Status::NumericalFailure`]). Warm starts are checked and ignored.
+/// [`Status::NumericalFailure`]).
 ///
 /// # References
 /// - C. E. Lemke, Bimatrix equilibrium points and mathematical programming, Management
@@ -149,6 +154,11 @@ impl Solver for Auto {
             out.w.copy_from_slice(&self.q);
             out.residual = residual_of_zero(&self.q);
             out.status = Status::Solved;
+            return Ok(());
+        }
+        if let Some(guess) = warm_start
+            && self.lemke.solve_guessed_basis(lcp, guess, out)
+        {
             return Ok(());
         }
         self.lemke.solve_covering(lcp, Cover::FromOptions, out)?;

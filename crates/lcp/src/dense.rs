@@ -204,6 +204,75 @@ impl Lu {
     }
 }
 
+/// Largest system that [`solve_tiny`] solves.
+pub(crate) const TINY_MAX: usize = 6;
+
+/// Solves the k × k system `A x = rhs` (k ≤ [`TINY_MAX`], `A_rc = entry(r, c)`) in place
+/// by Gaussian elimination with partial pivoting on stack arrays, for the few-row bases
+/// of a time-stepper's contacts where the equilibrated [`Lu`] costs more than the
+/// arithmetic. Returns `false` (rhs then undefined) when a pivot is zero or not finite.
+/// It makes no accuracy claim: callers check the residual of the result.
+pub(crate) fn solve_tiny(k: usize, entry: impl Fn(usize, usize) -> f64, rhs: &mut [f64]) -> bool {
+    // One copy per order, so that the loops have constant bounds and unroll.
+    match k {
+        0 => true,
+        1 => solve_fixed::<1>(entry, rhs),
+        2 => solve_fixed::<2>(entry, rhs),
+        3 => solve_fixed::<3>(entry, rhs),
+        4 => solve_fixed::<4>(entry, rhs),
+        5 => solve_fixed::<5>(entry, rhs),
+        6 => solve_fixed::<6>(entry, rhs),
+        _ => false,
+    }
+}
+
+/// [`solve_tiny`] for one order K.
+#[inline(always)]
+fn solve_fixed<const K: usize>(entry: impl Fn(usize, usize) -> f64, rhs: &mut [f64]) -> bool {
+    let rhs: &mut [f64; K] = match (&mut rhs[..K]).try_into() {
+        Ok(r) => r,
+        Err(_) => return false,
+    };
+    let mut a = [[0.0f64; K]; K];
+    for (r, row) in a.iter_mut().enumerate() {
+        for (c, v) in row.iter_mut().enumerate() {
+            *v = entry(r, c);
+        }
+    }
+    let mut x = *rhs;
+    for c in 0..K {
+        let mut p = c;
+        for r in c + 1..K {
+            if a[r][c].abs() > a[p][c].abs() {
+                p = r;
+            }
+        }
+        let pivot = a[p][c];
+        if !(pivot != 0.0 && pivot.is_finite()) {
+            return false;
+        }
+        a.swap(c, p);
+        x.swap(c, p);
+        let inv = 1.0 / pivot;
+        for r in c + 1..K {
+            let f = a[r][c] * inv;
+            for j in c + 1..K {
+                a[r][j] -= f * a[c][j];
+            }
+            x[r] -= f * x[c];
+        }
+    }
+    for c in (0..K).rev() {
+        let mut v = x[c];
+        for j in c + 1..K {
+            v -= a[c][j] * x[j];
+        }
+        x[c] = v / a[c][c];
+    }
+    *rhs = x;
+    true
+}
+
 /// One step of iterative refinement of `x` for `M_{rows, cols} x = -q_rows` with the
 /// factors in `lu` (M row-major, n columns); `r` is scratch of length `rows.len()`.
 ///

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::dense::{Lu, pow2_inverse, refine};
+use crate::dense::{Lu, TINY_MAX, pow2_inverse, refine, solve_tiny};
 use crate::solution::{check_warm_start, finish_row_major, finish_row_major_sparse};
 use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 
@@ -142,6 +142,8 @@ pub struct Lemke {
 #[derive(Default)]
 struct Workspace {
     n: usize,
+    /// The n the buffers were last sized for.
+    prepared: Option<usize>,
     /// Row length of the tableau: n + 2 rounded up to a multiple of [`LANES`] (the padding
     /// columns stay zero).
     width: usize,
@@ -279,6 +281,61 @@ impl Lemke {
     }
 }
 
+impl Lemke {
+    /// Solves the complementary basis that a guess of z implies, without pivoting:
+    /// α = { i : guess_i > 0 } (z basic there, w elsewhere), `M_αα z_α = −q_α` by LU
+    /// (with one step of iterative refinement when needed), z_i = 0 off α. Accepted, with
+    /// status [`Status::Solved`] and method [`Method::WarmBasis`], only when z ≥ 0 and
+    /// [`Residual::relative`] of (z, M z + q) is within the tolerance; returns whether it
+    /// was.
+    ///
+    /// In a time-stepper the contacts keep their state (closed, sticking, sliding one way)
+    /// over many steps, so the previous step's z names the new step's basis most of the
+    /// time, and one small solve replaces the pivots.
+    pub(crate) fn solve_guessed_basis(
+        &mut self,
+        lcp: LcpRef<'_>,
+        guess: &[f64],
+        out: &mut Solution,
+    ) -> bool {
+        let n = lcp.n();
+        out.reset(n, Method::WarmBasis);
+        let ws = &mut self.ws;
+        ws.prepare(n);
+        lcp.copy_m_row_major(&mut ws.m_rows);
+        lcp.copy_q(&mut ws.q);
+        ws.alpha.clear();
+        for (i, &g) in guess.iter().enumerate() {
+            if g > 0.0 {
+                ws.alpha.push(i);
+            }
+        }
+        let tol = self.options.tolerance;
+        // A basic value that comes out negative is clamped to zero, and the residual then
+        // rejects the candidate.
+        let k = ws.alpha.len();
+        if k <= TINY_MAX {
+            let (m, alpha) = (&ws.m_rows, &ws.alpha);
+            for (t, &i) in alpha.iter().enumerate() {
+                ws.rhs[t] = -ws.q[i];
+            }
+            if solve_tiny(k, |r, c| m[alpha[r] * n + alpha[c]], &mut ws.rhs) {
+                out.z.fill(0.0);
+                for (t, &i) in alpha.iter().enumerate() {
+                    out.z[i] = positive_part(ws.rhs[t]);
+                }
+                out.residual = finish_row_major_sparse(m, n, &ws.q, &out.z, alpha, &mut out.w);
+                if out.residual.relative <= tol {
+                    out.status = Status::Solved;
+                    return true;
+                }
+            }
+        }
+        // The equilibrated LU with refinement, for larger or harder bases.
+        ws.solve_alpha(out, tol)
+    }
+}
+
 /// Tableau rows are padded to a multiple of this many entries, so that the row update
 /// runs in whole blocks with no remainder loop.
 const LANES: usize = 4;
@@ -320,6 +377,11 @@ fn status_for(r: Residual, tol: f64, otherwise: Status) -> Status {
 
 impl Workspace {
     fn prepare(&mut self, n: usize) {
+        // Every buffer's size is a function of n alone.
+        if self.prepared == Some(n) {
+            return;
+        }
+        self.prepared = Some(n);
         self.n = n;
         self.m_rows.resize(n * n, 0.0);
         self.q.resize(n, 0.0);
@@ -542,6 +604,16 @@ impl Workspace {
                 self.alpha.push(i);
             }
         }
+        let solved = self.solve_alpha(out, tol);
+        out.method = Method::Lemke;
+        solved
+    }
+
+    /// Solves `M_αα z_α = −q_α` for the basis in `alpha` (z_i = 0 off α) by LU, with a
+    /// step of iterative refinement when the residual is above [`REFINE_ABOVE`], and
+    /// returns whether the result passes `tol`; `out` holds it (status `Solved` if so).
+    fn solve_alpha(&mut self, out: &mut Solution, tol: f64) -> bool {
+        let n = self.n;
         let k = self.alpha.len();
         let (m, alpha) = (&self.m_rows, &self.alpha);
         if !self.lu.factor_with(k, |i, j| m[alpha[i] * n + alpha[j]]) {
@@ -571,7 +643,6 @@ impl Workspace {
                 out.residual = finish_row_major(&self.m_rows, n, &self.q, &out.z, &mut out.w);
             }
         }
-        out.method = Method::Lemke;
         if out.residual.relative <= tol {
             out.status = Status::Solved;
             true

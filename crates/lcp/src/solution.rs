@@ -59,6 +59,9 @@ pub enum Method {
     Pgs,
     /// Complete enumeration of complementary bases ([`Enumeration`](crate::Enumeration)).
     Enumeration,
+    /// The complementary basis named by a warm start, solved directly
+    /// ([`Auto`](crate::Auto) with a warm start).
+    WarmBasis,
 }
 
 impl fmt::Display for Method {
@@ -68,6 +71,7 @@ impl fmt::Display for Method {
             Method::Lemke => "lemke",
             Method::Pgs => "pgs",
             Method::Enumeration => "enumeration",
+            Method::WarmBasis => "warm_basis",
         })
     }
 }
@@ -376,7 +380,8 @@ pub trait Solver {
     /// allocation once sizes have been seen.
     ///
     /// `warm_start` is an initial z of length n; PGS starts from it (projected onto
-    /// z >= 0), the pivoting methods check its length and otherwise ignore it.
+    /// z >= 0), [`Auto`](crate::Auto) first tries the complementary basis it names, and
+    /// Lemke's method and enumeration check its length and otherwise ignore it.
     ///
     /// # Errors
     /// Only for invalid input (wrong warm start length, non-finite warm start, a

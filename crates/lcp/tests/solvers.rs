@@ -449,6 +449,7 @@ fn display_names() {
         (Method::Lemke, "lemke"),
         (Method::Pgs, "pgs"),
         (Method::Enumeration, "enumeration"),
+        (Method::WarmBasis, "warm_basis"),
     ] {
         assert_eq!(m.to_string(), name);
         assert_eq!(serde_json::to_string(&m).unwrap(), format!("\"{name}\""));
@@ -546,4 +547,61 @@ fn accepted_solutions_pass_the_residual_test_on_badly_scaled_problems() {
     assert!(solved_by_tolerance[0] >= trials, "{solved_by_tolerance:?}");
     // The tight tolerances are met on most problems (by the tableau or by the re-solve).
     assert!(solved_by_tolerance[1] >= trials, "{solved_by_tolerance:?}");
+}
+
+#[test]
+fn auto_takes_the_basis_a_warm_start_names_and_falls_back_when_it_is_wrong() {
+    let mut rng = Rng::new(31);
+    let mut auto = Auto::default();
+    let mut out = Solution::new();
+    for trial in 0..60 {
+        // Sizes 1 to 10: both the stack solve (up to 6 basic variables) and the LU.
+        let n = 1 + (trial % 10);
+        let m = if trial % 2 == 0 { random_spd(n, &mut rng) } else { random_p_matrix(n, &mut rng) };
+        let (lcp, z_star) = planted(m, &mut rng, false);
+        if z_star.iter().all(|&v| v == 0.0) {
+            continue;
+        }
+        // The planted solution itself names its basis: no pivot.
+        auto.solve_into(lcp.view(), Some(&z_star), &mut out).unwrap();
+        assert_eq!(
+            (out.status, out.method, out.iterations),
+            (Status::Solved, Method::WarmBasis, 0)
+        );
+        assert_solves(&lcp, &out.z, 1e-9);
+        assert!(rel_dist(&z_star, &out.z) < 1e-9, "trial {trial}");
+        // The complementary guess (every other basis) is wrong unless the solution is zero:
+        // the result is Lemke's, and still the planted solution (unique for P-matrices).
+        let wrong: Vec<f64> = z_star.iter().map(|&v| if v > 0.0 { 0.0 } else { 1.0 }).collect();
+        auto.solve_into(lcp.view(), Some(&wrong), &mut out).unwrap();
+        assert_eq!((out.status, out.method), (Status::Solved, Method::Lemke), "trial {trial}");
+        assert!(rel_dist(&z_star, &out.z) < 1e-9, "trial {trial}");
+    }
+}
+
+#[test]
+fn a_warm_basis_with_a_negative_basic_value_is_not_accepted() {
+    // M = [1 1/2; 1/2 1], q = (1, -1): the solution is z = (0, 1). The guess with both z
+    // basic gives z = (-2, 2); clamped to (0, 2) it leaves w = (2, 1), not complementary:
+    // rejected, and Lemke solves it.
+    let lcp = Lcp::from_rows(&[vec![1.0, 0.5], vec![0.5, 1.0]], &[1.0, -1.0]).unwrap();
+    let mut out = Solution::new();
+    Auto::default().solve_into(lcp.view(), Some(&[1.0, 1.0]), &mut out).unwrap();
+    assert_eq!((out.status, out.method), (Status::Solved, Method::Lemke));
+    assert!(rel_dist(&out.z, &[0.0, 1.0]) < 1e-15, "{:?}", out.z);
+    // A singular basis (M_αα = 0) is not accepted either.
+    let lcp = Lcp::from_rows(&[vec![0.0, 1.0], vec![-1.0, 1.0]], &[-1.0, 2.0]).unwrap();
+    Auto::default().solve_into(lcp.view(), Some(&[1.0, 0.0]), &mut out).unwrap();
+    assert_ne!(out.method, Method::WarmBasis);
+    assert_solves(&lcp, &out.z, 1e-9);
+}
+
+#[test]
+fn a_warm_start_of_the_wrong_length_or_not_finite_is_an_error() {
+    let lcp = Lcp::from_rows(&[vec![2.0]], &[-1.0]).unwrap();
+    let mut out = Solution::new();
+    let err = Auto::default().solve_into(lcp.view(), Some(&[1.0, 1.0]), &mut out).unwrap_err();
+    assert!(matches!(err, LcpError::WarmStartLength { expected: 1, found: 2 }));
+    let err = Auto::default().solve_into(lcp.view(), Some(&[f64::NAN]), &mut out).unwrap_err();
+    assert!(matches!(err, LcpError::NonFinite { .. }));
 }

@@ -266,6 +266,9 @@ impl ContactKinematics for AnyModel {
     fn normal_gap(&self, i: usize, q: &[f64], t: f64) -> f64 {
         dispatch!(self, m => m.normal_gap(i, q, t))
     }
+    fn normal_gaps(&self, q: &[f64], t: f64, g: &mut [f64]) {
+        dispatch!(self, m => m.normal_gaps(q, t, g))
+    }
     fn contact(
         &self,
         i: usize,

@@ -272,9 +272,15 @@ impl SliderCrank {
     }
 
     fn full_gap(&self, k: usize, q: &[f64]) -> f64 {
-        let ([sx, sy], upper) = corner_local(self.params.a, self.params.b, k);
         let y3 = self.params.l1 * q[0].sin() + self.params.l2 * q[1].sin();
         let (s3, c3) = q[2].sin_cos();
+        self.gap_at(k, y3, s3, c3)
+    }
+
+    /// g_N of corner `k` from the slider centre's height y3 and (sin θ3, cos θ3).
+    #[inline]
+    fn gap_at(&self, k: usize, y3: f64, s3: f64, c3: f64) -> f64 {
+        let ([sx, sy], upper) = corner_local(self.params.a, self.params.b, k);
         let y = y3 + sx * s3 + sy * c3;
         let half = 0.5 * self.params.guide_width();
         if upper { half - y } else { half + y }
@@ -326,6 +332,14 @@ impl ContactKinematics for SliderCrank {
     fn normal_gap(&self, i: usize, q: &[f64], _t: f64) -> f64 {
         self.full_gap(self.corners[i], q)
     }
+    fn normal_gaps(&self, q: &[f64], _t: f64, g: &mut [f64]) {
+        // The corners share the slider's height and angle: three sines for all of them.
+        let y3 = self.params.l1 * q[0].sin() + self.params.l2 * q[1].sin();
+        let (s3, c3) = q[2].sin_cos();
+        for (gi, &k) in g.iter_mut().zip(&self.corners) {
+            *gi = self.gap_at(k, y3, s3, c3);
+        }
+    }
     fn contact(
         &self,
         i: usize,
@@ -349,7 +363,8 @@ impl ContactKinematics for SliderCrank {
             w_t[j] = dx[j];
         }
         let x = p.l1 * c1 + p.l2 * c2 + sx * c3 - sy * s3;
-        ContactPoint { g_n: self.full_gap(k, q), g_t: x, w_n_hat: 0.0, w_t_hat: 0.0 }
+        let g_n = self.gap_at(k, p.l1 * s1 + p.l2 * s2, s3, c3);
+        ContactPoint { g_n, g_t: x, w_n_hat: 0.0, w_t_hat: 0.0 }
     }
 }
 

@@ -42,6 +42,8 @@ pub(crate) struct Cholesky {
     l: Vec<f64>,
     /// M⁻¹, column-major, for n ≤ [`INVERSE_LIMIT`].
     inverse: Vec<f64>,
+    /// L⁻¹ (lower triangle, column-major), scratch of the inverse.
+    l_inv: Vec<f64>,
     buffer: Option<MemBuffer>,
 }
 
@@ -56,7 +58,8 @@ impl Cholesky {
             ))
         });
         let inverse = if n <= INVERSE_LIMIT { vec![0.0; n * n] } else { Vec::new() };
-        Self { n, l: vec![0.0; n * n], inverse, buffer }
+        let l_inv = inverse.clone();
+        Self { n, l: vec![0.0; n * n], inverse, l_inv, buffer }
     }
 
     /// Factorises the column-major matrix `m` (order n), checking symmetry first.
@@ -75,12 +78,7 @@ impl Cholesky {
             None => {
                 factor_small(&mut self.l, n)?;
                 if n <= INVERSE_LIMIT {
-                    for j in 0..n {
-                        let col = &mut self.inverse[j * n..(j + 1) * n];
-                        col.fill(0.0);
-                        col[j] = 1.0;
-                        solve_small(&self.l, n, col);
-                    }
+                    invert_from_factor(&self.l, n, &mut self.l_inv, &mut self.inverse);
                 }
                 Ok(())
             }
@@ -199,6 +197,35 @@ fn factor_small(a: &mut [f64], n: usize) -> Result<(), FactorError> {
         }
     }
     Ok(())
+}
+
+/// M⁻¹ = L⁻ᵀ L⁻¹ from the Cholesky factor L (column-major, lower triangle), with n
+/// divisions in all: the divisions of n triangular solves would dominate at these sizes.
+fn invert_from_factor(l: &[f64], n: usize, l_inv: &mut [f64], inv: &mut [f64]) {
+    // L⁻¹ column by column: X_jj = 1 / L_jj, X_ij = −(Σ_{k=j}^{i−1} L_ik X_kj) / L_ii.
+    for i in 0..n {
+        l_inv[i + i * n] = 1.0 / l[i + i * n];
+    }
+    for j in 0..n {
+        for i in (j + 1)..n {
+            let mut s = 0.0;
+            for k in j..i {
+                s += l[i + k * n] * l_inv[k + j * n];
+            }
+            l_inv[i + j * n] = -s * l_inv[i + i * n];
+        }
+    }
+    // (M⁻¹)_ij = Σ_{k ≥ max(i, j)} X_ki X_kj.
+    for j in 0..n {
+        for i in j..n {
+            let mut s = 0.0;
+            for k in i..n {
+                s += l_inv[k + i * n] * l_inv[k + j * n];
+            }
+            inv[i + j * n] = s;
+            inv[j + i * n] = s;
+        }
+    }
 }
 
 /// Solves L Lᵀ x = b in place.

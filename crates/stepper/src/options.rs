@@ -11,8 +11,10 @@ use crate::StepError;
 #[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum SolverChoice {
-    /// The robust strategy of `moreau_lcp::Auto`: z = 0 when b ≥ 0, Lemke, Lemke with other
-    /// covering vectors, then enumeration for small problems. The default.
+    /// The robust strategy of `moreau_lcp::Auto`: z = 0 when b ≥ 0, the complementary basis
+    /// named by the previous step's impulses (solved directly, taken when its residual
+    /// passes), Lemke, Lemke with other covering vectors, then enumeration for small
+    /// problems. The default.
     #[default]
     Auto,
     /// Lemke's complementary pivoting alone.

@@ -139,7 +139,7 @@ impl SolverImpl {
         out: &mut Solution,
     ) -> Result<(), moreau_lcp::LcpError> {
         match self {
-            Self::Auto(s) => s.solve_into(lcp, None, out),
+            Self::Auto(s) => s.solve_into(lcp, warm, out),
             Self::Lemke(s) => s.solve_into(lcp, None, out),
             Self::Pgs(s) => s.solve_into(lcp, warm, out),
             Self::Enumeration(s) => s.solve_into(lcp, None, out),
@@ -151,6 +151,8 @@ impl SolverImpl {
 struct Workspace {
     /// Midpoint positions q_M.
     q_m: Vec<f64>,
+    /// Normal gaps g_N(q_M, t_M) of all contacts.
+    gaps: Vec<f64>,
     /// M(q_M, t_M), column-major.
     mass: Vec<f64>,
     /// h(q_M, u_A, t_M), then M⁻¹ h Δt.
@@ -280,6 +282,7 @@ impl<M: Mechanism> Stepper<M> {
         let solver = SolverImpl::new(&options.solver)?;
         let ws = Workspace {
             q_m: vec![0.0; f],
+            gaps: vec![0.0; n],
             mass: vec![0.0; f * f],
             h: vec![0.0; f],
             u_free: vec![0.0; f],
@@ -435,8 +438,8 @@ impl<M: Mechanism> Stepper<M> {
 
         ws.last_size = 0;
         ws.active.clear();
-        for i in 0..mech.num_contacts() {
-            let g = mech.normal_gap(i, &ws.q_m, t_m);
+        mech.normal_gaps(&ws.q_m, t_m, &mut ws.gaps);
+        for (i, &g) in ws.gaps.iter().enumerate() {
             if !g.is_finite() {
                 return Err(StepError::NonFinite { what: "g_N", index: i, t: t_m });
             }
@@ -519,14 +522,13 @@ impl<M: Mechanism> Stepper<M> {
             // open ones (g_N > 0) free of impulse.
             ws.proj_active.clear();
             let mut penetrating = false;
-            for i in 0..mech.num_contacts() {
-                let g = mech.normal_gap(i, &self.q, t_e);
+            mech.normal_gaps(&self.q, t_e, &mut ws.proj_b);
+            for (i, &g) in ws.proj_b.iter().enumerate() {
                 if !g.is_finite() {
                     return Err(StepError::NonFinite { what: "g_N", index: i, t: t_e });
                 }
                 penetrating |= g < 0.0;
                 ws.proj_active.push(i);
-                ws.proj_b[i] = g;
             }
             let k = ws.proj_active.len();
             if !penetrating {
@@ -708,9 +710,16 @@ impl<M: Mechanism> Stepper<M> {
                 ColRef::from_slice(&ws.b[..s]),
             )
             .map_err(LcpFailure::Input)?;
-            let warm = if matches!(options.solver, SolverChoice::Pgs { .. }) {
+            // The previous step's (P_N, P_R, ξ_L) of each contact: PGS starts from them and
+            // Auto first tries the complementary basis they name.
+            let warm = if matches!(options.solver, SolverChoice::Pgs { .. } | SolverChoice::Auto) {
                 for (a, &i) in ws.active.iter().enumerate() {
                     ws.warm[a] = ws.prev[i][0];
+                }
+                for (k, &a) in ws.frictional.iter().enumerate() {
+                    let [_, p_r, xi_l] = ws.prev[ws.active[a]];
+                    ws.warm[na + k] = p_r;
+                    ws.warm[na + nf + k] = xi_l;
                 }
                 Some(&ws.warm[..s])
             } else {
