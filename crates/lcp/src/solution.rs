@@ -62,6 +62,9 @@ pub enum Method {
     /// The complementary basis named by a warm start, solved directly
     /// ([`Auto`](crate::Auto) with a warm start).
     WarmBasis,
+    /// Solved in closed form by the caller, which checked the few cases of a one-contact
+    /// problem (a time-stepper's single active contact); the residual is still computed.
+    ClosedForm,
 }
 
 impl fmt::Display for Method {
@@ -72,6 +75,7 @@ impl fmt::Display for Method {
             Method::Pgs => "pgs",
             Method::Enumeration => "enumeration",
             Method::WarmBasis => "warm_basis",
+            Method::ClosedForm => "closed_form",
         })
     }
 }
@@ -233,22 +237,44 @@ impl Residual {
 
     /// Computes the residual of (z, w) for the problem, recomputing `M z + q`.
     pub fn compute(lcp: LcpRef<'_>, z: &[f64], w: &[f64]) -> Residual {
-        let n = lcp.n();
+        let (m, q) = (lcp.m(), lcp.q());
+        Self::from_entries(lcp.n(), |i, j| m[(i, j)], |i| q[i], z, w)
+    }
+
+    /// [`Self::compute`] for M given as a column-major slice of order n (`m[i + j n] =
+    /// M_ij`), without building an [`LcpRef`]: for callers that assemble small problems in
+    /// their own buffers and solve some of them without a solver (a time-stepper's one-contact
+    /// problems). Entries that are not finite give [`Residual::INFINITE`].
+    pub fn compute_column_major(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &[f64]) -> Residual {
+        if m.len() != n * n || q.len() != n {
+            return Residual::INFINITE;
+        }
+        Self::from_entries(n, |i, j| m[i + j * n], |i| q[i], z, w)
+    }
+
+    /// The residual of (z, w) for the problem with entries `m(i, j)` and `q(i)`.
+    #[inline]
+    fn from_entries(
+        n: usize,
+        m: impl Fn(usize, usize) -> f64,
+        q: impl Fn(usize) -> f64,
+        z: &[f64],
+        w: &[f64],
+    ) -> Residual {
         if z.len() != n || w.len() != n || z.iter().chain(w).any(|v| !v.is_finite()) {
             return Residual::INFINITE;
         }
-        let m = lcp.m();
-        let q = lcp.q();
         let mut acc = Acc::new(z);
         for i in 0..n {
-            let mut sum = q[i];
+            let qi = q(i);
+            let mut sum = qi;
             let mut abs = 0.0;
             for j in 0..n {
-                let t = m[(i, j)] * z[j];
+                let t = m(i, j) * z[j];
                 sum += t;
                 abs += t.abs();
             }
-            acc.row(q[i], z[i], w[i], abs, sum);
+            acc.row(qi, z[i], w[i], abs, sum);
         }
         acc.finish()
     }

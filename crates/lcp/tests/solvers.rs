@@ -450,6 +450,7 @@ fn display_names() {
         (Method::Pgs, "pgs"),
         (Method::Enumeration, "enumeration"),
         (Method::WarmBasis, "warm_basis"),
+        (Method::ClosedForm, "closed_form"),
     ] {
         assert_eq!(m.to_string(), name);
         assert_eq!(serde_json::to_string(&m).unwrap(), format!("\"{name}\""));

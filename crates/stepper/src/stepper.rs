@@ -687,13 +687,16 @@ impl<M: Mechanism> Stepper<M> {
         }
 
         ws.last_size = s;
-        let solved = if s == 1 && matches!(options.solver, SolverChoice::Auto) && A[0] > 0.0 {
-            // A scalar problem with A > 0 and b < 0 has the one solution P_N = −b/A. It is
-            // what Lemke's method gives after its two pivots (z_0 enters, z_1 replaces it),
-            // written out: the report says Lemke with those two pivots.
-            ws.solution.z.clear();
-            ws.solution.z.push(-ws.b[0] / A[0]);
-            LcpInfo { method: Method::Lemke, status: Status::Solved, iterations: 2, residual: 0.0 }
+        let one_contact = na == 1 && matches!(options.solver, SolverChoice::Auto);
+        let solved = if one_contact
+            && let Some(info) = one_contact_closed_form(
+                &ws.a[..s * s],
+                &ws.b[..s],
+                laws[ws.active[0]].mu(),
+                ws.prev[ws.active[0]],
+                &mut ws.solution,
+            ) {
+            info
         } else if let (SolverChoice::Pgs { tolerance, omega, max_iterations }, true) =
             (&options.solver, nf > 0)
         {
@@ -846,6 +849,102 @@ impl<M: Mechanism> Stepper<M> {
     }
 }
 
+/// Relative residual up to which a closed-form solution is accepted (that of the LCP
+/// solvers' default).
+const CLOSED_FORM_TOLERANCE: f64 = 1e-9;
+
+/// The cases of one active contact's LCP (EQUATIONS.md section 5 with n = 1), in the order
+/// they are tried.
+#[derive(Clone, Copy, PartialEq)]
+enum Mode {
+    /// ξ_T = 0 with |P_T| ≤ μ P_N: (P_N, P_R) from the 2 × 2 system, ξ_L = 0.
+    Stick,
+    /// ξ_T > 0: P_T = −μ P_N (P_R = 0, ξ_L = 0).
+    SlidePositive,
+    /// ξ_T < 0: P_T = +μ P_N (P_L = 0, so P_R = 2μ P_N; ξ_L = −ξ_T).
+    SlideNegative,
+}
+
+/// Solves the LCP of a single active contact in closed form, as the time-stepper's default
+/// solver does: one row (frictionless, P_N = −b/A) or three (x = (P_N, P_R, ξ_L)). With
+/// b_N < 0 the contact carries an impulse, and with friction one of stick, slip forwards and
+/// slip backwards holds; they are tried starting with the previous step's case, the one that
+/// holds on most steps (should several hold, it is also the one kept, as with Auto's warm
+/// basis). The z found is accepted
+/// only when the shared residual passes [`CLOSED_FORM_TOLERANCE`]; otherwise `None`, and the
+/// caller runs the general solver.
+fn one_contact_closed_form(
+    A: &[f64],
+    b: &[f64],
+    mu: f64,
+    prev: [f64; 3],
+    out: &mut Solution,
+) -> Option<LcpInfo> {
+    let s = b.len();
+    let z = &mut out.z;
+    z.clear();
+    match s {
+        1 => {
+            if !(A[0] > 0.0 && b[0] < 0.0) {
+                return None;
+            }
+            z.push(-b[0] / A[0]);
+        }
+        3 => {
+            // A is column-major: A[r + 3 c].
+            let (a00, a10, a01, a11) = (A[0], A[1], A[3], A[4]);
+            let [p_n, p_r, xi_l] = prev;
+            let first = if p_n > 0.0 && xi_l > 0.0 {
+                Mode::SlideNegative
+            } else if p_n > 0.0 && p_r == 0.0 {
+                Mode::SlidePositive
+            } else {
+                Mode::Stick
+            };
+            let mut found = None;
+            for mode in [first, Mode::Stick, Mode::SlidePositive, Mode::SlideNegative] {
+                let candidate = match mode {
+                    Mode::Stick => {
+                        let det = a00 * a11 - a01 * a10;
+                        let p_n = (a01 * b[1] - a11 * b[0]) / det;
+                        let p_r = (a10 * b[0] - a00 * b[1]) / det;
+                        (p_n >= 0.0 && p_r >= 0.0 && 2.0 * mu * p_n - p_r >= 0.0)
+                            .then_some([p_n, p_r, 0.0])
+                    }
+                    Mode::SlidePositive => {
+                        let p_n = -b[0] / a00;
+                        (p_n >= 0.0 && a10 * p_n + b[1] >= 0.0).then_some([p_n, 0.0, 0.0])
+                    }
+                    Mode::SlideNegative => {
+                        let p_n = -b[0] / (a00 + 2.0 * mu * a01);
+                        let xi_l = -(a10 * p_n + 2.0 * mu * a11 * p_n + b[1]);
+                        (p_n >= 0.0 && xi_l >= 0.0).then_some([p_n, 2.0 * mu * p_n, xi_l])
+                    }
+                };
+                // Comparisons with NaN are false: a singular case yields no candidate.
+                if candidate.is_some() {
+                    found = candidate;
+                    break;
+                }
+            }
+            z.extend_from_slice(&found?);
+        }
+        _ => return None,
+    }
+    let w = &mut out.w;
+    w.clear();
+    for r in 0..s {
+        w.push(b[r] + (0..s).map(|c| A[r + c * s] * z[c]).sum::<f64>());
+    }
+    let residual = moreau_lcp::Residual::compute_column_major(s, A, b, z, w);
+    (residual.relative <= CLOSED_FORM_TOLERANCE).then(|| LcpInfo {
+        method: Method::ClosedForm,
+        status: Status::Solved,
+        iterations: 0,
+        residual: residual.max(),
+    })
+}
+
 /// Projected (nonsmooth) Gauss-Seidel on the contact problem in (P_N, P_T), equivalent to
 /// the LCP of eq. 7.41: sweeps over the contacts, projecting P_N onto R+ and P_T onto
 /// [−μP_N, μP_N] with the diagonal of the Delassus matrix G, warm-started from the previous
@@ -990,5 +1089,81 @@ impl<M: Mechanism> std::fmt::Debug for Stepper<M> {
             .field("u", &self.u)
             .field("options", &self.options)
             .finish_non_exhaustive()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use moreau_lcp::{Enumeration, Solver};
+
+    /// splitmix64 in [lo, hi).
+    fn uniform(state: &mut u64, lo: f64, hi: f64) -> f64 {
+        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = *state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        lo + (hi - lo) * ((z >> 11) as f64 / (1u64 << 53) as f64)
+    }
+
+    /// The LCP of eq. 7.41 for one contact with Delassus matrix G (2 × 2, SPD), μ and b.
+    fn one_contact_lcp(g: [[f64; 2]; 2], mu: f64, b: [f64; 2]) -> (Vec<f64>, Vec<f64>) {
+        let (nn, nt, tt) = (g[0][0], g[0][1], g[1][1]);
+        // Rows (N; R; L), columns (P_N; P_R; ξ_L), column-major.
+        let a = vec![nn - mu * nt, nt - mu * tt, 2.0 * mu, nt, tt, -1.0, 0.0, 1.0, 0.0];
+        (a, vec![b[0], b[1], 0.0])
+    }
+
+    #[test]
+    fn one_contact_closed_form_finds_an_lcp_solution_whenever_there_is_one() {
+        let mut state = 7u64;
+        let (mut stick, mut forwards, mut backwards) = (0, 0, 0);
+        for trial in 0..2000 {
+            let (x, y, c) = (
+                uniform(&mut state, 0.2, 2.0),
+                uniform(&mut state, 0.2, 2.0),
+                uniform(&mut state, -0.9, 0.9),
+            );
+            let g = [[x, c * (x * y).sqrt()], [c * (x * y).sqrt(), y]];
+            let mu = if trial % 10 == 0 { 0.0 } else { uniform(&mut state, 0.0, 2.0) };
+            let b = [uniform(&mut state, -2.0, -0.01), uniform(&mut state, -2.0, 2.0)];
+            let (a, q) = one_contact_lcp(g, mu, b);
+            let lcp = moreau_lcp::Lcp::from_column_major(3, &a, &q).unwrap();
+            let all = Enumeration::default().solve_all(lcp.view()).unwrap();
+            let prev = [0.0; 3];
+            let mut out = Solution::new();
+            let info = one_contact_closed_form(&a, &q, mu, prev, &mut out);
+            if all.is_empty() {
+                assert!(info.is_none(), "trial {trial}: no solution, yet closed form gave one");
+                continue;
+            }
+            let info =
+                info.unwrap_or_else(|| panic!("trial {trial}: {} solutions missed", all.len()));
+            assert_eq!(info.method, Method::ClosedForm);
+            let r = moreau_lcp::Residual::compute(lcp.view(), &out.z, &out.w);
+            assert!(r.relative <= 1e-12, "trial {trial}: {r:?}");
+            // (P_N, P_T) is what the velocities depend on: it must be one enumeration found.
+            let p_t = out.z[1] - mu * out.z[0];
+            assert!(
+                all.iter().any(|s| {
+                    (s.z[0] - out.z[0]).abs() <= 1e-9 * (1.0 + s.z[0].abs())
+                        && (s.z[1] - mu * s.z[0] - p_t).abs() <= 1e-9 * (1.0 + p_t.abs())
+                }),
+                "trial {trial}: {:?} not among {:?}",
+                out.z,
+                all.iter().map(|s| s.z.clone()).collect::<Vec<_>>()
+            );
+            let xi_t = out.w[1] - out.z[2];
+            if xi_t > 1e-12 {
+                forwards += 1;
+            } else if xi_t < -1e-12 {
+                backwards += 1;
+            } else {
+                stick += 1;
+            }
+        }
+        // Every case occurs in the sample.
+        assert!(stick > 100 && forwards > 100 && backwards > 100, "{stick} {forwards} {backwards}");
     }
 }
