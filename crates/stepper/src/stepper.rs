@@ -1095,7 +1095,7 @@ impl<M: Mechanism> std::fmt::Debug for Stepper<M> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use moreau_lcp::{Enumeration, Solver};
+    use moreau_lcp::Enumeration;
 
     /// splitmix64 in [lo, hi).
     fn uniform(state: &mut u64, lo: f64, hi: f64) -> f64 {
