@@ -51,7 +51,9 @@ pub struct LcpInfo {
     pub status: Status,
     /// Pivots or sweeps used.
     pub iterations: usize,
-    /// The largest entry of the shared residual of `moreau_lcp::Residual`.
+    /// The largest entry of the shared residual of `moreau_lcp::Residual`; for a single
+    /// frictionless contact solved in closed form, the equation error |A P_N + b| (z = −b/A
+    /// with A > 0 > b needs no check).
     pub residual: f64,
 }
 
@@ -885,10 +887,22 @@ fn one_contact_closed_form(
     z.clear();
     match s {
         1 => {
-            if !(A[0] > 0.0 && b[0] < 0.0) {
+            // z = −b/A > 0 and w = A z + b are each one rounding from exact, so z passes any
+            // tolerance: the shared residual (with its divisions, a third of a ball's step)
+            // is not computed, and the equation error |A z + b| is reported.
+            let p_n = -b[0] / A[0];
+            if !(A[0] > 0.0 && b[0] < 0.0 && p_n.is_finite()) {
                 return None;
             }
-            z.push(-b[0] / A[0]);
+            z.push(p_n);
+            out.w.clear();
+            out.w.push(A[0] * p_n + b[0]);
+            return Some(LcpInfo {
+                method: Method::ClosedForm,
+                status: Status::Solved,
+                iterations: 0,
+                residual: out.w[0].abs(),
+            });
         }
         3 => {
             // A is column-major: A[r + 3 c].
