@@ -75,6 +75,10 @@ impl Cholesky {
         }
         self.l.copy_from_slice(m);
         match self.buffer.as_mut() {
+            // Constant loop bounds for the orders of the common small mechanisms.
+            None if n == 2 => invert_fixed::<2>(&mut self.l, &mut self.inverse),
+            None if n == 3 => invert_fixed::<3>(&mut self.l, &mut self.inverse),
+            None if n == 4 => invert_fixed::<4>(&mut self.l, &mut self.inverse),
             None => {
                 factor_small(&mut self.l, n)?;
                 if n <= INVERSE_LIMIT {
@@ -228,6 +232,67 @@ fn invert_from_factor(l: &[f64], n: usize, l_inv: &mut [f64], inv: &mut [f64]) {
     }
 }
 
+/// [`factor_small`] and [`invert_from_factor`] for one order N, with constant loop bounds:
+/// the factor L into the lower triangle of `l` (which holds M on entry) and M⁻¹ into `inv`
+/// (both column-major).
+fn invert_fixed<const N: usize>(l: &mut [f64], inv: &mut [f64]) -> Result<(), FactorError> {
+    // a[j][i] = entry (i, j): columns as arrays, like the column-major slices.
+    let mut a = [[0.0f64; N]; N];
+    for (j, col) in a.iter_mut().enumerate() {
+        col.copy_from_slice(&l[j * N..(j + 1) * N]);
+    }
+    let mut d_inv = [0.0f64; N];
+    for j in 0..N {
+        let mut d = a[j][j];
+        for k in 0..j {
+            d -= a[k][j] * a[k][j];
+        }
+        // `!(d > 0)` also catches NaN.
+        if !(d > 0.0) {
+            return Err(FactorError::NotPositive { index: j });
+        }
+        let d = d.sqrt();
+        a[j][j] = d;
+        d_inv[j] = 1.0 / d;
+        for i in (j + 1)..N {
+            let mut s = a[j][i];
+            for k in 0..j {
+                s -= a[k][i] * a[k][j];
+            }
+            a[j][i] = s * d_inv[j];
+        }
+    }
+    for j in 0..N {
+        for i in j..N {
+            l[i + j * N] = a[j][i];
+        }
+    }
+    // X = L⁻¹ (lower): X_jj = 1 / L_jj, X_ij = −(Σ_{k=j}^{i−1} L_ik X_kj) / L_ii.
+    let mut x = [[0.0f64; N]; N];
+    for j in 0..N {
+        x[j][j] = d_inv[j];
+        for i in (j + 1)..N {
+            let mut s = 0.0;
+            for k in j..i {
+                s += a[k][i] * x[j][k];
+            }
+            x[j][i] = -s * d_inv[i];
+        }
+    }
+    // (M⁻¹)_ij = Σ_{k ≥ max(i, j)} X_ki X_kj.
+    for j in 0..N {
+        for i in j..N {
+            let mut s = 0.0;
+            for k in i..N {
+                s += x[i][k] * x[j][k];
+            }
+            inv[i + j * N] = s;
+            inv[j + i * N] = s;
+        }
+    }
+    Ok(())
+}
+
 /// Solves L Lᵀ x = b in place.
 fn solve_small(l: &[f64], n: usize, x: &mut [f64]) {
     for i in 0..n {
@@ -297,7 +362,7 @@ mod tests {
 
     #[test]
     fn small_and_faer_paths_solve_the_same_system() {
-        for n in [1, 3, INVERSE_LIMIT, INVERSE_LIMIT + 1, 12, SMALL_LIMIT + 6] {
+        for n in [1, 2, 3, 4, 5, INVERSE_LIMIT, INVERSE_LIMIT + 1, 12, SMALL_LIMIT + 6] {
             let a = spd(n);
             let x_true: Vec<f64> = (0..n).map(|i| (i as f64 + 1.0).sin()).collect();
             let mut b: Vec<f64> =
@@ -319,6 +384,15 @@ mod tests {
             Err(FactorError::NotPositive { index: 1 })
         ));
         assert!(matches!(c.factor(&[1.0, 0.5, 0.0, 1.0]), Err(FactorError::Asymmetric { .. })));
+        // Every path (fixed orders 2 to 4, the plain loop, faer) names the failing column.
+        for n in [3, 4, 5, INVERSE_LIMIT + 1] {
+            let mut a = spd(n);
+            a[(n - 1) + (n - 1) * n] = -1e6;
+            assert!(
+                matches!(Cholesky::new(n).factor(&a), Err(FactorError::NotPositive { index }) if index == n - 1),
+                "n = {n}"
+            );
+        }
         let n = SMALL_LIMIT + 2;
         let mut a = spd(n);
         a[(n - 1) + (n - 1) * n] = -1e6;
