@@ -102,7 +102,7 @@ impl Cholesky {
     }
 
     /// Writes `out = base + scale · M⁻¹ x`, using `x` as scratch (all of length n).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn solve_scaled_add(
         &self,
         x: &mut [f64],
@@ -133,7 +133,7 @@ impl Cholesky {
     }
 
     /// Writes M⁻¹ b into `x` (both of length n).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn solve_into(&self, b: &[f64], x: &mut [f64]) {
         let n = self.n;
         if n <= INVERSE_LIMIT {
