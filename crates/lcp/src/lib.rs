@@ -28,7 +28,7 @@
 //! | [`Lemke`] ([`LemkeOptions`], [`Covering`]) | complementary pivoting, lexicographic, checked tableau solution (LU re-solve as fallback) |
 //! | [`Pgs`] ([`PgsOptions`]) | projected Gauss-Seidel with over-relaxation and warm start |
 //! | [`Enumeration`] ([`EnumerationOptions`]) | all complementary bases; every solution; certified "no solution" |
-//! | [`Auto`] ([`AutoOptions`]) | trivial, Lemke, other covering vectors, enumeration: the robust default |
+//! | [`Auto`] ([`AutoOptions`]) | trivial, warm-start basis, Lemke, other covering vectors, enumeration: the robust default |
 //! | [`Solution`], [`Status`], [`Method`], [`Residual`] | result, how it ended, who produced it, how good it is |
 //! | [`LcpError`] | invalid input only; not converging is a [`Status`] |
 //!
