@@ -11,10 +11,11 @@ use crate::StepError;
 #[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum SolverChoice {
-    /// The robust strategy of `moreau_lcp::Auto`: z = 0 when b ≥ 0, the complementary basis
-    /// named by the previous step's impulses (solved directly, taken when its residual
-    /// passes), Lemke, Lemke with other covering vectors, then enumeration for small
-    /// problems. The default.
+    /// The default: a single active contact in closed form (stick or slip either way, taken
+    /// when the LCP's residual passes), otherwise the robust strategy of `moreau_lcp::Auto`:
+    /// z = 0 when b ≥ 0, the complementary basis named by the previous step's impulses
+    /// (solved directly, taken when its residual passes), Lemke, Lemke with other covering
+    /// vectors, then enumeration for small problems.
     #[default]
     Auto,
     /// Lemke's complementary pivoting alone.
