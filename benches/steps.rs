@@ -1,26 +1,51 @@
 //! Cost of one Moreau step and of whole simulations of the report's mechanisms.
 //!
 //! `cargo bench --bench steps` reports, per model, the time of a whole run; dividing by the
-//! number of steps (printed in the group names) gives the time per step.
+//! number of steps (printed in the group names) gives the time per step. The ball, the
+//! woodpecker and the slider-crank are also run as their concrete types, without the enum
+//! dispatch of scene-built models.
 
 use std::hint::black_box;
 use std::ops::ControlFlow;
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
-use moreau::models::{ModelKind, Scene};
-use moreau::stepper::{StepReport, Stepper, StepperOptions};
+use moreau::models::{AnyModel, ModelKind, Scene};
+use moreau::stepper::{Mechanism, StepReport, Stepper, StepperOptions};
 
-/// Runs `kind`'s report scene for `t_end` seconds at step `dt` with a no-op observer.
+/// Runs `kind`'s report scene for `t_end` seconds at step `dt` with a no-op observer, with
+/// the model as a scene file builds it (`AnyModel`, which dispatches every call on the model
+/// kind) and, where given, as its concrete type (what a user's own `Mechanism` gets).
 fn bench_model(c: &mut Criterion, kind: ModelKind, dt: f64, t_end: f64) {
     let scene = Scene::report(kind);
     let model = scene.build().expect("report scene builds");
-    let (q0, u0) = model.initial_state();
     let steps = (t_end / dt).round() as u64;
     let mut group = c.benchmark_group(format!("simulate/{kind}"));
     group.throughput(Throughput::Elements(steps));
-    group.bench_function(format!("{steps} steps, dt = {dt:e}"), |b| {
+    let name = format!("{steps} steps, dt = {dt:e}");
+    let x0 = model.initial_state();
+    run_group(&mut group, &name, model.clone(), &x0, dt, t_end);
+    let concrete = format!("{name}, concrete");
+    match model {
+        AnyModel::Ball(m) => run_group(&mut group, &concrete, m, &x0, dt, t_end),
+        AnyModel::Woodpecker(m) => run_group(&mut group, &concrete, m, &x0, dt, t_end),
+        AnyModel::SliderCrank(m) => run_group(&mut group, &concrete, m, &x0, dt, t_end),
+        _ => {}
+    }
+    group.finish();
+}
+
+/// One benchmark of a whole run of `model` from its initial state.
+fn run_group<M: Mechanism + Clone>(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    model: M,
+    (q0, u0): &(Vec<f64>, Vec<f64>),
+    dt: f64,
+    t_end: f64,
+) {
+    group.bench_function(name, |b| {
         b.iter_batched(
-            || Stepper::new(model.clone(), &q0, &u0, 0.0, StepperOptions::new(dt)).unwrap(),
+            || Stepper::new(model.clone(), q0, u0, 0.0, StepperOptions::new(dt)).unwrap(),
             |mut s| {
                 s.run_until(t_end, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).unwrap();
                 black_box(s.q()[0])
@@ -28,7 +53,6 @@ fn bench_model(c: &mut Criterion, kind: ModelKind, dt: f64, t_end: f64) {
             BatchSize::LargeInput,
         );
     });
-    group.finish();
 }
 
 /// The bouncing ball written out by hand for this one mechanism: the floor below which a
