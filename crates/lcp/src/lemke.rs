@@ -4,7 +4,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::dense::{Lu, TINY_MAX, pow2_inverse, refine, solve_tiny};
-use crate::solution::{check_warm_start, finish_row_major, finish_row_major_sparse};
+use crate::solution::{
+    check_warm_start, finish_col_major_sparse, finish_row_major, finish_row_major_sparse,
+};
 use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 
 const NONE: usize = usize::MAX;
@@ -148,7 +150,14 @@ struct Workspace {
     /// columns stay zero).
     width: usize,
     row_scaled: bool,
+    /// M column-major, as the pivoting path reads it (tableau set-up, residual).
+    m_cols: Vec<f64>,
+    /// M row-major, filled only for the LU paths (warm basis, re-solve fallback).
     m_rows: Vec<f64>,
+    /// Per row: the largest |M_ij| while setting up, then the power-of-two row scale.
+    rscale: Vec<f64>,
+    /// Scratch of the residual: the row sums `Σ_j |M_ij z_j|`.
+    abs: Vec<f64>,
     q: Vec<f64>,
     d: Vec<f64>,
     tab: Vec<f64>,
@@ -235,7 +244,6 @@ impl Lemke {
         out.reset(n, Method::Lemke);
         let ws = &mut self.ws;
         ws.prepare(n);
-        lcp.copy_m_row_major(&mut ws.m_rows);
         lcp.copy_q(&mut ws.q);
         ws.row_scaled = row_scaled;
         match d {
@@ -243,11 +251,12 @@ impl Lemke {
             None => ws.d.fill(1.0),
         }
         if ws.q.iter().all(|&v| v >= 0.0) {
+            lcp.copy_m_row_major(&mut ws.m_rows);
             out.residual = finish_row_major(&ws.m_rows, n, &ws.q, &out.z, &mut out.w);
             out.status = status_for(out.residual, self.options.tolerance, Status::NumericalFailure);
             return Ok(());
         }
-        ws.init_tableau();
+        ws.init_tableau(lcp);
         let (end, pivots) = ws.pivot_loop(&self.options);
         out.iterations = pivots;
         let tol = self.options.tolerance;
@@ -264,6 +273,7 @@ impl Lemke {
                 std::mem::swap(&mut out.z, &mut ws.z_tab);
                 std::mem::swap(&mut out.w, &mut ws.w_tab);
                 let tab_residual = out.residual;
+                ws.fill_m_rows();
                 if ws.resolve_basis(out, tol) {
                     return Ok(());
                 }
@@ -383,7 +393,10 @@ impl Workspace {
         }
         self.prepared = Some(n);
         self.n = n;
+        self.m_cols.resize(n * n, 0.0);
         self.m_rows.resize(n * n, 0.0);
+        self.rscale.resize(n, 0.0);
+        self.abs.resize(n, 0.0);
         self.q.resize(n, 0.0);
         self.d.resize(n, 1.0);
         self.width = padded_width(n);
@@ -417,16 +430,44 @@ impl Workspace {
     /// tests become independent of the magnitudes of the rows.
     ///
     /// With [`Covering::RowScaled`] the column of z_0 holds ones in the scaled rows.
-    fn init_tableau(&mut self) {
+    ///
+    /// M is read once, column by column as it is stored: each column goes to the
+    /// column-major copy (which the residual reads; the row-major copy is made only if the
+    /// LU fallback runs) and unscaled into its tableau column, while the row maxima are
+    /// taken; each row is then scaled in place.
+    fn init_tableau(&mut self, lcp: LcpRef<'_>) {
         let n = self.n;
         let width = self.width;
+        let m = lcp.m();
+        let tab = &mut self.tab[..n * width];
+        let rscale = &mut self.rscale[..n];
+        rscale.fill(0.0);
+        for (j, dst) in self.m_cols[..n * n].chunks_exact_mut(n).enumerate() {
+            let col = m.col(j);
+            if let Some(src) = col.try_as_col_major().map(|c| c.as_slice()) {
+                for (i, ((d, big), &v)) in
+                    dst.iter_mut().zip(rscale.iter_mut()).zip(src).enumerate()
+                {
+                    *d = v;
+                    *big = fmax(*big, v.abs());
+                    tab[i * width + j] = v;
+                }
+            } else {
+                for (i, (d, big)) in dst.iter_mut().zip(rscale.iter_mut()).enumerate() {
+                    let v = col[i];
+                    *d = v;
+                    *big = fmax(*big, v.abs());
+                    tab[i * width + j] = v;
+                }
+            }
+        }
         for i in 0..n {
-            let src = &self.m_rows[i * n..(i + 1) * n];
-            let big = src.iter().fold(0.0f64, |a, v| fmax(a, v.abs()));
+            let big = self.rscale[i];
             let r = if big > 0.0 { pow2_inverse(big) } else { 1.0 };
+            self.rscale[i] = r;
             let row = &mut self.tab[i * width..(i + 1) * width];
-            for (dst, v) in row[..n].iter_mut().zip(src) {
-                *dst = v * r;
+            for v in row[..n].iter_mut() {
+                *v *= r;
             }
             row[n] = if self.row_scaled { 1.0 } else { self.d[i] * r };
             row[n + 1] = self.q[i] * r;
@@ -595,6 +636,16 @@ impl Workspace {
         leaving
     }
 
+    /// Fills the row-major copy of M from the column-major one, for the LU re-solve.
+    fn fill_m_rows(&mut self) {
+        let n = self.n;
+        for (j, col) in self.m_cols[..n * n].chunks_exact(n).enumerate() {
+            for (i, v) in col.iter().enumerate() {
+                self.m_rows[i * n + j] = *v;
+            }
+        }
+    }
+
     /// Re-solves the complementary basis directly and accepts it if its residual passes.
     fn resolve_basis(&mut self, out: &mut Solution, tol: f64) -> bool {
         let n = self.n;
@@ -675,13 +726,14 @@ impl Workspace {
                 0.0
             };
         }
-        let res = finish_row_major_sparse(
-            &self.m_rows,
+        let res = finish_col_major_sparse(
+            &self.m_cols,
             n,
             &self.q,
             &self.z_alt,
             &self.alpha,
             &mut self.w_alt,
+            &mut self.abs,
         );
         if !(out.residual.relative <= res.relative) {
             std::mem::swap(&mut out.z, &mut self.z_alt);

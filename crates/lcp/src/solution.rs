@@ -342,6 +342,39 @@ pub(crate) fn finish_row_major_sparse(
     acc.finish()
 }
 
+/// As [`finish_row_major_sparse`] for M stored column-major (`m[i + j n] = M_ij`): the
+/// products are accumulated column by column, a contiguous sweep per column that the
+/// compiler vectorises, while each row still adds its terms in ascending column order, so
+/// `w` and the residual are bit for bit those of the row-major kernel. `abs` is scratch of
+/// length n (the row sums `Σ_j |M_ij z_j|`).
+pub(crate) fn finish_col_major_sparse(
+    m: &[f64],
+    n: usize,
+    q: &[f64],
+    z: &[f64],
+    cols: &[usize],
+    w: &mut [f64],
+    abs: &mut [f64],
+) -> Residual {
+    let (q, z, w, abs) = (&q[..n], &z[..n], &mut w[..n], &mut abs[..n]);
+    w.copy_from_slice(q);
+    abs.fill(0.0);
+    for &j in cols {
+        let zj = z[j];
+        let col = &m[j * n..(j + 1) * n];
+        for ((wi, ai), a) in w.iter_mut().zip(abs.iter_mut()).zip(col) {
+            let t = a * zj;
+            *wi += t;
+            *ai += t.abs();
+        }
+    }
+    let mut acc = Acc::new(z);
+    for i in 0..n {
+        acc.row(q[i], z[i], w[i], abs[i], w[i]);
+    }
+    acc.finish()
+}
+
 /// The result of a solve: z, w = M z + q, status, method, iterations and residual.
 ///
 /// `z` and `w` always hold the solver's last iterate (length n); they are a solution of
