@@ -166,14 +166,8 @@ struct Workspace {
     row_of: Vec<usize>,
     col_of: Vec<usize>,
     ties: Vec<usize>,
-    /// The entering column of the next ratio test, `a_i` (sign applied), and q̄, gathered
-    /// while the tableau is set up or pivoted, with their largest magnitudes.
     acol: Vec<f64>,
     cval: Vec<f64>,
-    colmax: f64,
-    cmax: f64,
-    /// The pivot row, scaled, during a pivot.
-    prow: Vec<f64>,
     alpha: Vec<usize>,
     rhs: Vec<f64>,
     z_alt: Vec<f64>,
@@ -413,7 +407,6 @@ impl Workspace {
         self.col_of.resize(2 * n + 1, NONE);
         self.rhs.resize(n, 0.0);
         self.acol.resize(n, 0.0);
-        self.prow.resize(self.width, 0.0);
         self.cval.resize(n, 0.0);
         self.z_alt.resize(n, 0.0);
         self.w_alt.resize(n, 0.0);
@@ -491,24 +484,13 @@ impl Workspace {
         self.nonbasic[n] = 2 * n;
         self.col_of[2 * n] = n;
         self.row_of[2 * n] = NONE;
-        // The first ratio test: z_0 enters, a_i = d_i (scaled).
-        let (mut colmax, mut cmax) = (0.0f64, 0.0f64);
-        for (i, row) in self.tab[..n * width].chunks_exact(width).enumerate() {
-            let (a, c) = (row[n], row[n + 1]);
-            self.acol[i] = a;
-            self.cval[i] = c;
-            colmax = fmax(colmax, a.abs());
-            cmax = fmax(cmax, c.abs());
-        }
-        self.colmax = colmax;
-        self.cmax = cmax;
     }
 
     fn pivot_loop(&mut self, opts: &LemkeOptions) -> (End, usize) {
         let n = self.n;
         let z0 = 2 * n;
         // First pivot: z_0 enters and the row with the most negative q_i / d_i leaves.
-        let Some(r) = self.select_row(true, opts) else {
+        let Some(r) = self.select_row(n, true, opts) else {
             return (End::Ray, 0);
         };
         let mut leaving = self.pivot(r, n);
@@ -520,11 +502,12 @@ impl Workspace {
             if pivots >= opts.max_pivots {
                 return (End::Limit, pivots);
             }
-            let Some(r) = self.select_row(false, opts) else {
+            let entering = if leaving < n { leaving + n } else { leaving - n };
+            let s = self.col_of[entering];
+            let Some(r) = self.select_row(s, false, opts) else {
                 return (End::Ray, pivots);
             };
-            let entering = if leaving < n { leaving + n } else { leaving - n };
-            leaving = self.pivot(r, self.col_of[entering]);
+            leaving = self.pivot(r, s);
             pivots += 1;
         }
     }
@@ -542,13 +525,24 @@ impl Workspace {
         }
     }
 
-    /// The lexicographic ratio test for the entering column gathered in `acol` (by the
-    /// set-up or the last pivot). In the first step (`initial`), every row takes part
-    /// with `a_i = d_i`; afterwards the rows with `T_is < 0` take part with `a_i = -T_is`.
-    fn select_row(&mut self, initial: bool, opts: &LemkeOptions) -> Option<usize> {
+    /// The lexicographic ratio test for entering column `s`. In the first step
+    /// (`initial`), every row takes part with `a_i = d_i`; afterwards the rows with
+    /// `T_is < 0` take part with `a_i = -T_is`.
+    fn select_row(&mut self, s: usize, initial: bool, opts: &LemkeOptions) -> Option<usize> {
         let n = self.n;
-        let (acol, cval) = (&self.acol[..n], &self.cval[..n]);
-        let (colmax, cmax) = (self.colmax, self.cmax);
+        let width = self.width;
+        let sign = if initial { 1.0 } else { -1.0 };
+        let tab = &self.tab[..n * width];
+        let (acol, cval) = (&mut self.acol[..n], &mut self.cval[..n]);
+        let mut colmax = 0.0f64;
+        let mut cmax = 0.0f64;
+        for (i, row) in tab.chunks_exact(width).enumerate() {
+            let (a, c) = (sign * row[s], row[n + 1]);
+            acol[i] = a;
+            cval[i] = c;
+            colmax = fmax(colmax, a.abs());
+            cmax = fmax(cmax, c.abs());
+        }
         let ptol = opts.pivot_tolerance * colmax;
         // Minimum ratio c_i / a_i over a_i > ptol, compared without dividing.
         let mut best = NONE;
@@ -610,11 +604,21 @@ impl Workspace {
     }
 
     /// Exchanges the basic variable of row r with the non-basic variable of column s and
-    /// returns the variable that left the basis. Unless that is z_0, the column of its
-    /// complement (the next to enter) is gathered for the next ratio test in the same
-    /// sweep over the rows.
+    /// returns the variable that left the basis.
     fn pivot(&mut self, r: usize, s: usize) -> usize {
-        let n = self.n;
+        // Widths up to 32 (n <= 30) get a kernel of fixed row length, which the compiler
+        // unrolls into whole packed multiply-adds with no loop or bounds checks.
+        match self.width {
+            4 => self.pivot_rows::<4>(r, s),
+            8 => self.pivot_rows::<8>(r, s),
+            12 => self.pivot_rows::<12>(r, s),
+            16 => self.pivot_rows::<16>(r, s),
+            20 => self.pivot_rows::<20>(r, s),
+            24 => self.pivot_rows::<24>(r, s),
+            28 => self.pivot_rows::<28>(r, s),
+            32 => self.pivot_rows::<32>(r, s),
+            _ => self.pivot_rows::<0>(r, s),
+        }
         let leaving = self.basic[r];
         let entering = self.nonbasic[s];
         self.basic[r] = entering;
@@ -623,68 +627,31 @@ impl Workspace {
         self.nonbasic[s] = leaving;
         self.col_of[leaving] = s;
         self.row_of[leaving] = NONE;
-        // When z_0 left there is no next ratio test; column s is gathered in vain rather
-        // than testing for it in every row.
-        let next = if leaving == 2 * n {
-            s
-        } else {
-            self.col_of[if leaving < n { leaving + n } else { leaving - n }]
-        };
-        // Widths up to 32 (n <= 30) get a kernel of fixed row length, which the compiler
-        // unrolls into whole packed multiply-adds with no loop or bounds checks.
-        match self.width {
-            4 => self.pivot_rows::<4>(r, s, next),
-            8 => self.pivot_rows::<8>(r, s, next),
-            12 => self.pivot_rows::<12>(r, s, next),
-            16 => self.pivot_rows::<16>(r, s, next),
-            20 => self.pivot_rows::<20>(r, s, next),
-            24 => self.pivot_rows::<24>(r, s, next),
-            28 => self.pivot_rows::<28>(r, s, next),
-            32 => self.pivot_rows::<32>(r, s, next),
-            _ => self.pivot_rows::<0>(r, s, next),
-        }
         leaving
     }
 
-    /// The row operations of a pivot on (r, s) for rows of length `W` (0: `self.width`),
-    /// gathering column `next` and q̄ into `acol`, `cval`, `colmax` and `cmax`. Each entry
-    /// gets exactly the operations of the plain row update.
+    /// The row operations of a pivot on (r, s) for rows of length `W` (0: `self.width`).
     #[inline(always)]
-    fn pivot_rows<const W: usize>(&mut self, r: usize, s: usize, next: usize) {
+    fn pivot_rows<const W: usize>(&mut self, r: usize, s: usize) {
         let n = self.n;
         let width = if W == 0 { self.width } else { W };
-        let c = n + 1;
-        // Checked once here, so that the compiler drops the checks in the row loop.
-        assert!(s < width && next < width && c < width && r < n);
-        let tab = &mut self.tab[..n * width];
-        let pr = &mut self.prow[..width];
-        pr.copy_from_slice(&tab[r * width..(r + 1) * width]);
-        let inv = 1.0 / pr[s];
-        for v in pr.iter_mut() {
+        let (before, rest) = self.tab[..n * width].split_at_mut(r * width);
+        let (row_r, after) = rest.split_at_mut(width);
+        let inv = 1.0 / row_r[s];
+        for v in row_r.iter_mut() {
             *v *= -inv;
         }
-        pr[s] = inv;
-        let pr: &[f64] = pr;
-        let (mut colmax, mut cmax) = (0.0f64, 0.0f64);
-        let (acol, cval) = (&mut self.acol[..n], &mut self.cval[..n]);
-        for (i, row) in tab.chunks_exact_mut(width).enumerate() {
-            if i == r {
-                row.copy_from_slice(pr);
-            } else {
+        row_r[s] = inv;
+        let row_r: &[f64] = row_r;
+        for rows in [before, after] {
+            for row in rows.chunks_exact_mut(width) {
                 let f = row[s];
                 if f != 0.0 {
                     row[s] = 0.0;
-                    axpy(f, pr, row);
+                    axpy(f, row_r, row);
                 }
             }
-            let (a, q) = (-row[next], row[c]);
-            acol[i] = a;
-            cval[i] = q;
-            colmax = fmax(colmax, a.abs());
-            cmax = fmax(cmax, q.abs());
         }
-        self.colmax = colmax;
-        self.cmax = cmax;
     }
 
     /// Fills the row-major copy of M from the column-major one, for the LU re-solve.
