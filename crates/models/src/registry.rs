@@ -297,4 +297,15 @@ impl Mechanism for AnyModel {
     fn constant_mass_matrix(&self) -> bool {
         dispatch!(self, m => m.constant_mass_matrix())
     }
+    fn evaluate(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        t: f64,
+        mass: Option<&mut [f64]>,
+        h: &mut [f64],
+        gaps: &mut [f64],
+    ) {
+        dispatch!(self, m => m.evaluate(q, u, t, mass, h, gaps))
+    }
 }

@@ -277,6 +277,24 @@ impl SliderCrank {
         self.gap_at(k, y3, s3, c3)
     }
 
+    /// M with cos(θ2 − θ1) given (EQUATIONS.md 7.3).
+    fn mass_at(&self, cos21: f64, m: &mut [f64]) {
+        let p = &self.params;
+        let m11 = p.j1 + (0.25 * p.m1 + p.m2 + p.m3) * p.l1 * p.l1;
+        let m12 = (0.5 * p.m2 + p.m3) * p.l1 * p.l2 * cos21;
+        let m22 = p.j2 + (0.25 * p.m2 + p.m3) * p.l2 * p.l2;
+        m[..9].copy_from_slice(&[m11, m12, 0.0, m12, m22, 0.0, 0.0, 0.0, p.j3]);
+    }
+
+    /// h with sin(θ2 − θ1), cos θ1 and cos θ2 given (EQUATIONS.md 7.3).
+    fn forces_at(&self, sin21: f64, c1: f64, c2: f64, u: &[f64], h: &mut [f64]) {
+        let p = &self.params;
+        let a = (0.5 * p.m2 + p.m3) * p.l1 * p.l2 * sin21;
+        h[0] = a * u[1] * u[1] - (0.5 * p.m1 + p.m2 + p.m3) * p.g * p.l1 * c1;
+        h[1] = -a * u[0] * u[0] - (0.5 * p.m2 + p.m3) * p.g * p.l2 * c2;
+        h[2] = 0.0;
+    }
+
     /// g_N of corner `k` from the slider centre's height y3 and (sin θ3, cos θ3).
     #[inline]
     fn gap_at(&self, k: usize, y3: f64, s3: f64, c3: f64) -> f64 {
@@ -373,18 +391,33 @@ impl Mechanism for SliderCrank {
         &self.laws
     }
     fn mass_matrix(&self, q: &[f64], _t: f64, m: &mut [f64]) {
-        let p = &self.params;
-        let m11 = p.j1 + (0.25 * p.m1 + p.m2 + p.m3) * p.l1 * p.l1;
-        let m12 = (0.5 * p.m2 + p.m3) * p.l1 * p.l2 * (q[1] - q[0]).cos();
-        let m22 = p.j2 + (0.25 * p.m2 + p.m3) * p.l2 * p.l2;
-        m[..9].copy_from_slice(&[m11, m12, 0.0, m12, m22, 0.0, 0.0, 0.0, p.j3]);
+        self.mass_at((q[1] - q[0]).cos(), m);
     }
     fn forces(&self, q: &[f64], u: &[f64], _t: f64, h: &mut [f64]) {
-        let p = &self.params;
-        let a = (0.5 * p.m2 + p.m3) * p.l1 * p.l2 * (q[1] - q[0]).sin();
-        h[0] = a * u[1] * u[1] - (0.5 * p.m1 + p.m2 + p.m3) * p.g * p.l1 * q[0].cos();
-        h[1] = -a * u[0] * u[0] - (0.5 * p.m2 + p.m3) * p.g * p.l2 * q[1].cos();
-        h[2] = 0.0;
+        self.forces_at((q[1] - q[0]).sin(), q[0].cos(), q[1].cos(), u, h);
+    }
+    fn evaluate(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        _t: f64,
+        mass: Option<&mut [f64]>,
+        h: &mut [f64],
+        gaps: &mut [f64],
+    ) {
+        // Three sine-cosine pairs serve M, h and every gap; θ2 − θ1 by the difference
+        // formulas.
+        let (s1, c1) = q[0].sin_cos();
+        let (s2, c2) = q[1].sin_cos();
+        let (s3, c3) = q[2].sin_cos();
+        if let Some(m) = mass {
+            self.mass_at(c2 * c1 + s2 * s1, m);
+        }
+        self.forces_at(s2 * c1 - c2 * s1, c1, c2, u, h);
+        let y3 = self.params.l1 * s1 + self.params.l2 * s2;
+        for (gi, &k) in gaps.iter_mut().zip(&self.corners) {
+            *gi = self.gap_at(k, y3, s3, c3);
+        }
     }
     fn potential_energy(&self, q: &[f64], _t: f64) -> Option<f64> {
         let p = &self.params;

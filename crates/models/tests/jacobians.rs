@@ -174,3 +174,35 @@ fn slider_crank_gaps_are_half_the_clearance_at_the_start() {
         (y - 1.0).abs() < 1e-9 && (x - (0.153 + 0.306 * th2.cos() - 0.306) / 0.153).abs() < 1e-15
     );
 }
+
+#[test]
+fn one_evaluation_gives_what_the_separate_calls_give() {
+    // `Mechanism::evaluate` (M, h and the gaps at once; the slider-crank shares its sines)
+    // against `mass_matrix`, `forces` and `normal_gap`, at sample states with velocities.
+    for model in all_models() {
+        let (f, n) = (model.num_coordinates(), model.num_contacts());
+        for (k, (q, t)) in samples(&model, 0.02, 0.3, 0.01).into_iter().enumerate() {
+            let u: Vec<f64> = (0..f).map(|j| ((k * f + j) as f64).sin() * 20.0).collect();
+            let (mut m1, mut h1, mut g1) = (vec![0.0; f * f], vec![0.0; f], vec![0.0; n]);
+            model.evaluate(&q, &u, t, Some(&mut m1), &mut h1, &mut g1);
+            let (mut m2, mut h2) = (vec![0.0; f * f], vec![0.0; f]);
+            model.mass_matrix(&q, t, &mut m2);
+            model.forces(&q, &u, t, &mut h2);
+            let g2: Vec<f64> = (0..n).map(|i| model.normal_gap(i, &q, t)).collect();
+            for (what, a, b) in [("M", &m1, &m2), ("h", &h1, &h2), ("g_N", &g1, &g2)] {
+                let scale = b.iter().fold(1e-300f64, |s, v| s.max(v.abs()));
+                for (x, y) in a.iter().zip(b.iter()) {
+                    assert!(
+                        (x - y).abs() <= 1e-14 * scale,
+                        "{}: {what} {a:?} vs {b:?}",
+                        model.kind()
+                    );
+                }
+            }
+            // Without `mass` only h and the gaps are written.
+            let mut h3 = vec![0.0; f];
+            model.evaluate(&q, &u, t, None, &mut h3, &mut g1);
+            assert_eq!(h3, h1);
+        }
+    }
+}

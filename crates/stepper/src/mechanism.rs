@@ -31,4 +31,27 @@ pub trait Mechanism: ContactKinematics {
     fn constant_mass_matrix(&self) -> bool {
         false
     }
+
+    /// Everything the stepper evaluates at the midpoint of a step, in one call: M(q, t) into
+    /// `mass` (skipped when `None`, as when a constant M is already factorised), h(q, u, t)
+    /// into `h` and the normal gaps of all contacts into `gaps`.
+    ///
+    /// The default calls [`Self::mass_matrix`], [`Self::forces`] and
+    /// [`ContactKinematics::normal_gaps`]. Override it when they share work, such as the sines
+    /// and cosines of the same angles; it must give the same values.
+    fn evaluate(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        t: f64,
+        mass: Option<&mut [f64]>,
+        h: &mut [f64],
+        gaps: &mut [f64],
+    ) {
+        if let Some(m) = mass {
+            self.mass_matrix(q, t, m);
+        }
+        self.forces(q, u, t, h);
+        self.normal_gaps(q, t, gaps);
+    }
 }

@@ -433,21 +433,21 @@ impl<M: Mechanism> Stepper<M> {
         for k in 0..f {
             ws.q_m[k] = self.q[k] + 0.5 * dt * self.u[k];
         }
-        if !(ws.factored && mech.constant_mass_matrix()) {
-            mech.mass_matrix(&ws.q_m, t_m, &mut ws.mass);
+        let new_mass = !(ws.factored && mech.constant_mass_matrix());
+        let mass = new_mass.then_some(&mut ws.mass[..]);
+        mech.evaluate(&ws.q_m, &self.u, t_m, mass, &mut ws.h, &mut ws.gaps);
+        if new_mass {
             check_finite("M", &ws.mass, t_m)?;
             ws.chol
                 .factor(&ws.mass)
                 .map_err(|e| StepError::MassNotSpd { t: t_m, reason: e.to_string() })?;
             ws.factored = true;
         }
-        mech.forces(&ws.q_m, &self.u, t_m, &mut ws.h);
         check_finite("h", &ws.h, t_m)?;
         ws.chol.solve_scaled_add(&mut ws.h, dt, &self.u, &mut ws.u_free);
 
         ws.last_size = 0;
         ws.active.clear();
-        mech.normal_gaps(&ws.q_m, t_m, &mut ws.gaps);
         for (i, &g) in ws.gaps.iter().enumerate() {
             if !g.is_finite() {
                 return Err(StepError::NonFinite { what: "g_N", index: i, t: t_m });
