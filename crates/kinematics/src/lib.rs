@@ -133,8 +133,8 @@ pub trait ContactKinematics {
     fn num_contacts(&self) -> usize;
     /// The normal gap g_N of contact `i` at `(q, t)` alone, for the active-set test.
     fn normal_gap(&self, i: usize, q: &[f64], t: f64) -> f64;
-    /// The normal gaps of all contacts at `(q, t)`, written into `g` (length `n`); the
-    /// time-stepper's active-set test calls this once per step.
+    /// The normal gaps of all contacts at `(q, t)`, written into `g` (length `n`): what the
+    /// time-stepper's active-set test needs once per step.
     ///
     /// The default calls [`Self::normal_gap`] for each contact. Override it when the gaps
     /// share work (the sines and cosines of the same angles, say); it must give the same

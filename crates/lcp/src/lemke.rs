@@ -289,9 +289,7 @@ impl Lemke {
         }
         Ok(())
     }
-}
 
-impl Lemke {
     /// Solves the complementary basis that a guess of z implies, without pivoting:
     /// α = { i : guess_i > 0 } (z basic there, w elsewhere), `M_αα z_α = −q_α` by LU
     /// (with one step of iterative refinement when needed), z_i = 0 off α. Accepted, with
@@ -330,11 +328,7 @@ impl Lemke {
                 ws.rhs[t] = -ws.q[i];
             }
             if solve_tiny(k, |r, c| m[alpha[r] * n + alpha[c]], &mut ws.rhs) {
-                out.z.fill(0.0);
-                for (t, &i) in alpha.iter().enumerate() {
-                    out.z[i] = positive_part(ws.rhs[t]);
-                }
-                out.residual = finish_row_major_sparse(m, n, &ws.q, &out.z, alpha, &mut out.w);
+                ws.scatter(out);
                 if out.residual.relative <= tol {
                     out.status = Status::Solved;
                     return true;
@@ -726,7 +720,9 @@ impl Workspace {
         for (t, &i) in self.alpha.iter().enumerate() {
             out.z[i] = positive_part(self.rhs[t]);
         }
-        out.residual = finish_row_major(&self.m_rows, self.n, &self.q, &out.z, &mut out.w);
+        // z is zero off the (ascending) basis: the sparse product gives the dense one's w.
+        out.residual =
+            finish_row_major_sparse(&self.m_rows, self.n, &self.q, &out.z, &self.alpha, &mut out.w);
     }
 
     /// Uses the basic values of the tableau as z (clamped at 0); keeps the better of it and

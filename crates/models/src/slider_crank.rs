@@ -295,6 +295,13 @@ impl SliderCrank {
         h[2] = 0.0;
     }
 
+    /// g_N of every modelled corner, in contact order, from y3 and (sin θ3, cos θ3).
+    fn gaps_at(&self, y3: f64, s3: f64, c3: f64, g: &mut [f64]) {
+        for (gi, &k) in g.iter_mut().zip(&self.corners) {
+            *gi = self.gap_at(k, y3, s3, c3);
+        }
+    }
+
     /// g_N of corner `k` from the slider centre's height y3 and (sin θ3, cos θ3).
     #[inline]
     fn gap_at(&self, k: usize, y3: f64, s3: f64, c3: f64) -> f64 {
@@ -354,9 +361,7 @@ impl ContactKinematics for SliderCrank {
         // The corners share the slider's height and angle: three sines for all of them.
         let y3 = self.params.l1 * q[0].sin() + self.params.l2 * q[1].sin();
         let (s3, c3) = q[2].sin_cos();
-        for (gi, &k) in g.iter_mut().zip(&self.corners) {
-            *gi = self.gap_at(k, y3, s3, c3);
-        }
+        self.gaps_at(y3, s3, c3, g);
     }
     fn contact(
         &self,
@@ -414,10 +419,7 @@ impl Mechanism for SliderCrank {
             self.mass_at(c2 * c1 + s2 * s1, m);
         }
         self.forces_at(s2 * c1 - c2 * s1, c1, c2, u, h);
-        let y3 = self.params.l1 * s1 + self.params.l2 * s2;
-        for (gi, &k) in gaps.iter_mut().zip(&self.corners) {
-            *gi = self.gap_at(k, y3, s3, c3);
-        }
+        self.gaps_at(self.params.l1 * s1 + self.params.l2 * s2, s3, c3, gaps);
     }
     fn potential_energy(&self, q: &[f64], _t: f64) -> Option<f64> {
         let p = &self.params;

@@ -76,16 +76,10 @@ impl Cholesky {
         self.l.copy_from_slice(m);
         match self.buffer.as_mut() {
             // Constant loop bounds for the orders of the common small mechanisms.
-            None if n == 2 => invert_fixed::<2>(&mut self.l, &mut self.inverse),
-            None if n == 3 => invert_fixed::<3>(&mut self.l, &mut self.inverse),
-            None if n == 4 => invert_fixed::<4>(&mut self.l, &mut self.inverse),
-            None => {
-                factor_small(&mut self.l, n)?;
-                if n <= INVERSE_LIMIT {
-                    invert_from_factor(&self.l, n, &mut self.l_inv, &mut self.inverse);
-                }
-                Ok(())
-            }
+            None if n == 2 => self.factor_and_invert::<2>(),
+            None if n == 3 => self.factor_and_invert::<3>(),
+            None if n == 4 => self.factor_and_invert::<4>(),
+            None => self.factor_and_invert::<0>(),
             Some(buffer) => {
                 let mut l = MatMut::from_column_major_slice_mut(&mut self.l, n, n);
                 llt::factor::cholesky_in_place(
@@ -99,6 +93,17 @@ impl Cholesky {
                 Ok(())
             }
         }
+    }
+
+    /// The plain-loop factorisation of `l` (holding M), and M⁻¹ for n ≤ [`INVERSE_LIMIT`];
+    /// `N` as in [`factor_small`].
+    #[inline(always)]
+    fn factor_and_invert<const N: usize>(&mut self) -> Result<(), FactorError> {
+        factor_small::<N>(&mut self.l, self.n)?;
+        if self.n <= INVERSE_LIMIT {
+            invert_from_factor::<N>(&self.l, self.n, &mut self.l_inv, &mut self.inverse);
+        }
+        Ok(())
     }
 
     /// Writes `out = base + scale · M⁻¹ x`, using `x` as scratch (all of length n).
@@ -180,7 +185,11 @@ impl Cholesky {
 }
 
 /// In-place Cholesky of a column-major matrix of order n (lower triangle used and written).
-fn factor_small(a: &mut [f64], n: usize) -> Result<(), FactorError> {
+/// `N > 0` fixes the order at compile time (n is then ignored), so that the loops of the
+/// common small orders have constant bounds; `N = 0` takes n.
+#[inline(always)]
+fn factor_small<const N: usize>(a: &mut [f64], n: usize) -> Result<(), FactorError> {
+    let n = if N == 0 { n } else { N };
     for j in 0..n {
         let mut d = a[j + j * n];
         for k in 0..j {
@@ -205,7 +214,10 @@ fn factor_small(a: &mut [f64], n: usize) -> Result<(), FactorError> {
 
 /// M⁻¹ = L⁻ᵀ L⁻¹ from the Cholesky factor L (column-major, lower triangle), with n
 /// divisions in all: the divisions of n triangular solves would dominate at these sizes.
-fn invert_from_factor(l: &[f64], n: usize, l_inv: &mut [f64], inv: &mut [f64]) {
+/// `N` as in [`factor_small`].
+#[inline(always)]
+fn invert_from_factor<const N: usize>(l: &[f64], n: usize, l_inv: &mut [f64], inv: &mut [f64]) {
+    let n = if N == 0 { n } else { N };
     // L⁻¹ column by column: X_jj = 1 / L_jj, X_ij = −(Σ_{k=j}^{i−1} L_ik X_kj) / L_ii.
     for i in 0..n {
         l_inv[i + i * n] = 1.0 / l[i + i * n];
@@ -232,67 +244,6 @@ fn invert_from_factor(l: &[f64], n: usize, l_inv: &mut [f64], inv: &mut [f64]) {
     }
 }
 
-/// [`factor_small`] and [`invert_from_factor`] for one order N, with constant loop bounds:
-/// the factor L into the lower triangle of `l` (which holds M on entry) and M⁻¹ into `inv`
-/// (both column-major).
-fn invert_fixed<const N: usize>(l: &mut [f64], inv: &mut [f64]) -> Result<(), FactorError> {
-    // a[j][i] = entry (i, j): columns as arrays, like the column-major slices.
-    let mut a = [[0.0f64; N]; N];
-    for (j, col) in a.iter_mut().enumerate() {
-        col.copy_from_slice(&l[j * N..(j + 1) * N]);
-    }
-    let mut d_inv = [0.0f64; N];
-    for j in 0..N {
-        let mut d = a[j][j];
-        for k in 0..j {
-            d -= a[k][j] * a[k][j];
-        }
-        // `!(d > 0)` also catches NaN.
-        if !(d > 0.0) {
-            return Err(FactorError::NotPositive { index: j });
-        }
-        let d = d.sqrt();
-        a[j][j] = d;
-        d_inv[j] = 1.0 / d;
-        for i in (j + 1)..N {
-            let mut s = a[j][i];
-            for k in 0..j {
-                s -= a[k][i] * a[k][j];
-            }
-            a[j][i] = s * d_inv[j];
-        }
-    }
-    for j in 0..N {
-        for i in j..N {
-            l[i + j * N] = a[j][i];
-        }
-    }
-    // X = L⁻¹ (lower): X_jj = 1 / L_jj, X_ij = −(Σ_{k=j}^{i−1} L_ik X_kj) / L_ii.
-    let mut x = [[0.0f64; N]; N];
-    for j in 0..N {
-        x[j][j] = d_inv[j];
-        for i in (j + 1)..N {
-            let mut s = 0.0;
-            for k in j..i {
-                s += a[k][i] * x[j][k];
-            }
-            x[j][i] = -s * d_inv[i];
-        }
-    }
-    // (M⁻¹)_ij = Σ_{k ≥ max(i, j)} X_ki X_kj.
-    for j in 0..N {
-        for i in j..N {
-            let mut s = 0.0;
-            for k in i..N {
-                s += x[i][k] * x[j][k];
-            }
-            inv[i + j * N] = s;
-            inv[j + i * N] = s;
-        }
-    }
-    Ok(())
-}
-
 /// Solves L Lᵀ x = b in place.
 fn solve_small(l: &[f64], n: usize, x: &mut [f64]) {
     for i in 0..n {
@@ -315,7 +266,7 @@ fn solve_small(l: &[f64], n: usize, x: &mut [f64]) {
 /// error message of the faer path, which does not report it).
 fn first_bad_pivot(m: &[f64], n: usize) -> usize {
     let mut a = m.to_vec();
-    match factor_small(&mut a, n) {
+    match factor_small::<0>(&mut a, n) {
         Err(FactorError::NotPositive { index }) => index,
         _ => 0,
     }

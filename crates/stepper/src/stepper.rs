@@ -879,9 +879,8 @@ enum Mode {
 /// b_N < 0 the contact carries an impulse, and with friction one of stick, slip forwards and
 /// slip backwards holds; they are tried starting with the previous step's case, the one that
 /// holds on most steps (should several hold, it is also the one kept, as with Auto's warm
-/// basis). The z found is accepted
-/// only when the shared residual passes [`CLOSED_FORM_TOLERANCE`]; otherwise `None`, and the
-/// caller runs the general solver.
+/// basis). The z found is accepted only when the shared residual passes
+/// [`CLOSED_FORM_TOLERANCE`]; otherwise `None`, and the caller runs the general solver.
 fn one_contact_closed_form(
     A: &[f64],
     b: &[f64],
@@ -922,32 +921,28 @@ fn one_contact_closed_form(
             } else {
                 Mode::Stick
             };
-            let mut found = None;
-            for mode in [first, Mode::Stick, Mode::SlidePositive, Mode::SlideNegative] {
-                let candidate = match mode {
-                    Mode::Stick => {
-                        let det = a00 * a11 - a01 * a10;
-                        let p_n = (a01 * b[1] - a11 * b[0]) / det;
-                        let p_r = (a10 * b[0] - a00 * b[1]) / det;
-                        (p_n >= 0.0 && p_r >= 0.0 && 2.0 * mu * p_n - p_r >= 0.0)
-                            .then_some([p_n, p_r, 0.0])
-                    }
-                    Mode::SlidePositive => {
-                        let p_n = -b[0] / a00;
-                        (p_n >= 0.0 && a10 * p_n + b[1] >= 0.0).then_some([p_n, 0.0, 0.0])
-                    }
-                    Mode::SlideNegative => {
-                        let p_n = -b[0] / (a00 + 2.0 * mu * a01);
-                        let xi_l = -(a10 * p_n + 2.0 * mu * a11 * p_n + b[1]);
-                        (p_n >= 0.0 && xi_l >= 0.0).then_some([p_n, 2.0 * mu * p_n, xi_l])
-                    }
-                };
-                // Comparisons with NaN are false: a singular case yields no candidate.
-                if candidate.is_some() {
-                    found = candidate;
-                    break;
+            let others = [Mode::Stick, Mode::SlidePositive, Mode::SlideNegative];
+            let mut order =
+                std::iter::once(first).chain(others.into_iter().filter(|&m| m != first));
+            // Comparisons with NaN are false: a singular case yields no candidate.
+            let found = order.find_map(|mode| match mode {
+                Mode::Stick => {
+                    let det = a00 * a11 - a01 * a10;
+                    let p_n = (a01 * b[1] - a11 * b[0]) / det;
+                    let p_r = (a10 * b[0] - a00 * b[1]) / det;
+                    (p_n >= 0.0 && p_r >= 0.0 && 2.0 * mu * p_n - p_r >= 0.0)
+                        .then_some([p_n, p_r, 0.0])
                 }
-            }
+                Mode::SlidePositive => {
+                    let p_n = -b[0] / a00;
+                    (p_n >= 0.0 && a10 * p_n + b[1] >= 0.0).then_some([p_n, 0.0, 0.0])
+                }
+                Mode::SlideNegative => {
+                    let p_n = -b[0] / (a00 + 2.0 * mu * a01);
+                    let xi_l = -(a10 * p_n + 2.0 * mu * a11 * p_n + b[1]);
+                    (p_n >= 0.0 && xi_l >= 0.0).then_some([p_n, 2.0 * mu * p_n, xi_l])
+                }
+            });
             z.extend_from_slice(&found?);
         }
         _ => return None,
@@ -1116,17 +1111,8 @@ impl<M: Mechanism> std::fmt::Debug for Stepper<M> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use moreau_kinematics::SplitMix64;
     use moreau_lcp::Enumeration;
-
-    /// splitmix64 in [lo, hi).
-    fn uniform(state: &mut u64, lo: f64, hi: f64) -> f64 {
-        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = *state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        lo + (hi - lo) * ((z >> 11) as f64 / (1u64 << 53) as f64)
-    }
 
     /// The LCP of eq. 7.41 for one contact with Delassus matrix G (2 × 2, SPD), μ and b.
     fn one_contact_lcp(g: [[f64; 2]; 2], mu: f64, b: [f64; 2]) -> (Vec<f64>, Vec<f64>) {
@@ -1138,17 +1124,13 @@ mod tests {
 
     #[test]
     fn one_contact_closed_form_finds_an_lcp_solution_whenever_there_is_one() {
-        let mut state = 7u64;
+        let mut rng = SplitMix64::new(7);
         let (mut stick, mut forwards, mut backwards) = (0, 0, 0);
         for trial in 0..2000 {
-            let (x, y, c) = (
-                uniform(&mut state, 0.2, 2.0),
-                uniform(&mut state, 0.2, 2.0),
-                uniform(&mut state, -0.9, 0.9),
-            );
+            let (x, y, c) = (rng.uniform(0.2, 2.0), rng.uniform(0.2, 2.0), rng.uniform(-0.9, 0.9));
             let g = [[x, c * (x * y).sqrt()], [c * (x * y).sqrt(), y]];
-            let mu = if trial % 10 == 0 { 0.0 } else { uniform(&mut state, 0.0, 2.0) };
-            let b = [uniform(&mut state, -2.0, -0.01), uniform(&mut state, -2.0, 2.0)];
+            let mu = if trial % 10 == 0 { 0.0 } else { rng.uniform(0.0, 2.0) };
+            let b = [rng.uniform(-2.0, -0.01), rng.uniform(-2.0, 2.0)];
             let (a, q) = one_contact_lcp(g, mu, b);
             let lcp = moreau_lcp::Lcp::from_column_major(3, &a, &q).unwrap();
             let all = Enumeration::default().solve_all(lcp.view()).unwrap();
