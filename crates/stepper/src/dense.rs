@@ -106,16 +106,17 @@ impl Cholesky {
         Ok(())
     }
 
-    /// Writes `out = base + scale · M⁻¹ x`, using `x` as scratch (all of length n).
+    /// Writes `out = base + scale · M⁻¹ x`, using `x` as scratch (all of length n). `N > 0`
+    /// states n at compile time, as in [`factor_small`].
     #[inline(always)]
-    pub(crate) fn solve_scaled_add(
+    pub(crate) fn solve_scaled_add<const N: usize>(
         &self,
         x: &mut [f64],
         scale: f64,
         base: &[f64],
         out: &mut [f64],
     ) {
-        let n = self.n;
+        let n = order::<N>(self.n);
         match n {
             1 => out[0] = base[0] + scale * self.inverse[0] * x[0],
             2..=INVERSE_LIMIT => {
@@ -137,10 +138,10 @@ impl Cholesky {
         }
     }
 
-    /// Writes M⁻¹ b into `x` (both of length n).
+    /// Writes M⁻¹ b into `x` (both of length n); `N` as in [`Self::solve_scaled_add`].
     #[inline(always)]
-    pub(crate) fn solve_into(&self, b: &[f64], x: &mut [f64]) {
-        let n = self.n;
+    pub(crate) fn solve_into<const N: usize>(&self, b: &[f64], x: &mut [f64]) {
+        let n = order::<N>(self.n);
         if n <= INVERSE_LIMIT {
             let inv = &self.inverse[..n * n];
             for i in 0..n {
@@ -283,6 +284,14 @@ pub(crate) fn half_quadratic(m: &[f64], n: usize, x: &[f64]) -> f64 {
         s += c * x[j];
     }
     0.5 * s
+}
+
+/// The order n of a matrix or vector: `N` when it is stated at compile time (`N > 0`, and
+/// then equal to the run-time `n`), otherwise `n`.
+#[inline(always)]
+pub(crate) fn order<const N: usize>(n: usize) -> usize {
+    debug_assert!(N == 0 || N == n);
+    if N == 0 { n } else { N }
 }
 
 /// The dot product of two slices of equal length.

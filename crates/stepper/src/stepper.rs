@@ -6,7 +6,7 @@ use moreau_lcp::{
     Auto, Enumeration, Lcp, LcpRef, Lemke, Method, Pgs, PgsOptions, Solution, Solver, Status,
 };
 
-use crate::dense::{Cholesky, dot, half_quadratic};
+use crate::dense::{Cholesky, dot, half_quadratic, order};
 use crate::observer::{Observer, Recorder};
 use crate::{Mechanism, Record, SolverChoice, StepError, StepperOptions};
 
@@ -153,6 +153,8 @@ impl SolverImpl {
 struct Workspace {
     /// Midpoint positions q_M.
     q_m: Vec<f64>,
+    /// End positions q_E before they are accepted.
+    q_e: Vec<f64>,
     /// Normal gaps g_N(q_M, t_M) of all contacts.
     gaps: Vec<f64>,
     /// M(q_M, t_M), column-major.
@@ -254,6 +256,16 @@ fn check_finite(what: &'static str, v: &[f64], t: f64) -> Result<(), StepError> 
     Err(StepError::NonFinite { what, index, t })
 }
 
+/// Names the first non-finite value among h, u_E and q_E of a step (in that order); `Ok` when
+/// all are finite after all.
+#[cold]
+#[inline(never)]
+fn diagnose_non_finite(h: &[f64], u: &[f64], q: &[f64], t: f64) -> Result<(), StepError> {
+    check_finite("h", h, t)?;
+    check_finite("u", u, t)?;
+    check_finite("q", q, t)
+}
+
 impl<M: Mechanism> Stepper<M> {
     /// A stepper for `mechanism` starting from (q0, u0) at time t0.
     ///
@@ -291,6 +303,7 @@ impl<M: Mechanism> Stepper<M> {
         let solver = SolverImpl::new(&options.solver)?;
         let ws = Workspace {
             q_m: vec![0.0; f],
+            q_e: vec![0.0; f],
             gaps: vec![0.0; n],
             mass: vec![0.0; f * f],
             h: vec![0.0; f],
@@ -423,15 +436,28 @@ impl<M: Mechanism> Stepper<M> {
 
     /// The body of [`Self::step`]: updates (t, q, u) and the contact reports.
     fn advance(&mut self) -> Result<(usize, Option<LcpInfo>), StepError> {
-        let f = self.q.len();
+        match self.q.len() {
+            1 => self.advance_n::<1>(),
+            2 => self.advance_n::<2>(),
+            3 => self.advance_n::<3>(),
+            4 => self.advance_n::<4>(),
+            _ => self.advance_n::<0>(),
+        }
+    }
+
+    /// [`Self::advance`] for f = N coordinates (`N > 0`: the small mechanisms, whose loops over
+    /// the coordinates then have constant bounds) or any f (`N = 0`).
+    #[inline(always)]
+    fn advance_n<const N: usize>(&mut self) -> Result<(usize, Option<LcpInfo>), StepError> {
+        let f = order::<N>(self.q.len());
         let dt = self.options.dt;
-        let t_a = self.t;
-        let t_m = t_a + 0.5 * dt;
+        let half = 0.5 * dt;
+        let t_m = self.t + half;
         let ws = &mut self.ws;
         let mech = &self.mechanism;
 
-        for k in 0..f {
-            ws.q_m[k] = self.q[k] + 0.5 * dt * self.u[k];
+        for ((q_m, q), u) in ws.q_m[..f].iter_mut().zip(&self.q[..f]).zip(&self.u[..f]) {
+            *q_m = q + half * u;
         }
         let new_mass = !(ws.factored && mech.constant_mass_matrix());
         let mass = new_mass.then_some(&mut ws.mass[..]);
@@ -443,44 +469,57 @@ impl<M: Mechanism> Stepper<M> {
                 .map_err(|e| StepError::MassNotSpd { t: t_m, reason: e.to_string() })?;
             ws.factored = true;
         }
-        check_finite("h", &ws.h, t_m)?;
-        ws.chol.solve_scaled_add(&mut ws.h, dt, &self.u, &mut ws.u_free);
+        // A non-finite h gives a non-finite ũ, which the check of u_E below reports as h.
+        ws.chol.solve_scaled_add::<N>(&mut ws.h[..f], dt, &self.u[..f], &mut ws.u_free[..f]);
 
         ws.last_size = 0;
         ws.active.clear();
+        let mut poison = 0.0;
         for (i, &g) in ws.gaps.iter().enumerate() {
-            if !g.is_finite() {
-                return Err(StepError::NonFinite { what: "g_N", index: i, t: t_m });
-            }
+            // x · 0 is 0 for a finite x and NaN otherwise: one test after the loop.
+            poison += g * 0.0;
             if g <= self.options.gap_tolerance {
                 ws.active.push(i);
             }
         }
+        if poison != 0.0 {
+            check_finite("h", &ws.h, t_m)?;
+            check_finite("g_N", &ws.gaps, t_m)?;
+        }
 
-        if ws.reports_dirty {
+        let was_active = ws.reports_dirty;
+        if was_active {
             self.contacts.fill(ContactReport::default());
             ws.reports_dirty = false;
         }
         let mut info = None;
         let mut lcp_size = 0;
         if !ws.active.is_empty() {
+            check_finite("h", &ws.h, t_m)?;
             let (size, solved) =
-                Self::contact_step(mech, &self.options, &mut self.solver, ws, &self.u, t_m)
+                Self::contact_step::<N>(mech, &self.options, &mut self.solver, ws, &self.u, t_m)
                     .map_err(|e| self.lcp_error(e))?;
             lcp_size = size;
             info = Some(solved);
         }
         let ws = &mut self.ws;
         let u_new = if lcp_size > 0 { &mut ws.tmp } else { &mut ws.u_free };
-        check_finite("u", u_new, t_m)?;
-        // u_A is not needed any more: swap the buffers rather than copy.
-        std::mem::swap(&mut self.u, u_new);
-        for k in 0..f {
-            self.q[k] = ws.q_m[k] + 0.5 * dt * self.u[k];
+        // q_E and u_E, with one test for non-finite values in both; the cold path names the
+        // culprit. A non-finite h gives a non-finite ũ, so it is caught here too.
+        let mut poison = 0.0;
+        for ((q_e, q_m), u) in ws.q_e[..f].iter_mut().zip(&ws.q_m[..f]).zip(&u_new[..f]) {
+            *q_e = q_m + half * u;
+            poison += *q_e * 0.0 + *u * 0.0;
         }
-        check_finite("q", &self.q, t_m)?;
+        if poison != 0.0 {
+            diagnose_non_finite(&ws.h, u_new, &ws.q_e, t_m)?;
+        }
+        // q_A and u_A are not needed any more: swap the buffers rather than copy.
+        std::mem::swap(&mut self.u, u_new);
+        std::mem::swap(&mut self.q, &mut ws.q_e);
 
         // Contact reports from the end velocities.
+        let ws = &mut self.ws;
         for (a, &i) in ws.active.iter().enumerate() {
             let w_n = &ws.w_n[a * f..(a + 1) * f];
             let w_t = &ws.w_t[a * f..(a + 1) * f];
@@ -501,9 +540,13 @@ impl<M: Mechanism> Stepper<M> {
             self.contacts[i] = ContactReport { active: true, p_n, p_t, gamma_n, gamma_t, state };
             ws.reports_dirty = true;
         }
-        for (i, c) in self.contacts.iter().enumerate() {
-            if !c.active {
-                ws.prev[i] = [0.0; 3];
+        // The impulses of contacts that were active and are not any more are forgotten (with
+        // none active before or now, all are zero already).
+        if was_active || ws.reports_dirty {
+            for (i, c) in self.contacts.iter().enumerate() {
+                if !c.active {
+                    ws.prev[i] = [0.0; 3];
+                }
             }
         }
 
@@ -590,7 +633,7 @@ impl<M: Mechanism> Stepper<M> {
 
     /// Assembles and solves the LCP of the active contacts; writes u_E into `ws.tmp` and the
     /// impulses (P_N, P_R, ξ_L) into `ws.prev`. Returns the LCP size and how it was solved.
-    fn contact_step(
+    fn contact_step<const N: usize>(
         mech: &M,
         options: &StepperOptions,
         solver: &mut SolverImpl,
@@ -598,7 +641,7 @@ impl<M: Mechanism> Stepper<M> {
         u_a: &[f64],
         t_m: f64,
     ) -> Result<(usize, LcpInfo), LcpFailure> {
-        let f = u_a.len();
+        let f = order::<N>(u_a.len());
         let laws = mech.laws();
         ws.frictional.clear();
         for (a, &i) in ws.active.iter().enumerate() {
@@ -654,12 +697,12 @@ impl<M: Mechanism> Stepper<M> {
 
         // Columns M⁻¹ w_T of the frictional contacts and M⁻¹ (w_N − μ w_T) of all.
         for (k, &a) in ws.frictional.iter().enumerate() {
-            ws.chol.solve_into(&ws.w_t[a * f..(a + 1) * f], &mut ws.x_t[k * f..(k + 1) * f]);
+            ws.chol.solve_into::<N>(&ws.w_t[a * f..(a + 1) * f], &mut ws.x_t[k * f..(k + 1) * f]);
         }
         let mut k = 0;
         for a in 0..na {
             let y = &mut ws.y_n[a * f..(a + 1) * f];
-            ws.chol.solve_into(&ws.w_n[a * f..(a + 1) * f], y);
+            ws.chol.solve_into::<N>(&ws.w_n[a * f..(a + 1) * f], y);
             if k < nf && ws.frictional[k] == a {
                 let mu = laws[ws.active[a]].mu();
                 for (yj, xj) in y.iter_mut().zip(&ws.x_t[k * f..(k + 1) * f]) {
@@ -827,10 +870,26 @@ impl<M: Mechanism> Stepper<M> {
         }
         let x = (t_end - self.t) / self.options.dt;
         let n = if (x - x.round()).abs() < 1e-6 { x.round() } else { x.ceil() } as u64;
+        match self.q.len() {
+            1 => self.run_steps::<1, O>(n, t_end, observer),
+            2 => self.run_steps::<2, O>(n, t_end, observer),
+            3 => self.run_steps::<3, O>(n, t_end, observer),
+            4 => self.run_steps::<4, O>(n, t_end, observer),
+            _ => self.run_steps::<0, O>(n, t_end, observer),
+        }
+    }
+
+    /// The loop of [`Self::run_until`]: `n` steps of [`Self::advance_n`].
+    fn run_steps<const N: usize, O: Observer<M>>(
+        &mut self,
+        n: u64,
+        t_end: f64,
+        observer: &mut O,
+    ) -> Result<RunSummary, StepError> {
         let mut summary =
             RunSummary { steps: 0, lcp_solves: 0, t_end: self.t, stopped_early: false };
         for _ in 0..n {
-            let (lcp_size, lcp) = self.advance()?;
+            let (lcp_size, lcp) = self.advance_n::<N>()?;
             let report = self.report(lcp_size, lcp);
             summary.steps += 1;
             if report.lcp.is_some_and(|l| l.method != Method::Trivial) {

@@ -236,3 +236,106 @@ fn last_lcp_exposes_the_assembled_problem() {
     moreau_lcp::Enumeration::default().solve_into(lcp.view(), None, &mut sol).unwrap();
     assert!(sol.is_solved());
 }
+
+/// f free particles (unit masses) on a line above a floor, each with its own contact, whose
+/// force or gap turns bad once t passes `t_bad`.
+#[derive(Clone, Debug)]
+struct Faulty {
+    f: usize,
+    laws: Vec<ContactLaw>,
+    t_bad: f64,
+    bad_h: f64,
+    bad_gap: f64,
+}
+
+impl moreau_kinematics::ContactKinematics for Faulty {
+    fn num_coordinates(&self) -> usize {
+        self.f
+    }
+    fn num_contacts(&self) -> usize {
+        self.f
+    }
+    fn normal_gap(&self, i: usize, q: &[f64], t: f64) -> f64 {
+        if t > self.t_bad && i + 1 == self.f { self.bad_gap } else { q[i] }
+    }
+    fn contact(
+        &self,
+        i: usize,
+        q: &[f64],
+        t: f64,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) -> moreau_kinematics::ContactPoint {
+        w_n.fill(0.0);
+        w_t.fill(0.0);
+        w_n[i] = 1.0;
+        moreau_kinematics::ContactPoint {
+            g_n: self.normal_gap(i, q, t),
+            g_t: 0.0,
+            w_n_hat: 0.0,
+            w_t_hat: 0.0,
+        }
+    }
+}
+
+impl moreau_stepper::Mechanism for Faulty {
+    fn laws(&self) -> &[ContactLaw] {
+        &self.laws
+    }
+    fn mass_matrix(&self, _q: &[f64], _t: f64, m: &mut [f64]) {
+        m.fill(0.0);
+        for i in 0..self.f {
+            m[i + i * self.f] = 1.0;
+        }
+    }
+    fn forces(&self, _q: &[f64], _u: &[f64], t: f64, h: &mut [f64]) {
+        h.fill(-G);
+        if t > self.t_bad {
+            h[self.f - 1] = self.bad_h;
+        }
+    }
+    fn constant_mass_matrix(&self) -> bool {
+        true
+    }
+}
+
+#[test]
+fn non_finite_values_are_named_and_leave_the_state_at_the_start_of_the_step() {
+    // f = 1 and 3 take the stepper's fixed-order path, f = 6 the general one. The last
+    // particle starts on the floor (its contact is active) or above it (it is not).
+    for f in [1, 3, 6] {
+        for (bad_h, bad_gap, on_floor, v0, what) in [
+            (f64::NAN, 1.0, false, 0.0, "h"),
+            (f64::NAN, 0.0, true, 0.0, "h"),
+            (f64::INFINITY, 1.0, false, 0.0, "h"),
+            (-G, f64::NAN, false, 0.0, "g_N"),
+            (-G, f64::INFINITY, false, 0.0, "g_N"),
+            (-G, f64::NEG_INFINITY, false, 0.0, "g_N"),
+            // Finite forces and velocities whose sum is past the range of f64.
+            (f64::MAX, 1.0, false, f64::MAX, "u"),
+        ] {
+            let laws = vec![ContactLaw::frictionless(0.5).unwrap(); f];
+            let model = Faulty { f, laws, t_bad: 0.0102, bad_h, bad_gap };
+            let mut q0 = vec![1.0; f];
+            if on_floor {
+                q0[f - 1] = 0.0;
+            }
+            let options = StepperOptions::new(1e-3);
+            let mut u0 = vec![0.0; f];
+            u0[f - 1] = v0;
+            let mut s = Stepper::new(model, &q0, &u0, 0.0, options).unwrap();
+            s.run_until(0.01, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).unwrap();
+            let (t, q, u, steps) = (s.t(), s.q().to_vec(), s.u().to_vec(), s.steps());
+            let error = s.step().unwrap_err();
+            let case = format!("f = {f}, h = {bad_h}, g = {bad_gap}");
+            match error {
+                StepError::NonFinite { what: w, index, .. } => {
+                    assert_eq!(w, what, "{case}");
+                    assert_eq!(index, f - 1, "{case}");
+                }
+                e => panic!("{case}: {e:?}"),
+            }
+            assert_eq!((s.t(), s.q(), s.u(), s.steps()), (t, &q[..], &u[..], steps), "{case}");
+        }
+    }
+}
