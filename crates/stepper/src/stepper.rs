@@ -196,6 +196,11 @@ struct Workspace {
     solution: Solution,
     /// Size of the LCP the last step gave to a solver (0 when none).
     last_size: usize,
+    /// Size of the last step's LCP (0 when no contact was closed) and how it was solved.
+    lcp_size: usize,
+    lcp_info: Option<LcpInfo>,
+    /// Steps whose LCP needed a solver, since the stepper was made.
+    lcp_solves: u64,
     /// Whether some contact report holds an active contact (to be cleared next step).
     reports_dirty: bool,
     /// Buffers of the optional position projection.
@@ -329,6 +334,9 @@ impl<M: Mechanism> Stepper<M> {
             prev: vec![[0.0; 3]; n],
             solution: Solution::new(),
             last_size: 0,
+            lcp_size: 0,
+            lcp_info: None,
+            lcp_solves: 0,
             reports_dirty: false,
             proj_active: Vec::with_capacity(n),
             proj_w: vec![0.0; f * n],
@@ -415,27 +423,28 @@ impl<M: Mechanism> Stepper<M> {
     /// [`StepError::LcpFailed`] (carrying the LCP instance) when the step's LCP has no
     /// acceptable solution. The state is left at the start of the failed step.
     pub fn step(&mut self) -> Result<StepReport<'_>, StepError> {
-        let (lcp_size, lcp) = self.advance()?;
-        Ok(self.report(lcp_size, lcp))
+        self.advance()?;
+        Ok(self.report())
     }
 
     /// The report of the step just taken.
-    fn report(&self, lcp_size: usize, lcp: Option<LcpInfo>) -> StepReport<'_> {
+    fn report(&self) -> StepReport<'_> {
         StepReport {
             step: self.step - 1,
             t: self.t,
             q: &self.q,
             u: &self.u,
             contacts: &self.contacts,
-            lcp_size,
-            lcp,
+            lcp_size: self.ws.lcp_size,
+            // Set only by steps with contacts.
+            lcp: if self.ws.lcp_size > 0 { self.ws.lcp_info } else { None },
             mass: &self.ws.mass,
             u_free: &self.ws.u_free,
         }
     }
 
     /// The body of [`Self::step`]: updates (t, q, u) and the contact reports.
-    fn advance(&mut self) -> Result<(usize, Option<LcpInfo>), StepError> {
+    fn advance(&mut self) -> Result<(), StepError> {
         match self.q.len() {
             1 => self.advance_n::<1>(),
             2 => self.advance_n::<2>(),
@@ -448,7 +457,7 @@ impl<M: Mechanism> Stepper<M> {
     /// [`Self::advance`] for f = N coordinates (`N > 0`: the small mechanisms, whose loops over
     /// the coordinates then have constant bounds) or any f (`N = 0`).
     #[inline(always)]
-    fn advance_n<const N: usize>(&mut self) -> Result<(usize, Option<LcpInfo>), StepError> {
+    fn advance_n<const N: usize>(&mut self) -> Result<(), StepError> {
         let f = order::<N>(self.q.len());
         let dt = self.options.dt;
         let half = 0.5 * dt;
@@ -487,22 +496,16 @@ impl<M: Mechanism> Stepper<M> {
             check_finite("g_N", &ws.gaps, t_m)?;
         }
 
-        let was_active = ws.reports_dirty;
-        if was_active {
-            self.contacts.fill(ContactReport::default());
-            ws.reports_dirty = false;
-        }
-        let mut info = None;
-        let mut lcp_size = 0;
-        if !ws.active.is_empty() {
-            check_finite("h", &ws.h, t_m)?;
-            let (size, solved) =
-                Self::contact_step::<N>(mech, &self.options, &mut self.solver, ws, &self.u, t_m)
-                    .map_err(|e| self.lcp_error(e))?;
-            lcp_size = size;
-            info = Some(solved);
+        // Steps without contacts, closed now or in the step before, skip what follows out of
+        // line.
+        let contacts = !ws.active.is_empty() || ws.reports_dirty;
+        if contacts {
+            self.solve_contacts::<N>(t_m)?;
+        } else {
+            self.ws.lcp_size = 0;
         }
         let ws = &mut self.ws;
+        let lcp_size = ws.lcp_size;
         let u_new = if lcp_size > 0 { &mut ws.tmp } else { &mut ws.u_free };
         // q_E and u_E, with one test for non-finite values in both; the cold path names the
         // culprit. A non-finite h gives a non-finite ũ, so it is caught here too.
@@ -514,19 +517,77 @@ impl<M: Mechanism> Stepper<M> {
         if poison != 0.0 {
             diagnose_non_finite(&ws.h, u_new, &ws.q_e, t_m)?;
         }
-        // q_A and u_A are not needed any more: swap the buffers rather than copy.
-        std::mem::swap(&mut self.u, u_new);
-        std::mem::swap(&mut self.q, &mut ws.q_e);
+        if N == 0 {
+            // q_A and u_A are not needed any more: swap the buffers rather than copy.
+            std::mem::swap(&mut self.u, u_new);
+            std::mem::swap(&mut self.q, &mut ws.q_e);
+        } else {
+            // A few entries cost less to copy than the buffers do to swap.
+            self.u[..f].copy_from_slice(&u_new[..f]);
+            self.q[..f].copy_from_slice(&ws.q_e[..f]);
+        }
 
-        // Contact reports from the end velocities.
+        if contacts {
+            self.report_contacts::<N>();
+        }
+
+        if self.options.projection {
+            let t_e = self.t0 + step_count_as_f64(self.step + 1) * dt;
+            self.project(t_e)?;
+        }
+
+        self.step += 1;
+        self.t = self.t0 + step_count_as_f64(self.step) * dt;
+        Ok(())
+    }
+
+    /// The contact part of a step before u_E: clears the previous step's contact reports
+    /// and, when contacts are closed, solves their LCP (u_E into `ws.tmp`). Sets the step's
+    /// LCP size and information.
+    #[inline(never)]
+    fn solve_contacts<const N: usize>(&mut self, t_m: f64) -> Result<(), StepError> {
         let ws = &mut self.ws;
+        if ws.reports_dirty {
+            self.contacts.fill(ContactReport::default());
+            ws.reports_dirty = false;
+        }
+        ws.lcp_size = 0;
+        ws.lcp_info = None;
+        if !ws.active.is_empty() {
+            check_finite("h", &ws.h, t_m)?;
+            let (size, solved) = Self::contact_step::<N>(
+                &self.mechanism,
+                &self.options,
+                &mut self.solver,
+                ws,
+                &self.u,
+                t_m,
+            )
+            .map_err(|e| self.lcp_error(e))?;
+            let ws = &mut self.ws;
+            ws.lcp_size = size;
+            ws.lcp_info = Some(solved);
+            if solved.method != Method::Trivial {
+                ws.lcp_solves += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// The contact reports of a step from its end velocities; forgets the impulses of the
+    /// contacts that have opened.
+    #[inline(never)]
+    fn report_contacts<const N: usize>(&mut self) {
+        let f = order::<N>(self.q.len());
+        let ws = &mut self.ws;
+        let laws = self.mechanism.laws();
         for (a, &i) in ws.active.iter().enumerate() {
             let w_n = &ws.w_n[a * f..(a + 1) * f];
             let w_t = &ws.w_t[a * f..(a + 1) * f];
             let gamma_n = dot(w_n, &self.u) + ws.w_n_hat[a];
             let gamma_t = dot(w_t, &self.u) + ws.w_t_hat[a];
             let [p_n, p_r, _] = ws.prev[i];
-            let mu = mech.laws()[i].mu();
+            let mu = laws[i].mu();
             // P_T = P_R − μ P_N (section 5); P_R is zero for a contact without friction rows.
             let p_t = p_r - mu * p_n;
             let scale: f64 = w_t.iter().zip(&self.u).map(|(w, u)| (w * u).abs()).sum();
@@ -540,24 +601,11 @@ impl<M: Mechanism> Stepper<M> {
             self.contacts[i] = ContactReport { active: true, p_n, p_t, gamma_n, gamma_t, state };
             ws.reports_dirty = true;
         }
-        // The impulses of contacts that were active and are not any more are forgotten (with
-        // none active before or now, all are zero already).
-        if was_active || ws.reports_dirty {
-            for (i, c) in self.contacts.iter().enumerate() {
-                if !c.active {
-                    ws.prev[i] = [0.0; 3];
-                }
+        for (i, c) in self.contacts.iter().enumerate() {
+            if !c.active {
+                ws.prev[i] = [0.0; 3];
             }
         }
-
-        if self.options.projection {
-            let t_e = self.t0 + step_count_as_f64(self.step + 1) * dt;
-            self.project(t_e)?;
-        }
-
-        self.step += 1;
-        self.t = self.t0 + step_count_as_f64(self.step) * dt;
-        Ok((lcp_size, info))
     }
 
     /// Moves q_E back onto the admissible set g_N(q, t_E) ≥ 0 along M⁻¹ W_N:
@@ -643,6 +691,13 @@ impl<M: Mechanism> Stepper<M> {
     ) -> Result<(usize, LcpInfo), LcpFailure> {
         let f = order::<N>(u_a.len());
         let laws = mech.laws();
+        if let [i] = ws.active[..]
+            && !(laws[i].is_frictional() || options.friction_rows_when_frictionless)
+            && matches!(options.solver, SolverChoice::Auto)
+            && let Some(done) = Self::one_frictionless_contact::<N>(mech, ws, u_a, t_m, i)?
+        {
+            return Ok(done);
+        }
         ws.frictional.clear();
         for (a, &i) in ws.active.iter().enumerate() {
             let (w_n, w_t) = (&mut ws.w_n[a * f..(a + 1) * f], &mut ws.w_t[a * f..(a + 1) * f]);
@@ -818,6 +873,72 @@ impl<M: Mechanism> Stepper<M> {
         Ok((s, solved))
     }
 
+    /// [`Self::contact_step`] for one active frictionless contact i with the default solver,
+    /// without the general assembly: the LCP is the scalar A P_N + b ≥ 0, P_N ≥ 0 with
+    /// A = w_Nᵀ M⁻¹ w_N and b = w_Nᵀ ũ + ŵ_N + ε_N γ_NA, so P_N = 0 when b ≥ 0 and
+    /// P_N = −b/A otherwise; u_E = ũ + M⁻¹ w_N P_N. `None` (nothing written that the general
+    /// path needs) when A is not positive or −b/A is not finite.
+    #[inline(always)]
+    fn one_frictionless_contact<const N: usize>(
+        mech: &M,
+        ws: &mut Workspace,
+        u_a: &[f64],
+        t_m: f64,
+        i: usize,
+    ) -> Result<Option<(usize, LcpInfo)>, LcpFailure> {
+        let f = order::<N>(u_a.len());
+        let (w_n, w_t) = (&mut ws.w_n[..f], &mut ws.w_t[..f]);
+        let point = mech.contact(i, &ws.q_m, t_m, w_n, w_t);
+        let mut poison = 0.0;
+        for (n, t) in w_n.iter().zip(w_t.iter()) {
+            poison += n * 0.0 + t * 0.0;
+        }
+        if poison != 0.0 {
+            let index = w_n.iter().chain(w_t.iter()).position(|x| !x.is_finite());
+            return Err(LcpFailure::NonFinite { what: "w_N/w_T", index: index.unwrap_or(0) });
+        }
+        ws.w_n_hat[0] = point.w_n_hat;
+        ws.w_t_hat[0] = point.w_t_hat;
+        let gamma_na = dot(w_n, u_a) + point.w_n_hat;
+        let u_free = &ws.u_free[..f];
+        let b = dot(w_n, u_free) + point.w_n_hat + mech.laws()[i].eps_n() * gamma_na;
+        ws.b[0] = b;
+        let u_e = &mut ws.tmp[..f];
+        if b >= 0.0 {
+            u_e.copy_from_slice(u_free);
+            ws.prev[i] = [0.0; 3];
+            let info = LcpInfo {
+                method: Method::Trivial,
+                status: Status::Solved,
+                iterations: 0,
+                residual: 0.0,
+            };
+            return Ok(Some((1, info)));
+        }
+        let y = &mut ws.y_n[..f];
+        ws.chol.solve_into::<N>(w_n, y);
+        let a = dot(w_n, y);
+        let p_n = -b / a;
+        if !(a > 0.0 && p_n.is_finite()) {
+            return Ok(None);
+        }
+        ws.a[0] = a;
+        ws.last_size = 1;
+        for ((u_e, u), y) in u_e.iter_mut().zip(u_free).zip(y.iter()) {
+            *u_e = u + y * p_n;
+        }
+        ws.prev[i] = [p_n, 0.0, 0.0];
+        // z = −b/A and w = A z + b are each one rounding from exact: the equation error is
+        // the residual.
+        let info = LcpInfo {
+            method: Method::ClosedForm,
+            status: Status::Solved,
+            iterations: 0,
+            residual: (a * p_n + b).abs(),
+        };
+        Ok(Some((1, info)))
+    }
+
     /// Turns a failure of the contact step into the public error, with the LCP instance.
     fn lcp_error(&self, failure: LcpFailure) -> StepError {
         let t = self.t;
@@ -886,23 +1007,23 @@ impl<M: Mechanism> Stepper<M> {
         t_end: f64,
         observer: &mut O,
     ) -> Result<RunSummary, StepError> {
-        let mut summary =
-            RunSummary { steps: 0, lcp_solves: 0, t_end: self.t, stopped_early: false };
+        let solves_before = self.ws.lcp_solves;
+        let mut steps = 0;
+        let mut stopped = false;
         for _ in 0..n {
-            let (lcp_size, lcp) = self.advance_n::<N>()?;
-            let report = self.report(lcp_size, lcp);
-            summary.steps += 1;
-            if report.lcp.is_some_and(|l| l.method != Method::Trivial) {
-                summary.lcp_solves += 1;
-            }
-            summary.t_end = report.t;
-            let flow = observer.observe(&self.mechanism, &report);
-            if flow.is_break() {
-                summary.stopped_early = summary.t_end < t_end;
+            self.advance_n::<N>()?;
+            steps += 1;
+            if observer.observe(&self.mechanism, &self.report()).is_break() {
+                stopped = true;
                 break;
             }
         }
-        Ok(summary)
+        Ok(RunSummary {
+            steps,
+            lcp_solves: self.ws.lcp_solves - solves_before,
+            t_end: self.t,
+            stopped_early: stopped && self.t < t_end,
+        })
     }
 
     /// Runs until t_end and records every step (row 0 is the current state).
