@@ -153,6 +153,9 @@ impl ContactKinematics for Ball {
     fn normal_gap(&self, _i: usize, q: &[f64], _t: f64) -> f64 {
         q[0] - self.params.r
     }
+    fn normal_gaps(&self, q: &[f64], t: f64, g: &mut [f64]) {
+        g[0] = self.normal_gap(0, q, t);
+    }
     fn contact(
         &self,
         i: usize,
@@ -182,5 +185,21 @@ impl Mechanism for Ball {
     }
     fn constant_mass_matrix(&self) -> bool {
         true
+    }
+    fn evaluate(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        t: f64,
+        mass: Option<&mut [f64]>,
+        h: &mut [f64],
+        gaps: &mut [f64],
+    ) {
+        // The one coordinate, force and gap written directly: this is most of a free step.
+        if let Some(m) = mass {
+            self.mass_matrix(q, t, m);
+        }
+        self.forces(q, u, t, h);
+        gaps[0] = self.normal_gap(0, q, t);
     }
 }

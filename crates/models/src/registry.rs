@@ -257,18 +257,23 @@ impl AnyModel {
 }
 
 impl ContactKinematics for AnyModel {
+    #[inline]
     fn num_coordinates(&self) -> usize {
         dispatch!(self, m => m.num_coordinates())
     }
+    #[inline]
     fn num_contacts(&self) -> usize {
         dispatch!(self, m => m.num_contacts())
     }
+    #[inline]
     fn normal_gap(&self, i: usize, q: &[f64], t: f64) -> f64 {
         dispatch!(self, m => m.normal_gap(i, q, t))
     }
+    #[inline]
     fn normal_gaps(&self, q: &[f64], t: f64, g: &mut [f64]) {
         dispatch!(self, m => m.normal_gaps(q, t, g))
     }
+    #[inline(always)]
     fn contact(
         &self,
         i: usize,
@@ -282,21 +287,27 @@ impl ContactKinematics for AnyModel {
 }
 
 impl Mechanism for AnyModel {
+    #[inline]
     fn laws(&self) -> &[ContactLaw] {
         dispatch!(self, m => m.laws())
     }
+    #[inline]
     fn mass_matrix(&self, q: &[f64], t: f64, mass: &mut [f64]) {
         dispatch!(self, m => m.mass_matrix(q, t, mass))
     }
+    #[inline]
     fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]) {
         dispatch!(self, m => m.forces(q, u, t, h))
     }
+    #[inline]
     fn potential_energy(&self, q: &[f64], t: f64) -> Option<f64> {
         dispatch!(self, m => m.potential_energy(q, t))
     }
+    #[inline]
     fn constant_mass_matrix(&self) -> bool {
         dispatch!(self, m => m.constant_mass_matrix())
     }
+    #[inline(always)]
     fn evaluate(
         &self,
         q: &[f64],
