@@ -37,26 +37,39 @@ fn validate(m: MatRef<'_, f64>, q: ColRef<'_, f64>) -> Result<(), LcpError> {
     if q.nrows() != rows {
         return Err(LcpError::DimensionMismatch { what: "q", expected: rows, found: q.nrows() });
     }
+    // One pass without early exits (x · 0 is 0 for a finite x and NaN otherwise); the
+    // offending entry is looked for only when there is one.
+    let mut poison = 0.0;
     for j in 0..cols {
         let col = m.col(j);
         if let Some(slice) = col.try_as_col_major().map(|c| c.as_slice()) {
-            if let Some(i) = slice.iter().position(|v| !v.is_finite()) {
-                return Err(LcpError::NonFinite { what: "M", index: (i, j) });
+            for v in slice {
+                poison += v * 0.0;
             }
         } else {
             for i in 0..rows {
-                if !col[i].is_finite() {
-                    return Err(LcpError::NonFinite { what: "M", index: (i, j) });
-                }
+                poison += col[i] * 0.0;
             }
         }
     }
     for i in 0..rows {
-        if !q[i].is_finite() {
-            return Err(LcpError::NonFinite { what: "q", index: (i, 0) });
+        poison += q[i] * 0.0;
+    }
+    if poison == 0.0 { Ok(()) } else { Err(first_non_finite(m, q)) }
+}
+
+/// The error naming the first non-finite entry of M (column by column), else of q.
+#[cold]
+fn first_non_finite(m: MatRef<'_, f64>, q: ColRef<'_, f64>) -> LcpError {
+    for j in 0..m.ncols() {
+        for i in 0..m.nrows() {
+            if !m[(i, j)].is_finite() {
+                return LcpError::NonFinite { what: "M", index: (i, j) };
+            }
         }
     }
-    Ok(())
+    let i = (0..q.nrows()).find(|&i| !q[i].is_finite()).unwrap_or(0);
+    LcpError::NonFinite { what: "q", index: (i, 0) }
 }
 
 impl Lcp {
@@ -130,6 +143,33 @@ impl<'a> LcpRef<'a> {
     pub fn new(m: MatRef<'a, f64>, q: ColRef<'a, f64>) -> Result<Self, LcpError> {
         validate(m, q)?;
         Ok(LcpRef { m, q })
+    }
+
+    /// A view of M stored column by column in a slice (`m[i + j n] = M_ij`) and q, checked as
+    /// [`Self::new`] checks, in one pass over the two slices: for callers that assemble small
+    /// problems in their own buffers, many times.
+    ///
+    /// # Errors
+    /// [`LcpError::Empty`] for n = 0, [`LcpError::DimensionMismatch`] when `m` does not
+    /// have n² entries or `q` n, and [`LcpError::NonFinite`] for a non-finite entry.
+    pub fn from_column_major(n: usize, m: &'a [f64], q: &'a [f64]) -> Result<Self, LcpError> {
+        if n == 0 {
+            return Err(LcpError::Empty);
+        }
+        if m.len() != n * n {
+            return Err(LcpError::DimensionMismatch {
+                what: "M (column-major, n*n entries)",
+                expected: n * n,
+                found: m.len(),
+            });
+        }
+        if q.len() != n {
+            return Err(LcpError::DimensionMismatch { what: "q", expected: n, found: q.len() });
+        }
+        let view = LcpRef { m: MatRef::from_column_major_slice(m, n, n), q: ColRef::from_slice(q) };
+        // x · 0 is 0 for a finite x and NaN otherwise: one test for all entries.
+        let poison: f64 = m.iter().chain(q).map(|v| v * 0.0).sum();
+        if poison == 0.0 { Ok(view) } else { Err(first_non_finite(view.m, view.q)) }
     }
 
     /// The size n of the problem.

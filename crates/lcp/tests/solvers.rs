@@ -288,6 +288,29 @@ fn non_finite_and_malformed_input_is_rejected() {
     assert!(out.is_solved());
     assert!((out.z[0] - 0.25).abs() < 1e-15 && (out.z[1] - 0.5).abs() < 1e-15, "{:?}", out.z);
     assert_eq!(view.to_owned().m()[(0, 1)], 1.0);
+    // The view of column-major slices: the same checks, the same problem.
+    let (m, q) = ([2.0, 0.0, 1.0, 2.0], [-1.0, -1.0]);
+    let view = LcpRef::from_column_major(2, &m, &q).unwrap();
+    assert_eq!((view.m()[(0, 1)], view.m()[(1, 0)], view.q()[1]), (1.0, 0.0, -1.0));
+    for (k, what, index) in [(3, "M", (1, 1)), (1, "M", (1, 0)), (4, "q", (0, 0))] {
+        let mut data = [2.0, 0.0, 1.0, 2.0, -1.0, -1.0];
+        data[k] = [f64::NAN, f64::INFINITY][k % 2];
+        let (m, q) = data.split_at(4);
+        let err = LcpRef::from_column_major(2, m, q).unwrap_err();
+        assert!(
+            matches!(err, LcpError::NonFinite { what: w, index: i } if w == what && i == index),
+            "{err:?}"
+        );
+    }
+    assert!(matches!(LcpRef::from_column_major(0, &[], &[]), Err(LcpError::Empty)));
+    assert!(matches!(
+        LcpRef::from_column_major(2, &m, &[1.0]),
+        Err(LcpError::DimensionMismatch { what: "q", expected: 2, found: 1 })
+    ));
+    assert!(matches!(
+        LcpRef::from_column_major(2, &m[..3], &q),
+        Err(LcpError::DimensionMismatch { expected: 4, found: 3, .. })
+    ));
 }
 
 #[test]

@@ -815,11 +815,8 @@ impl<M: Mechanism> Stepper<M> {
             }
             info
         } else {
-            let lcp = LcpRef::new(
-                MatRef::from_column_major_slice(&ws.a[..s * s], s, s),
-                ColRef::from_slice(&ws.b[..s]),
-            )
-            .map_err(LcpFailure::Input)?;
+            let lcp = LcpRef::from_column_major(s, &ws.a[..s * s], &ws.b[..s])
+                .map_err(LcpFailure::Input)?;
             // The previous step's (P_N, P_R, ξ_L) of each contact: PGS starts from them and
             // Auto first tries the complementary basis they name.
             let warm = if matches!(options.solver, SolverChoice::Pgs { .. } | SolverChoice::Auto) {
