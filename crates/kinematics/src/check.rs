@@ -26,7 +26,7 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use crate::{ContactKinematics, KinematicsError};
+use crate::{ContactKinematics, ContactPoint, KinematicsError};
 
 /// Options of the finite-difference checker [`check_jacobians`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -85,6 +85,9 @@ pub enum Component {
     WTHat,
     /// Entry i of `normal_gaps(q, t, ..)` against the g_N returned by `contact(i, q, t, ..)`.
     NormalGaps,
+    /// Contact i's w_N, w_T, g_N, g_T, ŵ_N and ŵ_T from `contacts(&[0, .., n − 1], q, t, ..)`
+    /// against those of `contact(i, q, t, ..)` (the entry that differs most).
+    Contacts,
 }
 
 impl fmt::Display for Component {
@@ -96,6 +99,7 @@ impl fmt::Display for Component {
             Self::WNHat => write!(f, "ŵ_N"),
             Self::WTHat => write!(f, "ŵ_T"),
             Self::NormalGaps => write!(f, "normal_gaps vs g_N"),
+            Self::Contacts => write!(f, "contacts vs contact"),
         }
     }
 }
@@ -155,7 +159,7 @@ pub struct FdReport {
     pub contacts: Vec<Mismatch>,
     /// Number of sample states checked.
     pub samples: usize,
-    /// Number of calls of `contact`, `normal_gap` and `normal_gaps` made.
+    /// Number of calls of `contact`, `contacts`, `normal_gap` and `normal_gaps` made.
     pub evaluations: usize,
     /// The options used.
     pub options: FdOptions,
@@ -263,11 +267,24 @@ pub fn check_jacobians<K: ContactKinematics + ?Sized>(
     let mut worst: Vec<Option<Mismatch>> = vec![None; n];
 
     let mut gaps = vec![0.0; n];
+    let all: Vec<usize> = (0..n).collect();
+    let (mut all_w_n, mut all_w_t) = (vec![0.0; n * f], vec![0.0; n * f]);
+    let mut points = vec![ContactPoint::default(); n];
     for (s, (q, t)) in samples.iter().enumerate() {
         let t = *t;
         gaps.fill(f64::NAN);
         probe.evaluations += 1;
         k.normal_gaps(q, t, &mut gaps);
+        all_w_n.fill(f64::NAN);
+        all_w_t.fill(f64::NAN);
+        points.fill(ContactPoint {
+            g_n: f64::NAN,
+            g_t: f64::NAN,
+            w_n_hat: f64::NAN,
+            w_t_hat: f64::NAN,
+        });
+        probe.evaluations += 1;
+        k.contacts(&all, q, t, &mut all_w_n, &mut all_w_t, &mut points);
         for i in 0..n {
             let record = |m: Mismatch, slot: &mut Option<Mismatch>| {
                 if slot.is_none_or(|w| m.scaled > w.scaled) {
@@ -304,6 +321,18 @@ pub fn check_jacobians<K: ContactKinematics + ?Sized>(
             record(Mismatch::new(i, Component::NormalGap, s, gap, cp.g_n), &mut worst[i]);
             finite("normal_gaps", gaps[i], i, s)?;
             record(Mismatch::new(i, Component::NormalGaps, s, gaps[i], cp.g_n), &mut worst[i]);
+            let p = points[i];
+            let (p_scalars, cp_scalars) =
+                ([p.g_n, p.g_t, p.w_n_hat, p.w_t_hat], [cp.g_n, cp.g_t, cp.w_n_hat, cp.w_t_hat]);
+            let batched = all_w_n[i * f..(i + 1) * f]
+                .iter()
+                .chain(&all_w_t[i * f..(i + 1) * f])
+                .chain(&p_scalars);
+            let single = w_n.iter().chain(&w_t).chain(&cp_scalars);
+            for (&b, &a) in batched.zip(single) {
+                finite("contacts", b, i, s)?;
+                record(Mismatch::new(i, Component::Contacts, s, b, a), &mut worst[i]);
+            }
 
             shifted.copy_from_slice(q);
             for j in 0..f {
@@ -521,9 +550,9 @@ mod tests {
             check_jacobians(&Quadratic { error: 0.0 }, &samples(), FdOptions::default()).unwrap();
         assert_eq!(report.samples, 5);
         assert_eq!(report.contacts.len(), 1);
-        // One normal_gaps per sample; per contact one full evaluation, one normal_gap, 2 per
-        // coordinate per gap pair and 2 in time.
-        assert_eq!(report.evaluations, 5 * (1 + 2 + 2 * 2 + 2));
+        // One normal_gaps and one contacts per sample; per contact one full evaluation, one
+        // normal_gap, 2 per coordinate per gap pair and 2 in time.
+        assert_eq!(report.evaluations, 5 * (2 + 2 + 2 * 2 + 2));
         assert!(report.passed(1e-7), "{report:?}");
         assert!(report.worst().unwrap().scaled < 1e-8);
     }
@@ -606,6 +635,61 @@ mod tests {
             w_t[0] = 0.0;
             ContactPoint { g_n: q[0] + i as f64, ..ContactPoint::default() }
         }
+    }
+
+    /// Contact 1's batched w_T differs from its single one.
+    struct BatchedContactOff;
+
+    impl ContactKinematics for BatchedContactOff {
+        fn num_coordinates(&self) -> usize {
+            2
+        }
+        fn num_contacts(&self) -> usize {
+            2
+        }
+        fn normal_gap(&self, i: usize, q: &[f64], _t: f64) -> f64 {
+            q[i]
+        }
+        fn contact(
+            &self,
+            i: usize,
+            q: &[f64],
+            _t: f64,
+            w_n: &mut [f64],
+            w_t: &mut [f64],
+        ) -> ContactPoint {
+            w_n.fill(0.0);
+            w_t.fill(0.0);
+            w_n[i] = 1.0;
+            ContactPoint { g_n: q[i], ..ContactPoint::default() }
+        }
+        fn contacts(
+            &self,
+            which: &[usize],
+            q: &[f64],
+            t: f64,
+            w_n: &mut [f64],
+            w_t: &mut [f64],
+            points: &mut [ContactPoint],
+        ) {
+            for (k, &i) in which.iter().enumerate() {
+                points[k] = self.contact(i, q, t, &mut w_n[2 * k..], &mut w_t[2 * k..2 * k + 2]);
+                if i == 1 {
+                    w_t[2 * k] = 0.25;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_batched_contact_that_disagrees_is_flagged() {
+        let report =
+            check_jacobians(&BatchedContactOff, &[(vec![0.5, 1.0], 0.0)], FdOptions::default())
+                .unwrap();
+        let worst = report.worst().unwrap();
+        assert_eq!((worst.contact, worst.component), (1, Component::Contacts));
+        assert_eq!((worst.analytic, worst.reference), (0.25, 0.0));
+        assert_eq!(report.failures(1e-6).count(), 1);
     }
 
     #[test]

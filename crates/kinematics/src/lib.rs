@@ -155,6 +155,29 @@ pub trait ContactKinematics {
         w_n: &mut [f64],
         w_t: &mut [f64],
     ) -> ContactPoint;
+    /// Full kinematics of the contacts listed in `which`, at one `(q, t)`: for the k-th of
+    /// them, [`Self::contact`]'s w_N into `w_n[k f..(k + 1) f]`, w_T into `w_t[k f..(k + 1) f]`
+    /// and its [`ContactPoint`] into `points[k]`. What the time-stepper asks for the closed
+    /// contacts once per step.
+    ///
+    /// The default calls [`Self::contact`] for each. Override it when the contacts share work
+    /// (the sines and cosines of the same angles, say); it must give the same values, which
+    /// [`check_jacobians`] verifies.
+    fn contacts(
+        &self,
+        which: &[usize],
+        q: &[f64],
+        t: f64,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+        points: &mut [ContactPoint],
+    ) {
+        let f = q.len();
+        for (k, &i) in which.iter().enumerate() {
+            points[k] =
+                self.contact(i, q, t, &mut w_n[k * f..(k + 1) * f], &mut w_t[k * f..(k + 1) * f]);
+        }
+    }
 }
 
 /// The relative velocity γ = wᵀ u + ŵ of a contact, normal (w_N, ŵ_N) or tangential

@@ -284,6 +284,18 @@ impl ContactKinematics for AnyModel {
     ) -> ContactPoint {
         dispatch!(self, m => m.contact(i, q, t, w_n, w_t))
     }
+    #[inline]
+    fn contacts(
+        &self,
+        which: &[usize],
+        q: &[f64],
+        t: f64,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+        points: &mut [ContactPoint],
+    ) {
+        dispatch!(self, m => m.contacts(which, q, t, w_n, w_t, points))
+    }
 }
 
 impl Mechanism for AnyModel {

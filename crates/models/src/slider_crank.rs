@@ -371,12 +371,53 @@ impl ContactKinematics for SliderCrank {
         w_n: &mut [f64],
         w_t: &mut [f64],
     ) -> ContactPoint {
-        let p = &self.params;
-        let k = self.corners[i];
-        let ([sx, sy], upper) = corner_local(p.a, p.b, k);
+        self.corner_at(self.corners[i], &Angles::new(q), w_n, w_t)
+    }
+    fn contacts(
+        &self,
+        which: &[usize],
+        q: &[f64],
+        _t: f64,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+        points: &mut [ContactPoint],
+    ) {
+        // The corners share the three angles' sines and cosines.
+        let angles = Angles::new(q);
+        for (k, &i) in which.iter().enumerate() {
+            let (w_n, w_t) = (&mut w_n[3 * k..3 * k + 3], &mut w_t[3 * k..3 * k + 3]);
+            points[k] = self.corner_at(self.corners[i], &angles, w_n, w_t);
+        }
+    }
+}
+
+/// The sines and cosines of θ1, θ2 and θ3.
+struct Angles {
+    s: [f64; 3],
+    c: [f64; 3],
+}
+
+impl Angles {
+    fn new(q: &[f64]) -> Self {
         let (s1, c1) = q[0].sin_cos();
         let (s2, c2) = q[1].sin_cos();
         let (s3, c3) = q[2].sin_cos();
+        Self { s: [s1, s2, s3], c: [c1, c2, c3] }
+    }
+}
+
+impl SliderCrank {
+    /// The kinematics of corner k (0 to 3) from the angles' sines and cosines.
+    fn corner_at(
+        &self,
+        k: usize,
+        angles: &Angles,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) -> ContactPoint {
+        let p = &self.params;
+        let ([sx, sy], upper) = corner_local(p.a, p.b, k);
+        let ([s1, s2, s3], [c1, c2, c3]) = (angles.s, angles.c);
         // The corner's world position (x, y) and its gradients with respect to q.
         let dy = [p.l1 * c1, p.l2 * c2, sx * c3 - sy * s3];
         let dx = [-p.l1 * s1, -p.l2 * s2, -sx * s3 - sy * c3];

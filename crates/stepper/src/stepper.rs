@@ -2,6 +2,7 @@
 #![allow(non_snake_case)]
 
 use faer::{ColRef, MatRef};
+use moreau_kinematics::ContactPoint;
 use moreau_lcp::{
     Auto, Enumeration, Lcp, LcpRef, Lemke, Method, Pgs, PgsOptions, Solution, Solver, Status,
 };
@@ -172,7 +173,9 @@ struct Workspace {
     active: Vec<usize>,
     /// Positions in `active` of the active frictional contacts.
     frictional: Vec<usize>,
-    /// w_N and w_T of the active contacts, one column of length f each.
+    /// The kinematics of the active contacts: their scalars, and w_N and w_T, one column
+    /// of length f each.
+    points: Vec<ContactPoint>,
     w_n: Vec<f64>,
     w_t: Vec<f64>,
     /// ŵ_N, ŵ_T and γ_NA, γ_TA of the active contacts.
@@ -318,6 +321,7 @@ impl<M: Mechanism> Stepper<M> {
             factored: false,
             active: Vec::with_capacity(n),
             frictional: Vec::with_capacity(n),
+            points: vec![ContactPoint::default(); n],
             w_n: vec![0.0; f * n],
             w_t: vec![0.0; f * n],
             w_n_hat: vec![0.0; n],
@@ -699,9 +703,18 @@ impl<M: Mechanism> Stepper<M> {
             return Ok(done);
         }
         ws.frictional.clear();
+        let na = ws.active.len();
+        mech.contacts(
+            &ws.active,
+            &ws.q_m,
+            t_m,
+            &mut ws.w_n[..na * f],
+            &mut ws.w_t[..na * f],
+            &mut ws.points[..na],
+        );
         for (a, &i) in ws.active.iter().enumerate() {
-            let (w_n, w_t) = (&mut ws.w_n[a * f..(a + 1) * f], &mut ws.w_t[a * f..(a + 1) * f]);
-            let point = mech.contact(i, &ws.q_m, t_m, w_n, w_t);
+            let (w_n, w_t) = (&ws.w_n[a * f..(a + 1) * f], &ws.w_t[a * f..(a + 1) * f]);
+            let point = ws.points[a];
             if let Some(index) = w_n.iter().chain(w_t.iter()).position(|x| !x.is_finite()) {
                 return Err(LcpFailure::NonFinite { what: "w_N/w_T", index });
             }
@@ -713,7 +726,6 @@ impl<M: Mechanism> Stepper<M> {
                 ws.frictional.push(a);
             }
         }
-        let na = ws.active.len();
         let nf = ws.frictional.len();
         let s = na + 2 * nf;
 
