@@ -204,8 +204,8 @@ struct Workspace {
     lcp_info: Option<LcpInfo>,
     /// Steps whose LCP needed a solver, since the stepper was made.
     lcp_solves: u64,
-    /// Whether some contact report holds an active contact (to be cleared next step).
-    reports_dirty: bool,
+    /// The contacts whose reports hold an active contact (to be cleared next step).
+    reported: Vec<usize>,
     /// Buffers of the optional position projection.
     proj_active: Vec<usize>,
     proj_w: Vec<f64>,
@@ -341,7 +341,7 @@ impl<M: Mechanism> Stepper<M> {
             lcp_size: 0,
             lcp_info: None,
             lcp_solves: 0,
-            reports_dirty: false,
+            reported: Vec::with_capacity(n),
             proj_active: Vec::with_capacity(n),
             proj_w: vec![0.0; f * n],
             proj_x: vec![0.0; f * n],
@@ -502,7 +502,7 @@ impl<M: Mechanism> Stepper<M> {
 
         // Steps without contacts, closed now or in the step before, skip what follows out of
         // line.
-        let contacts = !ws.active.is_empty() || ws.reports_dirty;
+        let contacts = !(ws.active.is_empty() && ws.reported.is_empty());
         if contacts {
             self.solve_contacts::<N>(t_m)?;
         } else {
@@ -551,14 +551,14 @@ impl<M: Mechanism> Stepper<M> {
     #[inline(never)]
     fn solve_contacts<const N: usize>(&mut self, t_m: f64) -> Result<(), StepError> {
         let ws = &mut self.ws;
-        if ws.reports_dirty {
-            self.contacts.fill(ContactReport::default());
-            ws.reports_dirty = false;
+        for &i in &ws.reported {
+            self.contacts[i] = ContactReport::default();
         }
+        ws.reported.clear();
         ws.lcp_size = 0;
         ws.lcp_info = None;
         if !ws.active.is_empty() {
-            check_finite("h", &ws.h, t_m)?;
+            check_finite("h", &ws.h[..order::<N>(ws.h.len())], t_m)?;
             let (size, solved) = Self::contact_step::<N>(
                 &self.mechanism,
                 &self.options,
@@ -603,7 +603,7 @@ impl<M: Mechanism> Stepper<M> {
                 ContactState::Slip
             };
             self.contacts[i] = ContactReport { active: true, p_n, p_t, gamma_n, gamma_t, state };
-            ws.reports_dirty = true;
+            ws.reported.push(i);
         }
         for (i, c) in self.contacts.iter().enumerate() {
             if !c.active {
