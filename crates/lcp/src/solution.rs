@@ -245,6 +245,7 @@ impl Residual {
     /// M_ij`), without building an [`LcpRef`]: for callers that assemble small problems in
     /// their own buffers and solve some of them without a solver (a time-stepper's one-contact
     /// problems). Entries that are not finite give [`Residual::INFINITE`].
+    #[inline]
     pub fn compute_column_major(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &[f64]) -> Residual {
         if m.len() != n * n || q.len() != n {
             return Residual::INFINITE;

@@ -149,6 +149,25 @@ pub struct SliderCrank {
     /// Which corner (0..4 for corners 1..4) each listed contact is.
     corners: Vec<usize>,
     laws: Vec<ContactLaw>,
+    /// Per listed contact: the corner's body coordinates and whether it faces the upper
+    /// surface.
+    local: Vec<([f64; 2], bool)>,
+    /// Combinations of the parameters that every step uses.
+    k: Constants,
+}
+
+/// The parameter combinations of M, h and the gaps (EQUATIONS.md 7.3).
+#[derive(Clone, Debug)]
+struct Constants {
+    /// M11 and M22 (constant) and the factor of cos(θ2 − θ1) in M12.
+    m11: f64,
+    m22: f64,
+    m12: f64,
+    /// The gravity terms of h1 and h2 without cos θ1, cos θ2.
+    g1: f64,
+    g2: f64,
+    /// Half the guide's width.
+    half: f64,
 }
 
 /// Corner k (0-based) in the slider's frame, and whether it faces the upper surface.
@@ -210,7 +229,16 @@ impl SliderCrank {
         let corners: Vec<usize> =
             (0..4).filter(|&k| if k < 2 { p.upper_surface } else { p.lower_surface }).collect();
         let laws = vec![law; corners.len()];
-        Ok(Self { params, corners, laws })
+        let local = corners.iter().map(|&k| corner_local(p.a, p.b, k)).collect();
+        let k = Constants {
+            m11: p.j1 + (0.25 * p.m1 + p.m2 + p.m3) * p.l1 * p.l1,
+            m22: p.j2 + (0.25 * p.m2 + p.m3) * p.l2 * p.l2,
+            m12: (0.5 * p.m2 + p.m3) * p.l1 * p.l2,
+            g1: (0.5 * p.m1 + p.m2 + p.m3) * p.g * p.l1,
+            g2: (0.5 * p.m2 + p.m3) * p.g * p.l2,
+            half: 0.5 * p.guide_width(),
+        };
+        Ok(Self { params, corners, laws, local, k })
     }
 
     /// The parameters.
@@ -271,44 +299,41 @@ impl SliderCrank {
         [(x3 - p.l2) / p.l1, y3 / (0.5 * p.c)]
     }
 
-    fn full_gap(&self, k: usize, q: &[f64]) -> f64 {
+    fn full_gap(&self, i: usize, q: &[f64]) -> f64 {
         let y3 = self.params.l1 * q[0].sin() + self.params.l2 * q[1].sin();
         let (s3, c3) = q[2].sin_cos();
-        self.gap_at(k, y3, s3, c3)
+        self.gap_at(i, y3, s3, c3)
     }
 
     /// M with cos(θ2 − θ1) given (EQUATIONS.md 7.3).
     fn mass_at(&self, cos21: f64, m: &mut [f64]) {
-        let p = &self.params;
-        let m11 = p.j1 + (0.25 * p.m1 + p.m2 + p.m3) * p.l1 * p.l1;
-        let m12 = (0.5 * p.m2 + p.m3) * p.l1 * p.l2 * cos21;
-        let m22 = p.j2 + (0.25 * p.m2 + p.m3) * p.l2 * p.l2;
-        m[..9].copy_from_slice(&[m11, m12, 0.0, m12, m22, 0.0, 0.0, 0.0, p.j3]);
+        let k = &self.k;
+        let m12 = k.m12 * cos21;
+        m[..9].copy_from_slice(&[k.m11, m12, 0.0, m12, k.m22, 0.0, 0.0, 0.0, self.params.j3]);
     }
 
     /// h with sin(θ2 − θ1), cos θ1 and cos θ2 given (EQUATIONS.md 7.3).
     fn forces_at(&self, sin21: f64, c1: f64, c2: f64, u: &[f64], h: &mut [f64]) {
-        let p = &self.params;
-        let a = (0.5 * p.m2 + p.m3) * p.l1 * p.l2 * sin21;
-        h[0] = a * u[1] * u[1] - (0.5 * p.m1 + p.m2 + p.m3) * p.g * p.l1 * c1;
-        h[1] = -a * u[0] * u[0] - (0.5 * p.m2 + p.m3) * p.g * p.l2 * c2;
+        let k = &self.k;
+        let a = k.m12 * sin21;
+        h[0] = a * u[1] * u[1] - k.g1 * c1;
+        h[1] = -a * u[0] * u[0] - k.g2 * c2;
         h[2] = 0.0;
     }
 
     /// g_N of every modelled corner, in contact order, from y3 and (sin θ3, cos θ3).
     fn gaps_at(&self, y3: f64, s3: f64, c3: f64, g: &mut [f64]) {
-        for (gi, &k) in g.iter_mut().zip(&self.corners) {
-            *gi = self.gap_at(k, y3, s3, c3);
+        for (i, gi) in g.iter_mut().enumerate().take(self.local.len()) {
+            *gi = self.gap_at(i, y3, s3, c3);
         }
     }
 
-    /// g_N of corner `k` from the slider centre's height y3 and (sin θ3, cos θ3).
+    /// g_N of the listed contact i from the slider centre's height y3 and (sin θ3, cos θ3).
     #[inline]
-    fn gap_at(&self, k: usize, y3: f64, s3: f64, c3: f64) -> f64 {
-        let ([sx, sy], upper) = corner_local(self.params.a, self.params.b, k);
+    fn gap_at(&self, i: usize, y3: f64, s3: f64, c3: f64) -> f64 {
+        let ([sx, sy], upper) = self.local[i];
         let y = y3 + sx * s3 + sy * c3;
-        let half = 0.5 * self.params.guide_width();
-        if upper { half - y } else { half + y }
+        if upper { self.k.half - y } else { self.k.half + y }
     }
 
     /// Locations of the listed contacts' corners at `q`.
@@ -355,7 +380,7 @@ impl ContactKinematics for SliderCrank {
         self.corners.len()
     }
     fn normal_gap(&self, i: usize, q: &[f64], _t: f64) -> f64 {
-        self.full_gap(self.corners[i], q)
+        self.full_gap(i, q)
     }
     fn normal_gaps(&self, q: &[f64], _t: f64, g: &mut [f64]) {
         // The corners share the slider's height and angle: three sines for all of them.
@@ -371,7 +396,7 @@ impl ContactKinematics for SliderCrank {
         w_n: &mut [f64],
         w_t: &mut [f64],
     ) -> ContactPoint {
-        self.corner_at(self.corners[i], &Angles::new(q), w_n, w_t)
+        self.corner_at(i, &Angles::new(q), w_n, w_t)
     }
     fn contacts(
         &self,
@@ -386,7 +411,7 @@ impl ContactKinematics for SliderCrank {
         let angles = Angles::new(q);
         for (k, &i) in which.iter().enumerate() {
             let (w_n, w_t) = (&mut w_n[3 * k..3 * k + 3], &mut w_t[3 * k..3 * k + 3]);
-            points[k] = self.corner_at(self.corners[i], &angles, w_n, w_t);
+            points[k] = self.corner_at(i, &angles, w_n, w_t);
         }
     }
 }
@@ -407,16 +432,16 @@ impl Angles {
 }
 
 impl SliderCrank {
-    /// The kinematics of corner k (0 to 3) from the angles' sines and cosines.
+    /// The kinematics of the listed contact i from the angles' sines and cosines.
     fn corner_at(
         &self,
-        k: usize,
+        i: usize,
         angles: &Angles,
         w_n: &mut [f64],
         w_t: &mut [f64],
     ) -> ContactPoint {
         let p = &self.params;
-        let ([sx, sy], upper) = corner_local(p.a, p.b, k);
+        let ([sx, sy], upper) = self.local[i];
         let ([s1, s2, s3], [c1, c2, c3]) = (angles.s, angles.c);
         // The corner's world position (x, y) and its gradients with respect to q.
         let dy = [p.l1 * c1, p.l2 * c2, sx * c3 - sy * s3];
@@ -427,7 +452,7 @@ impl SliderCrank {
             w_t[j] = dx[j];
         }
         let x = p.l1 * c1 + p.l2 * c2 + sx * c3 - sy * s3;
-        let g_n = self.gap_at(k, p.l1 * s1 + p.l2 * s2, s3, c3);
+        let g_n = self.gap_at(i, p.l1 * s1 + p.l2 * s2, s3, c3);
         ContactPoint { g_n, g_t: x, w_n_hat: 0.0, w_t_hat: 0.0 }
     }
 }

@@ -1136,12 +1136,14 @@ fn one_contact_closed_form(
         }
         _ => return None,
     }
+    // Only the three-row case gets here: its size as a constant unrolls the loops.
+    const S: usize = 3;
     let w = &mut out.w;
     w.clear();
-    for r in 0..s {
-        w.push(b[r] + (0..s).map(|c| A[r + c * s] * z[c]).sum::<f64>());
+    for r in 0..S {
+        w.push(b[r] + (0..S).map(|c| A[r + c * S] * z[c]).sum::<f64>());
     }
-    let residual = moreau_lcp::Residual::compute_column_major(s, A, b, z, w);
+    let residual = moreau_lcp::Residual::compute_column_major(S, A, b, z, w);
     (residual.relative <= CLOSED_FORM_TOLERANCE).then(|| LcpInfo {
         method: Method::ClosedForm,
         status: Status::Solved,
