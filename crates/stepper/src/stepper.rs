@@ -585,16 +585,17 @@ impl<M: Mechanism> Stepper<M> {
         let f = order::<N>(self.q.len());
         let ws = &mut self.ws;
         let laws = self.mechanism.laws();
+        let u = &self.u[..f];
         for (a, &i) in ws.active.iter().enumerate() {
             let w_n = &ws.w_n[a * f..(a + 1) * f];
             let w_t = &ws.w_t[a * f..(a + 1) * f];
-            let gamma_n = dot(w_n, &self.u) + ws.w_n_hat[a];
-            let gamma_t = dot(w_t, &self.u) + ws.w_t_hat[a];
+            let gamma_n = dot(w_n, u) + ws.w_n_hat[a];
+            let gamma_t = dot(w_t, u) + ws.w_t_hat[a];
             let [p_n, p_r, _] = ws.prev[i];
             let mu = laws[i].mu();
             // P_T = P_R − μ P_N (section 5); P_R is zero for a contact without friction rows.
             let p_t = p_r - mu * p_n;
-            let scale: f64 = w_t.iter().zip(&self.u).map(|(w, u)| (w * u).abs()).sum();
+            let scale: f64 = w_t.iter().zip(u).map(|(w, u)| (w * u).abs()).sum();
             let state = if p_n <= 0.0 {
                 ContactState::Open
             } else if gamma_t.abs() <= 1e-9 * (1.0 + scale) {
@@ -694,6 +695,7 @@ impl<M: Mechanism> Stepper<M> {
         t_m: f64,
     ) -> Result<(usize, LcpInfo), LcpFailure> {
         let f = order::<N>(u_a.len());
+        let u_a = &u_a[..f];
         let laws = mech.laws();
         if let [i] = ws.active[..]
             && !(laws[i].is_frictional() || options.friction_rows_when_frictionless)
@@ -734,13 +736,13 @@ impl<M: Mechanism> Stepper<M> {
         for a in 0..na {
             let law = laws[ws.active[a]];
             let w_n = &ws.w_n[a * f..(a + 1) * f];
-            ws.b[a] = dot(w_n, &ws.u_free) + ws.w_n_hat[a] + law.eps_n() * ws.gamma_na[a];
+            ws.b[a] = dot(w_n, &ws.u_free[..f]) + ws.w_n_hat[a] + law.eps_n() * ws.gamma_na[a];
             all_separating &= ws.b[a] >= 0.0;
         }
         for (k, &a) in ws.frictional.iter().enumerate() {
             let law = laws[ws.active[a]];
             let w_t = &ws.w_t[a * f..(a + 1) * f];
-            ws.b[na + k] = dot(w_t, &ws.u_free) + ws.w_t_hat[a] + law.eps_t() * ws.gamma_ta[a];
+            ws.b[na + k] = dot(w_t, &ws.u_free[..f]) + ws.w_t_hat[a] + law.eps_t() * ws.gamma_ta[a];
             ws.b[na + nf + k] = 0.0;
         }
 
@@ -896,6 +898,7 @@ impl<M: Mechanism> Stepper<M> {
         i: usize,
     ) -> Result<Option<(usize, LcpInfo)>, LcpFailure> {
         let f = order::<N>(u_a.len());
+        let u_a = &u_a[..f];
         let (w_n, w_t) = (&mut ws.w_n[..f], &mut ws.w_t[..f]);
         let point = mech.contact(i, &ws.q_m, t_m, w_n, w_t);
         let mut poison = 0.0;
