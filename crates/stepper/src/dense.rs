@@ -62,9 +62,11 @@ impl Cholesky {
         Self { n, l: vec![0.0; n * n], inverse, l_inv, buffer }
     }
 
-    /// Factorises the column-major matrix `m` (order n), checking symmetry first.
-    pub(crate) fn factor(&mut self, m: &[f64]) -> Result<(), FactorError> {
-        let n = self.n;
+    /// Factorises the column-major matrix `m` (order n), checking symmetry first; `N` as in
+    /// [`Self::solve_scaled_add`].
+    pub(crate) fn factor<const N: usize>(&mut self, m: &[f64]) -> Result<(), FactorError> {
+        let n = order::<N>(self.n);
+        let m = &m[..n * n];
         for j in 0..n {
             for i in (j + 1)..n {
                 let (a, b) = (m[i + j * n], m[j + i * n]);
@@ -73,9 +75,10 @@ impl Cholesky {
                 }
             }
         }
-        self.l.copy_from_slice(m);
+        self.l[..n * n].copy_from_slice(m);
         match self.buffer.as_mut() {
             // Constant loop bounds for the orders of the common small mechanisms.
+            None if N > 0 => self.factor_and_invert::<N>(),
             None if n == 2 => self.factor_and_invert::<2>(),
             None if n == 3 => self.factor_and_invert::<3>(),
             None if n == 4 => self.factor_and_invert::<4>(),
@@ -328,7 +331,7 @@ mod tests {
             let mut b: Vec<f64> =
                 (0..n).map(|i| (0..n).map(|j| a[i + j * n] * x_true[j]).sum()).collect();
             let mut c = Cholesky::new(n);
-            c.factor(&a).unwrap();
+            c.factor::<0>(&a).unwrap();
             c.solve(&mut b);
             for i in 0..n {
                 assert!((b[i] - x_true[i]).abs() < 1e-12, "n = {n}, i = {i}");
@@ -340,16 +343,19 @@ mod tests {
     fn indefinite_and_asymmetric_matrices_are_rejected() {
         let mut c = Cholesky::new(2);
         assert!(matches!(
-            c.factor(&[1.0, 2.0, 2.0, 1.0]),
+            c.factor::<0>(&[1.0, 2.0, 2.0, 1.0]),
             Err(FactorError::NotPositive { index: 1 })
         ));
-        assert!(matches!(c.factor(&[1.0, 0.5, 0.0, 1.0]), Err(FactorError::Asymmetric { .. })));
+        assert!(matches!(
+            c.factor::<0>(&[1.0, 0.5, 0.0, 1.0]),
+            Err(FactorError::Asymmetric { .. })
+        ));
         // Every path (fixed orders 2 to 4, the plain loop, faer) names the failing column.
         for n in [3, 4, 5, INVERSE_LIMIT + 1] {
             let mut a = spd(n);
             a[(n - 1) + (n - 1) * n] = -1e6;
             assert!(
-                matches!(Cholesky::new(n).factor(&a), Err(FactorError::NotPositive { index }) if index == n - 1),
+                matches!(Cholesky::new(n).factor::<0>(&a), Err(FactorError::NotPositive { index }) if index == n - 1),
                 "n = {n}"
             );
         }
@@ -357,6 +363,8 @@ mod tests {
         let mut a = spd(n);
         a[(n - 1) + (n - 1) * n] = -1e6;
         let mut c = Cholesky::new(n);
-        assert!(matches!(c.factor(&a), Err(FactorError::NotPositive { index }) if index == n - 1));
+        assert!(
+            matches!(c.factor::<0>(&a), Err(FactorError::NotPositive { index }) if index == n - 1)
+        );
     }
 }

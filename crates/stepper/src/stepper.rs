@@ -473,12 +473,12 @@ impl<M: Mechanism> Stepper<M> {
             *q_m = q + half * u;
         }
         let new_mass = !(ws.factored && mech.constant_mass_matrix());
-        let mass = new_mass.then_some(&mut ws.mass[..]);
-        mech.evaluate(&ws.q_m, &self.u, t_m, mass, &mut ws.h, &mut ws.gaps);
+        let mass = new_mass.then_some(&mut ws.mass[..f * f]);
+        mech.evaluate(&ws.q_m[..f], &self.u[..f], t_m, mass, &mut ws.h[..f], &mut ws.gaps);
         if new_mass {
-            check_finite("M", &ws.mass, t_m)?;
+            check_finite("M", &ws.mass[..f * f], t_m)?;
             ws.chol
-                .factor(&ws.mass)
+                .factor::<N>(&ws.mass)
                 .map_err(|e| StepError::MassNotSpd { t: t_m, reason: e.to_string() })?;
             ws.factored = true;
         }
