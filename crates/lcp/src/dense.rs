@@ -305,6 +305,7 @@ pub(crate) fn refine(
 /// A power of two within a factor 2 of `1 / x` (x > 0, finite): `2^-e` for the binary
 /// exponent e of x, read from its bits, with e clamped to [-1000, 1000]. Scaling by it is
 /// exact.
+#[inline]
 pub(crate) fn pow2_inverse(x: f64) -> f64 {
     let e = ((x.to_bits() >> 52) & 0x7ff) as i64 - 1023;
     let e = e.clamp(-1000, 1000);

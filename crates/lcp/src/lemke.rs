@@ -5,11 +5,16 @@ use serde::{Deserialize, Serialize};
 
 use crate::dense::{Lu, TINY_MAX, pow2_inverse, refine, solve_tiny};
 use crate::solution::{
-    check_warm_start, finish_col_major_sparse, finish_row_major, finish_row_major_sparse,
+    Chunk, check_warm_start, finish_row_major, finish_row_major_sparse, hmax, residual_chunks,
+    residual_of_zero,
 };
 use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 
 const NONE: usize = usize::MAX;
+
+/// Basic values of the final tableau at or below this fraction of `‖z‖∞` are retried as
+/// zero when the tableau's z fails the residual test (about 45 units of round-off).
+const ROUND_OFF_ZERO: f64 = 1e-14;
 
 /// Above this relative residual the re-solved basis gets a step of iterative refinement.
 const REFINE_ABOVE: f64 = 1e-14;
@@ -115,16 +120,21 @@ impl LemkeOptions {
 ///
 /// **Accuracy.** After a complementary basis is reached, the tableau's basic values are
 /// taken as z (α = basic z), w is recomputed as `M z + q`, and the result is accepted
-/// (`Status::Solved`) only when [`Residual::relative`] `<= tolerance`. Otherwise the
-/// basic part is re-solved directly, `M_αα z_α = -q_α` with an LU factorisation and one
-/// step of iterative refinement, and checked the same way; failing both, the better
-/// candidate is returned with [`Status::NumericalFailure`].
+/// (`Status::Solved`) only when [`Residual::relative`] `<= tolerance`. Otherwise the same
+/// basis is tried with basic values at or below 1e-14 ‖z‖∞ taken as zero (round-off in a
+/// degenerate basic variable), and failing that the basic part is re-solved directly,
+/// `M_αα z_α = -q_α` with an LU factorisation and one step of iterative refinement, and
+/// checked the same way; failing all, the best candidate is returned with
+/// [`Status::NumericalFailure`].
 ///
 /// **Cost.** A condensed n x (n + 2) tableau (rows: basic variables, columns: the n + 1
-/// non-basic variables and q̄; each row padded to a multiple of four entries) is pivoted
-/// by plain loops over a preallocated buffer: about n (n + 2) multiply-adds per pivot.
-/// Accepting the tableau's own z costs one product with the basic columns of M; the LU
-/// re-solve runs only when that z fails the residual test. Warm starts are checked and ignored.
+/// non-basic variables and q̄), stored column by column with each column padded to a
+/// multiple of four rows, is pivoted by plain loops over a preallocated buffer: about
+/// n (n + 2) multiply-adds per pivot, four rows per operation. The set-up, pivots and
+/// residual also have a copy compiled for AVX2, chosen at run time when the processor has
+/// it; both copies give the same results bit for bit (no FMA, the same order of
+/// operations). Accepting the tableau's own z costs one product with M; the LU re-solve
+/// runs only when that z fails the residual test. Warm starts are checked and ignored.
 ///
 /// **Secondary ray.** For copositive-plus M (for example positive semidefinite) a
 /// secondary ray proves that the LCP has no solution (Cottle, Pang & Stone 1992,
@@ -146,28 +156,33 @@ struct Workspace {
     n: usize,
     /// The n the buffers were last sized for.
     prepared: Option<usize>,
-    /// Row length of the tableau: n + 2 rounded up to a multiple of [`LANES`] (the padding
-    /// columns stay zero).
-    width: usize,
+    /// Column height of the tableau: n rounded up to a multiple of [`LANES`] (the padding
+    /// rows stay zero).
+    h: usize,
+    /// Chunks per column, `h / LANES`.
+    nb: usize,
+    /// Whether the AVX2 copy of the kernels runs (detected on the first solve).
+    avx: bool,
     row_scaled: bool,
-    /// M column-major, as the pivoting path reads it (tableau set-up, residual).
-    m_cols: Vec<f64>,
+    /// M column-major and unscaled, each column padded to h rows: the residual reads it.
+    m_cols: Vec<Chunk>,
     /// M row-major, filled only for the LU paths (warm basis, re-solve fallback).
     m_rows: Vec<f64>,
-    /// Per row: the largest |M_ij| while setting up, then the power-of-two row scale.
-    rscale: Vec<f64>,
-    /// Scratch of the residual: the row sums `Σ_j |M_ij z_j|`.
-    abs: Vec<f64>,
+    /// q padded to h rows.
+    q_pad: Vec<Chunk>,
+    /// Three columns of scratch for the kernels of run-time height (n > 32).
+    scratch: Vec<Chunk>,
+    /// The row mask of a pivot, for the kernels of run-time height.
+    keep: Vec<[u64; LANES]>,
     q: Vec<f64>,
     d: Vec<f64>,
-    tab: Vec<f64>,
+    /// The condensed tableau, column-major: n + 2 columns of h rows.
+    tab: Vec<Chunk>,
     basic: Vec<usize>,
     nonbasic: Vec<usize>,
     row_of: Vec<usize>,
     col_of: Vec<usize>,
     ties: Vec<usize>,
-    acol: Vec<f64>,
-    cval: Vec<f64>,
     alpha: Vec<usize>,
     rhs: Vec<f64>,
     z_alt: Vec<f64>,
@@ -241,30 +256,31 @@ impl Lemke {
                 });
             }
         }
-        out.reset(n, Method::Lemke);
+        out.prepare(n, Method::Lemke);
         let ws = &mut self.ws;
         ws.prepare(n);
         lcp.copy_q(&mut ws.q);
         ws.row_scaled = row_scaled;
         match d {
             Some(d) => ws.d.copy_from_slice(d),
+            None if row_scaled => {}
             None => ws.d.fill(1.0),
         }
         if ws.q.iter().all(|&v| v >= 0.0) {
-            lcp.copy_m_row_major(&mut ws.m_rows);
-            out.residual = finish_row_major(&ws.m_rows, n, &ws.q, &out.z, &mut out.w);
+            out.z.fill(0.0);
+            out.w.copy_from_slice(&ws.q);
+            out.residual = residual_of_zero(&ws.q);
             out.status = status_for(out.residual, self.options.tolerance, Status::NumericalFailure);
             return Ok(());
         }
-        ws.init_tableau(lcp);
-        let (end, pivots) = ws.pivot_loop(&self.options);
+        // Set-up, pivots, and the tableau's own basic values as z: accepted when their
+        // residual passes, which costs one product M z.
+        let (end, pivots) = ws.run(lcp, &self.options, out);
         out.iterations = pivots;
         let tol = self.options.tolerance;
         match end {
             End::Complementary => {
-                // The tableau's own basic values first: accepted when their residual
-                // passes, which costs one product M z (n^2 multiply-adds).
-                ws.tableau_candidate(out, tol, Status::NumericalFailure);
+                out.status = status_for(out.residual, tol, Status::NumericalFailure);
                 if out.status == Status::Solved {
                     return Ok(());
                 }
@@ -284,8 +300,8 @@ impl Lemke {
                 }
                 out.status = Status::NumericalFailure;
             }
-            End::Ray => ws.tableau_candidate(out, tol, Status::RayTermination),
-            End::Limit => ws.tableau_candidate(out, tol, Status::IterationLimit),
+            End::Ray => out.status = status_for(out.residual, tol, Status::RayTermination),
+            End::Limit => out.status = status_for(out.residual, tol, Status::IterationLimit),
         }
         Ok(())
     }
@@ -340,33 +356,65 @@ impl Lemke {
     }
 }
 
-/// Tableau rows are padded to a multiple of this many entries, so that the row update
-/// runs in whole blocks with no remainder loop.
+/// Tableau columns are padded to a multiple of this many rows (one [`Chunk`]), so that the
+/// kernels run in whole chunks with no remainder loop; the padding rows stay zero.
 const LANES: usize = 4;
 
-/// n + 2 (n + 1 non-basic columns and q̄) rounded up to a multiple of [`LANES`].
+/// Column heights up to this (n <= 32) get kernels of fixed size (const generics), which
+/// the compiler unrolls and whose accumulators it keeps in registers.
+const FIXED_MAX: usize = 32;
+
+/// Chunks per column at [`FIXED_MAX`]: the size of the kernels' local arrays.
+const MAX_CHUNKS: usize = FIXED_MAX / LANES;
+
+/// n rounded up to a multiple of [`LANES`].
 #[inline]
-fn padded_width(n: usize) -> usize {
-    (n + 2).div_ceil(LANES) * LANES
+fn padded_height(n: usize) -> usize {
+    n.div_ceil(LANES) * LANES
 }
 
-/// `y += f x` for rows of equal length, a multiple of [`LANES`] (blocks of four the
-/// compiler turns into packed multiply-adds).
-#[inline]
-fn axpy(f: f64, x: &[f64], y: &mut [f64]) {
-    let len = y.len().min(x.len());
-    let (x, y) = (&x[..len], &mut y[..len]);
-    for j in 0..len {
-        y[j] += f * x[j];
+/// Whether this processor runs AVX and AVX2 instructions (the wider copy of the kernels).
+fn avx2_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx") && std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// Chunk b of `src`, zero past its end.
+#[inline(always)]
+fn load_chunk(src: &[f64], b: usize) -> Chunk {
+    let i = b * LANES;
+    match src.get(i..i + LANES) {
+        Some(c) => [c[0], c[1], c[2], c[3]],
+        None => {
+            let mut c = [0.0; LANES];
+            for (l, v) in c.iter_mut().enumerate() {
+                if let Some(&x) = src.get(i + l) {
+                    *v = x;
+                }
+            }
+            c
+        }
     }
 }
 
 /// `max(a, b)` as one compare (`maxsd`); a NaN in `b` is ignored, unlike `f64::max` it
 /// is not special-cased. Used on magnitudes of finite data and tableau entries, where a
 /// NaN can only come from a failed pivot sequence, which the residual check rejects.
-#[inline]
+#[inline(always)]
 fn fmax(a: f64, b: f64) -> f64 {
     if b > a { b } else { a }
+}
+
+/// `min(a, b)` as one compare (`minsd`), NaN in `b` ignored.
+#[inline(always)]
+fn fmin(a: f64, b: f64) -> f64 {
+    if b < a { b } else { a }
 }
 
 /// `max(x, 0)`, with NaN mapped to 0.
@@ -379,29 +427,433 @@ fn status_for(r: Residual, tol: f64, otherwise: Status) -> Status {
     if r.relative <= tol { Status::Solved } else { otherwise }
 }
 
+/// Calls `$ws.$f::<H, AVX>(...)` with H the workspace's column height when it has a
+/// kernel of fixed size, H = 0 (run-time height) otherwise.
+macro_rules! by_height {
+    ($ws:ident . $f:ident :: <$avx:literal> ( $($a:expr),* )) => {
+        match $ws.h {
+            4 => $ws.$f::<4, $avx>($($a),*),
+            8 => $ws.$f::<8, $avx>($($a),*),
+            12 => $ws.$f::<12, $avx>($($a),*),
+            16 => $ws.$f::<16, $avx>($($a),*),
+            20 => $ws.$f::<20, $avx>($($a),*),
+            24 => $ws.$f::<24, $avx>($($a),*),
+            28 => $ws.$f::<28, $avx>($($a),*),
+            32 => $ws.$f::<32, $avx>($($a),*),
+            _ => $ws.$f::<0, $avx>($($a),*),
+        }
+    };
+}
+
+/// How the ratio test's first pass ended.
+enum Ratio {
+    /// One row attains the minimum ratio and no other ties with it.
+    Row(usize),
+    /// Two or more rows tie within the tolerance: the lexicographic rule decides.
+    Tied { ptol: f64, theta: f64, eps: f64 },
+    /// No finite ratio (no blocking row, or ratios beyond the range of f64).
+    NoFinite,
+}
+
+/// Rows with a set bit among the four bits of `m`.
+const POP4: [u8; 16] = [0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4];
+
+/// The first pass of the ratio test on the entering column `a` (times `sign`) and q̄ `c`
+/// (chunks of four rows, padding rows zero): `ptol = pivot_rel · max |a_i|`, θ = the
+/// smallest `c_i / a_i` over `a_i > ptol`, the first row attaining it, and the count of
+/// rows with `a_i > ptol` and `c_i − θ a_i <= eps`, `eps = tie_rel · max(max |c_i|, MIN_POSITIVE)`.
+///
+/// Maxima and minima are taken lane by lane (lane = row mod 4) and then over the lanes in
+/// the order of [`hmax`]-like trees that [`avx::ratio`] follows too, with the same
+/// comparisons, so both give the same result bit for bit.
+#[inline(always)]
+fn ratio_portable(a: &[Chunk], c: &[Chunk], sign: f64, pivot_rel: f64, tie_rel: f64) -> Ratio {
+    let c = &c[..a.len()];
+    let mut amax = [0.0f64; LANES];
+    let mut cmax = [0.0f64; LANES];
+    for (ac, cc) in a.iter().zip(c) {
+        for l in 0..LANES {
+            amax[l] = fmax(amax[l], ac[l].abs());
+            cmax[l] = fmax(cmax[l], cc[l].abs());
+        }
+    }
+    let ptol = pivot_rel * hmax(amax);
+    let mut rmin = [f64::INFINITY; LANES];
+    for (ac, cc) in a.iter().zip(c) {
+        for l in 0..LANES {
+            let ai = sign * ac[l];
+            let ratio = if ai > ptol { cc[l] / ai } else { f64::INFINITY };
+            rmin[l] = fmin(rmin[l], ratio);
+        }
+    }
+    let theta = hmin(rmin);
+    if !(theta < f64::INFINITY) {
+        return Ratio::NoFinite;
+    }
+    let eps = tie_rel * fmax(hmax(cmax), f64::MIN_POSITIVE);
+    let mut first = NONE;
+    let mut count = 0usize;
+    for (b, (ac, cc)) in a.iter().zip(c).enumerate() {
+        for l in 0..LANES {
+            let ai = sign * ac[l];
+            let valid = ai > ptol;
+            if first == NONE && valid && cc[l] / ai == theta {
+                first = b * LANES + l;
+            }
+            count += usize::from(valid && cc[l] - theta * ai <= eps);
+        }
+    }
+    if count <= 1 { Ratio::Row(first) } else { Ratio::Tied { ptol, theta, eps } }
+}
+
+/// `min` over the four lanes of a chunk in the tree `min(min(a0, a2), min(a1, a3))`, by
+/// [`fmin`].
+#[inline(always)]
+fn hmin(a: Chunk) -> f64 {
+    fmin(fmin(a[0], a[2]), fmin(a[1], a[3]))
+}
+
+/// The AVX copies of kernels that the compiler does not vectorise well by itself.
+#[cfg(target_arch = "x86_64")]
+mod avx {
+    #![allow(unsafe_code)]
+
+    use std::arch::x86_64::*;
+
+    use super::{LANES, NONE, POP4, Ratio};
+    use crate::solution::Chunk;
+
+    /// Loads a chunk.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn load(c: &Chunk) -> __m256d {
+        // SAFETY: `c` refers to four consecutive initialised f64 (32 bytes); the load is
+        // unaligned, so it has no alignment requirement.
+        unsafe { _mm256_loadu_pd(c.as_ptr()) }
+    }
+
+    /// `max` over the lanes: `max(max(a0, a2), max(a1, a3))`, each `max(x, y)` = `y > x ?
+    /// y : x` as in the portable `fmax(x, y)` (`_mm_max_pd(y, x)` returns its second
+    /// operand unless the first is greater).
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn hmax(v: __m256d) -> f64 {
+        let lo = _mm256_castpd256_pd128(v);
+        let hi = _mm256_extractf128_pd::<1>(v);
+        let t = _mm_max_pd(hi, lo);
+        let t1 = _mm_unpackhi_pd(t, t);
+        _mm_cvtsd_f64(_mm_max_sd(t1, t))
+    }
+
+    /// `min` over the lanes, as [`super::hmin`].
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn hmin(v: __m256d) -> f64 {
+        let lo = _mm256_castpd256_pd128(v);
+        let hi = _mm256_extractf128_pd::<1>(v);
+        let t = _mm_min_pd(hi, lo);
+        let t1 = _mm_unpackhi_pd(t, t);
+        _mm_cvtsd_f64(_mm_min_sd(t1, t))
+    }
+
+    /// Stores a chunk.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn store(c: &mut Chunk, v: __m256d) {
+        // SAFETY: `c` refers to four consecutive f64 (32 writable bytes); the store is
+        // unaligned, so it has no alignment requirement.
+        unsafe { _mm256_storeu_pd(c.as_mut_ptr(), v) }
+    }
+
+    /// Chunk b of `src` (zero past its end), as [`super::load_chunk`].
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn load_part(src: &[f64], b: usize) -> __m256d {
+        match src.get(b * LANES..b * LANES + LANES) {
+            // SAFETY: the subslice holds four initialised f64; the load is unaligned.
+            Some(c) => unsafe { _mm256_loadu_pd(c.as_ptr()) },
+            None => load(&super::load_chunk(src, b)),
+        }
+    }
+
+    /// Per lane `x > 0 ? pow2_inverse(x) : 1` (see `dense::pow2_inverse`): `2^(1023 - E)`
+    /// for the biased exponent E of x clamped to [23, 2023], built in the exponent bits.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn row_scale(x: __m256d) -> __m256d {
+        let e = _mm256_and_si256(
+            _mm256_srli_epi64::<52>(_mm256_castpd_si256(x)),
+            _mm256_set1_epi64x(0x7ff),
+        );
+        // The exponents fit in the low 32 bits of each lane (high halves zero), so the
+        // 32-bit clamps act on them alone.
+        let e =
+            _mm256_min_epi32(_mm256_max_epi32(e, _mm256_set1_epi64x(23)), _mm256_set1_epi64x(2023));
+        let r = _mm256_castsi256_pd(_mm256_slli_epi64::<52>(_mm256_sub_epi64(
+            _mm256_set1_epi64x(2046),
+            e,
+        )));
+        let positive = _mm256_cmp_pd::<_CMP_GT_OQ>(x, _mm256_setzero_pd());
+        _mm256_blendv_pd(_mm256_set1_pd(1.0), r, positive)
+    }
+
+    /// `Workspace::init_tableau`'s column work for heights `H` of a fixed kernel (column
+    /// j of M in `col(j)`, length n): the padded copy into `m_cols`, the row scales from
+    /// the row maxima, the scaled columns, d (or ones) and q into the tableau, q into
+    /// `q_pad`; the same values as the portable loops.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    pub(super) fn init_columns<'a, const H: usize>(
+        n: usize,
+        col: impl Fn(usize) -> &'a [f64],
+        m_cols: &mut [Chunk],
+        tab: &mut [Chunk],
+        d: &[f64],
+        row_scaled: bool,
+        q: &[f64],
+        q_pad: &mut [Chunk],
+    ) {
+        let nb = H / LANES;
+        let abs = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
+        let mut big = [_mm256_setzero_pd(); super::MAX_CHUNKS];
+        for (j, dst) in m_cols[..n * nb].chunks_exact_mut(nb).enumerate() {
+            let src = col(j);
+            for b in 0..nb {
+                let v = load_part(src, b);
+                store(&mut dst[b], v);
+                big[b] = _mm256_max_pd(_mm256_and_pd(v, abs), big[b]);
+            }
+        }
+        let mut r = [_mm256_setzero_pd(); super::MAX_CHUNKS];
+        for b in 0..nb {
+            r[b] = row_scale(big[b]);
+        }
+        let (t_m, t_rest) = tab[..(n + 2) * nb].split_at_mut(n * nb);
+        for (dst, src) in t_m.chunks_exact_mut(nb).zip(m_cols.chunks_exact(nb)) {
+            for b in 0..nb {
+                store(&mut dst[b], _mm256_mul_pd(load(&src[b]), r[b]));
+            }
+        }
+        let (t_d, t_q) = t_rest.split_at_mut(nb);
+        for b in 0..nb {
+            let dv = if row_scaled {
+                let mut ones = [0.0; LANES];
+                for (l, v) in ones.iter_mut().enumerate() {
+                    if b * LANES + l < n {
+                        *v = 1.0;
+                    }
+                }
+                load(&ones)
+            } else {
+                _mm256_mul_pd(load_part(d, b), r[b])
+            };
+            store(&mut t_d[b], dv);
+            let qv = load_part(q, b);
+            store(&mut q_pad[b], qv);
+            store(&mut t_q[b], _mm256_mul_pd(qv, r[b]));
+        }
+    }
+
+    /// `x ≤ 0 → 0`, `s > 0 → x / s`, otherwise `+∞`, per lane (the residual's ratio).
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn ratio_lanes(x: __m256d, s: __m256d) -> __m256d {
+        let zero = _mm256_setzero_pd();
+        let q = _mm256_blendv_pd(
+            _mm256_set1_pd(f64::INFINITY),
+            _mm256_div_pd(x, s),
+            _mm256_cmp_pd::<_CMP_GT_OQ>(s, zero),
+        );
+        _mm256_blendv_pd(q, zero, _mm256_cmp_pd::<_CMP_LE_OQ>(x, zero))
+    }
+
+    /// `Workspace::tableau_candidate` for heights `H` of a fixed kernel: z from the basic
+    /// values (`row_of_z[j]`: the row of z_j, or not below n), `w = M z + q` column by
+    /// column with the row sums of `|M_ij z_j|`, and the residual as
+    /// `solution::residual_chunks` computes it, lane by lane in the same order. Writes z
+    /// and w (length n).
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    pub(super) fn candidate<const H: usize>(
+        n: usize,
+        m_cols: &[Chunk],
+        q_pad: &[Chunk],
+        qbar: &[f64],
+        row_of_z: &[usize],
+        zero_below: f64,
+        z_out: &mut [f64],
+        w_out: &mut [f64],
+    ) -> crate::Residual {
+        let nb = H / LANES;
+        let zero = _mm256_setzero_pd();
+        let abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
+        let mut w = [zero; super::MAX_CHUNKS];
+        let mut a = [zero; super::MAX_CHUNKS];
+        let mut z = [zero; super::MAX_CHUNKS];
+        let mut qv = [zero; super::MAX_CHUNKS];
+        for b in 0..nb {
+            qv[b] = load(&q_pad[b]);
+            w[b] = qv[b];
+        }
+        let lane = [
+            _mm256_set_epi64x(3, 2, 1, 0),
+            _mm256_set_epi64x(7, 6, 5, 4),
+            _mm256_set_epi64x(11, 10, 9, 8),
+            _mm256_set_epi64x(15, 14, 13, 12),
+            _mm256_set_epi64x(19, 18, 17, 16),
+            _mm256_set_epi64x(23, 22, 21, 20),
+            _mm256_set_epi64x(27, 26, 25, 24),
+            _mm256_set_epi64x(31, 30, 29, 28),
+        ];
+        for (j, col) in m_cols[..n * nb].chunks_exact(nb).enumerate() {
+            let r = row_of_z[j];
+            let v = qbar[if r < n { r } else { 0 }];
+            let zj = if r < n && v > zero_below { v } else { 0.0 };
+            let zv = _mm256_set1_pd(zj);
+            let jv = _mm256_set1_epi64x(j as i64);
+            for b in 0..nb {
+                let t = _mm256_mul_pd(load(&col[b]), zv);
+                w[b] = _mm256_add_pd(w[b], t);
+                a[b] = _mm256_add_pd(a[b], _mm256_and_pd(t, abs_mask));
+                let here = _mm256_castsi256_pd(_mm256_cmpeq_epi64(lane[b], jv));
+                z[b] = _mm256_blendv_pd(z[b], zv, here);
+            }
+        }
+        let mut zm = zero;
+        for b in 0..nb {
+            zm = _mm256_max_pd(_mm256_and_pd(z[b], abs_mask), zm);
+        }
+        let z_max = hmax(zm);
+        let zmv = _mm256_set1_pd(z_max);
+        let (mut q_max, mut natural, mut compl) = (zero, zero, zero);
+        let (mut z_violation, mut w_violation, mut relative, mut bad) = (zero, zero, zero, zero);
+        for b in 0..nb {
+            let (qi, zi, wi, ai) = (qv[b], z[b], w[b], a[b]);
+            bad =
+                _mm256_add_pd(bad, _mm256_add_pd(_mm256_mul_pd(zi, zero), _mm256_mul_pd(wi, zero)));
+            let qa = _mm256_and_pd(qi, abs_mask);
+            q_max = _mm256_max_pd(qa, q_max);
+            natural = _mm256_max_pd(_mm256_and_pd(_mm256_min_pd(zi, wi), abs_mask), natural);
+            compl = _mm256_max_pd(_mm256_and_pd(_mm256_mul_pd(zi, wi), abs_mask), compl);
+            let (nz, nw) = (_mm256_sub_pd(zero, zi), _mm256_sub_pd(zero, wi));
+            z_violation = _mm256_max_pd(nz, z_violation);
+            w_violation = _mm256_max_pd(nw, w_violation);
+            let s = _mm256_max_pd(ai, qa);
+            let w_rel = ratio_lanes(nw, s);
+            let wp = ratio_lanes(wi, s);
+            let zr = _mm256_div_pd(zi, zmv);
+            let both = _mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_GT_OQ>(zi, zero),
+                _mm256_cmp_pd::<_CMP_GT_OQ>(wi, zero),
+            );
+            let c = _mm256_and_pd(_mm256_min_pd(zr, wp), both);
+            relative = _mm256_max_pd(_mm256_max_pd(c, w_rel), relative);
+        }
+        let mut zs = [[0.0; LANES]; super::MAX_CHUNKS];
+        let mut ws = [[0.0; LANES]; super::MAX_CHUNKS];
+        for b in 0..nb {
+            store(&mut zs[b], z[b]);
+            store(&mut ws[b], w[b]);
+        }
+        z_out[..n].copy_from_slice(&zs.as_flattened()[..n]);
+        w_out[..n].copy_from_slice(&ws.as_flattened()[..n]);
+        let mut bads = [0.0; LANES];
+        store(&mut bads, bad);
+        crate::solution::residual_from_maxima(
+            hmax(q_max),
+            z_max,
+            hmax(natural),
+            hmax(compl),
+            hmax(z_violation),
+            hmax(w_violation),
+            hmax(relative),
+            bads.iter().all(|&v| v == 0.0),
+        )
+    }
+
+    /// [`super::ratio_portable`] in 256-bit operations, with the same result.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    pub(super) fn ratio(
+        a: &[Chunk],
+        c: &[Chunk],
+        sign: f64,
+        pivot_rel: f64,
+        tie_rel: f64,
+    ) -> Ratio {
+        let c = &c[..a.len()];
+        let abs = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
+        let mut amax = _mm256_setzero_pd();
+        let mut cmax = _mm256_setzero_pd();
+        for (ac, cc) in a.iter().zip(c) {
+            amax = _mm256_max_pd(_mm256_and_pd(load(ac), abs), amax);
+            cmax = _mm256_max_pd(_mm256_and_pd(load(cc), abs), cmax);
+        }
+        let ptol = pivot_rel * hmax(amax);
+        let vsign = _mm256_set1_pd(sign);
+        let vptol = _mm256_set1_pd(ptol);
+        let inf = _mm256_set1_pd(f64::INFINITY);
+        let mut rmin = inf;
+        for (ac, cc) in a.iter().zip(c) {
+            let ai = _mm256_mul_pd(vsign, load(ac));
+            let valid = _mm256_cmp_pd::<_CMP_GT_OQ>(ai, vptol);
+            let ratio = _mm256_blendv_pd(inf, _mm256_div_pd(load(cc), ai), valid);
+            rmin = _mm256_min_pd(ratio, rmin);
+        }
+        let theta = hmin(rmin);
+        if !(theta < f64::INFINITY) {
+            return Ratio::NoFinite;
+        }
+        let eps = tie_rel * super::fmax(hmax(cmax), f64::MIN_POSITIVE);
+        let vtheta = _mm256_set1_pd(theta);
+        let veps = _mm256_set1_pd(eps);
+        let mut first = NONE;
+        let mut count = 0usize;
+        for (b, (ac, cc)) in a.iter().zip(c).enumerate() {
+            let ai = _mm256_mul_pd(vsign, load(ac));
+            let ci = load(cc);
+            let valid = _mm256_cmp_pd::<_CMP_GT_OQ>(ai, vptol);
+            let at = _mm256_cmp_pd::<_CMP_EQ_OQ>(_mm256_div_pd(ci, ai), vtheta);
+            let gap = _mm256_sub_pd(ci, _mm256_mul_pd(vtheta, ai));
+            let tied = _mm256_cmp_pd::<_CMP_LE_OQ>(gap, veps);
+            let at = _mm256_movemask_pd(_mm256_and_pd(valid, at)) as u32;
+            let tied = _mm256_movemask_pd(_mm256_and_pd(valid, tied)) as usize;
+            if first == NONE && at != 0 {
+                first = b * LANES + at.trailing_zeros() as usize;
+            }
+            count += usize::from(POP4[tied & 15]);
+        }
+        if count <= 1 { Ratio::Row(first) } else { Ratio::Tied { ptol, theta, eps } }
+    }
+}
+
 impl Workspace {
     fn prepare(&mut self, n: usize) {
         // Every buffer's size is a function of n alone.
         if self.prepared == Some(n) {
             return;
         }
+        if self.prepared.is_none() {
+            self.avx = avx2_available();
+        }
         self.prepared = Some(n);
         self.n = n;
-        self.m_cols.resize(n * n, 0.0);
+        self.h = padded_height(n);
+        self.nb = self.h / LANES;
+        let nb = self.nb;
+        self.m_cols.resize(n * nb, [0.0; LANES]);
         self.m_rows.resize(n * n, 0.0);
-        self.rscale.resize(n, 0.0);
-        self.abs.resize(n, 0.0);
+        self.q_pad.resize(nb, [0.0; LANES]);
+        self.scratch.resize(3 * nb, [0.0; LANES]);
+        self.keep.resize(nb, [0; LANES]);
         self.q.resize(n, 0.0);
         self.d.resize(n, 1.0);
-        self.width = padded_width(n);
-        self.tab.resize(n * self.width, 0.0);
+        self.tab.resize((n + 2) * nb, [0.0; LANES]);
         self.basic.resize(n, NONE);
         self.nonbasic.resize(n + 1, NONE);
         self.row_of.resize(2 * n + 1, NONE);
         self.col_of.resize(2 * n + 1, NONE);
         self.rhs.resize(n, 0.0);
-        self.acol.resize(n, 0.0);
-        self.cval.resize(n, 0.0);
         self.z_alt.resize(n, 0.0);
         self.w_alt.resize(n, 0.0);
         self.z_tab.resize(n, 0.0);
@@ -415,7 +867,82 @@ impl Workspace {
         self.lu.reserve(n);
     }
 
-    /// Tableau `x_B = q̄ + T x_N` for the basis {w}: `T = [M | d]`, `q̄ = q`.
+    /// Set-up, pivoting and the tableau's candidate (into `out`), with the kernels compiled
+    /// for AVX2 when the processor has it. Returns how the pivoting ended and the pivots.
+    #[allow(unsafe_code)]
+    fn run(&mut self, lcp: LcpRef<'_>, opts: &LemkeOptions, out: &mut Solution) -> (End, usize) {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx {
+            // SAFETY: `self.avx` is set only by `avx2_available`, which detected AVX and
+            // AVX2 on this processor; `run_avx2` needs nothing else.
+            return unsafe { self.run_avx2(lcp, opts, out) };
+        }
+        self.run_plain(lcp, opts, out)
+    }
+
+    /// [`Self::run_sized`] for the baseline target.
+    fn run_plain(
+        &mut self,
+        lcp: LcpRef<'_>,
+        opts: &LemkeOptions,
+        out: &mut Solution,
+    ) -> (End, usize) {
+        by_height!(self.run_sized::<false>(lcp, opts, out))
+    }
+
+    /// [`Self::run_sized`] compiled with 256-bit AVX instructions. Multiplications and
+    /// additions stay separate (no FMA), so every result is bit for bit that of the
+    /// baseline copy.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2")]
+    fn run_avx2(
+        &mut self,
+        lcp: LcpRef<'_>,
+        opts: &LemkeOptions,
+        out: &mut Solution,
+    ) -> (End, usize) {
+        by_height!(self.run_sized::<true>(lcp, opts, out))
+    }
+
+    /// The body of [`Self::run`] for columns of H rows (H = 0: `self.h`, any height), with
+    /// the AVX kernels when `AVX` (only inside [`Self::run_avx2`]).
+    #[inline(always)]
+    fn run_sized<const H: usize, const AVX: bool>(
+        &mut self,
+        lcp: LcpRef<'_>,
+        opts: &LemkeOptions,
+        out: &mut Solution,
+    ) -> (End, usize) {
+        self.init_tableau::<H, AVX>(lcp);
+        let ended = self.pivot_loop::<H, AVX>(opts);
+        self.tableau_candidate::<H, AVX>(out, 0.0);
+        if matches!(ended.0, End::Complementary) && !(out.residual.relative <= opts.tolerance) {
+            // A degenerate basic variable that should be zero but holds round-off (z_j of
+            // order 1e-16 ‖z‖∞) makes the rows where it is the only term fail the
+            // residual test; the same basis with such values zeroed is tried before the LU
+            // re-solve.
+            let z_max = out.z.iter().fold(0.0, |a, &v| fmax(a, v));
+            let first = out.residual;
+            std::mem::swap(&mut out.z, &mut self.z_tab);
+            std::mem::swap(&mut out.w, &mut self.w_tab);
+            self.tableau_candidate::<H, AVX>(out, ROUND_OFF_ZERO * z_max);
+            if !(out.residual.relative < first.relative) {
+                std::mem::swap(&mut out.z, &mut self.z_tab);
+                std::mem::swap(&mut out.w, &mut self.w_tab);
+                out.residual = first;
+            }
+        }
+        ended
+    }
+
+    /// Chunks per column: H / [`LANES`], or `self.nb` for H = 0.
+    #[inline(always)]
+    fn chunks<const H: usize>(&self) -> usize {
+        if H == 0 { self.nb } else { H / LANES }
+    }
+
+    /// Tableau `x_B = q̄ + T x_N` for the basis {w}: `T = [M | d]`, `q̄ = q`, stored
+    /// column by column (n + 2 columns of h rows: the n + 1 non-basic variables, then q̄).
     /// Variables: `w_i = i`, `z_i = n + i`, `z_0 = 2 n`.
     ///
     /// Each row is scaled by a power of two r_i near `1 / max_j |M_ij|` (exact in floating
@@ -425,69 +952,137 @@ impl Workspace {
     ///
     /// With [`Covering::RowScaled`] the column of z_0 holds ones in the scaled rows.
     ///
-    /// M is read once, column by column as it is stored: each column goes to the
-    /// column-major copy (which the residual reads; the row-major copy is made only if the
-    /// LU fallback runs) and unscaled into its tableau column, while the row maxima are
-    /// taken; each row is then scaled in place.
-    fn init_tableau(&mut self, lcp: LcpRef<'_>) {
+    /// M is read once, column by column as it is stored, into the unscaled padded copy
+    /// (which the residual reads) while the row maxima are taken; the tableau's columns
+    /// are then the copy's times the row scales.
+    #[allow(unsafe_code)]
+    #[inline(always)]
+    fn init_tableau<const H: usize, const AVX: bool>(&mut self, lcp: LcpRef<'_>) {
         let n = self.n;
-        let width = self.width;
+        let nb = self.chunks::<H>();
         let m = lcp.m();
-        let tab = &mut self.tab[..n * width];
-        let rscale = &mut self.rscale[..n];
-        rscale.fill(0.0);
-        for (j, dst) in self.m_cols[..n * n].chunks_exact_mut(n).enumerate() {
-            let col = m.col(j);
-            if let Some(src) = col.try_as_col_major().map(|c| c.as_slice()) {
-                for (i, ((d, big), &v)) in
-                    dst.iter_mut().zip(rscale.iter_mut()).zip(src).enumerate()
-                {
-                    *d = v;
-                    *big = fmax(*big, v.abs());
-                    tab[i * width + j] = v;
+        #[cfg(target_arch = "x86_64")]
+        if AVX
+            && H != 0
+            && let Some(mc) = m.try_as_col_major()
+        {
+            // SAFETY: AVX is true only in the copy that `Workspace::run` calls after
+            // detecting AVX and AVX2 on this processor.
+            unsafe {
+                avx::init_columns::<H>(
+                    n,
+                    |j| mc.col(j).as_slice(),
+                    &mut self.m_cols,
+                    &mut self.tab,
+                    &self.d,
+                    self.row_scaled,
+                    &self.q,
+                    &mut self.q_pad,
+                );
+            }
+            self.init_basis();
+            return;
+        }
+        let mut local = [[0.0; LANES]; MAX_CHUNKS];
+        let big: &mut [Chunk] = if H == 0 {
+            let big = &mut self.scratch[..nb];
+            big.fill([0.0; LANES]);
+            big
+        } else {
+            &mut local[..nb]
+        };
+        let m_cols = &mut self.m_cols[..n * nb];
+        if let Some(mc) = m.try_as_col_major() {
+            for (j, dst) in m_cols.chunks_exact_mut(nb).enumerate() {
+                let src = mc.col(j).as_slice();
+                for b in 0..nb {
+                    let c = load_chunk(src, b);
+                    dst[b] = c;
+                    for l in 0..LANES {
+                        big[b][l] = fmax(big[b][l], c[l].abs());
+                    }
                 }
-            } else {
-                for (i, (d, big)) in dst.iter_mut().zip(rscale.iter_mut()).enumerate() {
-                    let v = col[i];
-                    *d = v;
-                    *big = fmax(*big, v.abs());
-                    tab[i * width + j] = v;
+            }
+        } else {
+            for (j, dst) in m_cols.chunks_exact_mut(nb).enumerate() {
+                let col = m.col(j);
+                let dst = dst.as_flattened_mut();
+                dst.fill(0.0);
+                for i in 0..n {
+                    dst[i] = col[i];
+                }
+                for (b, c) in dst.as_chunks::<LANES>().0.iter().enumerate() {
+                    for l in 0..LANES {
+                        big[b][l] = fmax(big[b][l], c[l].abs());
+                    }
                 }
             }
         }
-        for i in 0..n {
-            let big = self.rscale[i];
-            let r = if big > 0.0 { pow2_inverse(big) } else { 1.0 };
-            self.rscale[i] = r;
-            let row = &mut self.tab[i * width..(i + 1) * width];
-            for v in row[..n].iter_mut() {
-                *v *= r;
+        // The row scales (1 for a zero row and the padding).
+        for c in big.iter_mut() {
+            for v in c.iter_mut() {
+                *v = if *v > 0.0 { pow2_inverse(*v) } else { 1.0 };
             }
-            row[n] = if self.row_scaled { 1.0 } else { self.d[i] * r };
-            row[n + 1] = self.q[i] * r;
-            row[n + 2..].fill(0.0);
-            self.basic[i] = i;
-            self.row_of[i] = i;
-            self.col_of[i] = NONE;
         }
-        for j in 0..n {
-            self.nonbasic[j] = n + j;
-            self.col_of[n + j] = j;
-            self.row_of[n + j] = NONE;
+        let r: &[Chunk] = big;
+        let tab = &mut self.tab[..(n + 2) * nb];
+        let (t_m, t_rest) = tab.split_at_mut(n * nb);
+        for (dst, src) in t_m.chunks_exact_mut(nb).zip(m_cols.chunks_exact(nb)) {
+            for b in 0..nb {
+                for l in 0..LANES {
+                    dst[b][l] = src[b][l] * r[b][l];
+                }
+            }
         }
-        self.nonbasic[n] = 2 * n;
-        self.col_of[2 * n] = n;
-        self.row_of[2 * n] = NONE;
+        let (t_d, t_q) = t_rest.split_at_mut(nb);
+        for b in 0..nb {
+            let d = load_chunk(&self.d, b);
+            let q = load_chunk(&self.q, b);
+            self.q_pad[b] = q;
+            for l in 0..LANES {
+                t_d[b][l] = if self.row_scaled {
+                    if b * LANES + l < n { 1.0 } else { 0.0 }
+                } else {
+                    d[l] * r[b][l]
+                };
+                t_q[b][l] = q[l] * r[b][l];
+            }
+        }
+        self.init_basis();
     }
 
-    fn pivot_loop(&mut self, opts: &LemkeOptions) -> (End, usize) {
+    /// The basis {w}: `w_i` basic in row i, `z_j` non-basic in column j, `z_0` in
+    /// column n.
+    #[inline(always)]
+    fn init_basis(&mut self) {
+        let n = self.n;
+        for (i, v) in self.basic[..n].iter_mut().enumerate() {
+            *v = i;
+        }
+        let (w_rows, z_rows) = self.row_of[..2 * n + 1].split_at_mut(n);
+        for (i, v) in w_rows.iter_mut().enumerate() {
+            *v = i;
+        }
+        z_rows.fill(NONE);
+        let (w_cols, z_cols) = self.col_of[..2 * n + 1].split_at_mut(n);
+        w_cols.fill(NONE);
+        for (j, v) in z_cols.iter_mut().enumerate() {
+            *v = j;
+        }
+        for (j, v) in self.nonbasic[..n + 1].iter_mut().enumerate() {
+            *v = n + j;
+        }
+    }
+
+    #[inline(always)]
+    fn pivot_loop<const H: usize, const AVX: bool>(&mut self, opts: &LemkeOptions) -> (End, usize) {
         let n = self.n;
         let z0 = 2 * n;
         // First pivot: z_0 enters and the row with the most negative q_i / d_i leaves.
-        let Some(r) = self.select_row(n, true, opts) else {
+        let Some(r) = self.select_row::<H, AVX>(n, true, opts) else {
             return (End::Ray, 0);
         };
-        let mut leaving = self.pivot(r, n);
+        let mut leaving = self.pivot::<H>(r, n);
         let mut pivots = 1;
         loop {
             if leaving == z0 {
@@ -498,12 +1093,18 @@ impl Workspace {
             }
             let entering = if leaving < n { leaving + n } else { leaving - n };
             let s = self.col_of[entering];
-            let Some(r) = self.select_row(s, false, opts) else {
+            let Some(r) = self.select_row::<H, AVX>(s, false, opts) else {
                 return (End::Ray, pivots);
             };
-            leaving = self.pivot(r, s);
+            leaving = self.pivot::<H>(r, s);
             pivots += 1;
         }
+    }
+
+    /// Entry `(i, c)` of the tableau (column c, row i).
+    #[inline]
+    fn entry(&self, i: usize, c: usize) -> f64 {
+        self.tab[c * self.nb + i / LANES][i % LANES]
     }
 
     /// Entry `j` of row `i` of `B^{-1}`, read from the condensed tableau: the column of
@@ -512,36 +1113,65 @@ impl Workspace {
     #[inline]
     fn binv(&self, i: usize, j: usize) -> f64 {
         let r = self.row_of[j];
-        if r != NONE {
-            if r == i { 1.0 } else { 0.0 }
+        if r != NONE { if r == i { 1.0 } else { 0.0 } } else { -self.entry(i, self.col_of[j]) }
+    }
+
+    /// The ratio test for entering column `s`. In the first step (`initial`), every row
+    /// takes part with `a_i = d_i`; afterwards the rows with `T_is < 0` take part with
+    /// `a_i = -T_is`. The minimum ratio `θ = min q̄_i / a_i` over `a_i > ptol` and the first
+    /// row attaining it are found lane by lane; the rows tied with it within the tie
+    /// tolerance are counted, and only when there are two or more does the lexicographic
+    /// rule ([`Self::select_tied`]) decide.
+    #[allow(unsafe_code)]
+    #[inline(always)]
+    fn select_row<const H: usize, const AVX: bool>(
+        &mut self,
+        s: usize,
+        initial: bool,
+        opts: &LemkeOptions,
+    ) -> Option<usize> {
+        let n = self.n;
+        let nb = self.chunks::<H>();
+        let sign = if initial { 1.0 } else { -1.0 };
+        let a = &self.tab[s * nb..(s + 1) * nb];
+        let c = &self.tab[(n + 1) * nb..(n + 2) * nb];
+        let (pr, tr) = (opts.pivot_tolerance, opts.tie_tolerance);
+        #[cfg(target_arch = "x86_64")]
+        let first = if AVX {
+            // SAFETY: AVX is true only in the copy that `Workspace::run` calls after
+            // detecting AVX and AVX2 on this processor.
+            unsafe { avx::ratio(a, c, sign, pr, tr) }
         } else {
-            -self.tab[i * self.width + self.col_of[j]]
+            ratio_portable(a, c, sign, pr, tr)
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let first = ratio_portable(a, c, sign, pr, tr);
+        match first {
+            Ratio::Row(r) => Some(r),
+            Ratio::Tied { ptol, theta, eps } => {
+                Some(self.select_tied(s, initial, ptol, theta, eps))
+            }
+            Ratio::NoFinite => self.select_row_exact(s, initial, opts),
         }
     }
 
-    /// The lexicographic ratio test for entering column `s`. In the first step
-    /// (`initial`), every row takes part with `a_i = d_i`; afterwards the rows with
-    /// `T_is < 0` take part with `a_i = -T_is`.
-    fn select_row(&mut self, s: usize, initial: bool, opts: &LemkeOptions) -> Option<usize> {
+    /// The ratio test row by row, comparing ratios without dividing: for the rare case of
+    /// no finite ratio in [`Self::select_row`] (a ray, or ratios beyond the range of f64).
+    #[inline(never)]
+    fn select_row_exact(&mut self, s: usize, initial: bool, opts: &LemkeOptions) -> Option<usize> {
         let n = self.n;
-        let width = self.width;
         let sign = if initial { 1.0 } else { -1.0 };
-        let tab = &self.tab[..n * width];
-        let (acol, cval) = (&mut self.acol[..n], &mut self.cval[..n]);
         let mut colmax = 0.0f64;
         let mut cmax = 0.0f64;
-        for (i, row) in tab.chunks_exact(width).enumerate() {
-            let (a, c) = (sign * row[s], row[n + 1]);
-            acol[i] = a;
-            cval[i] = c;
-            colmax = fmax(colmax, a.abs());
-            cmax = fmax(cmax, c.abs());
+        for i in 0..n {
+            colmax = fmax(colmax, self.entry(i, s).abs());
+            cmax = fmax(cmax, self.entry(i, n + 1).abs());
         }
         let ptol = opts.pivot_tolerance * colmax;
-        // Minimum ratio c_i / a_i over a_i > ptol, compared without dividing.
         let mut best = NONE;
         let (mut cb, mut ab) = (f64::INFINITY, 1.0);
-        for (i, (&a, &c)) in acol.iter().zip(cval.iter()).enumerate() {
+        for i in 0..n {
+            let (a, c) = (sign * self.entry(i, s), self.entry(i, n + 1));
             if a > ptol && c * ab < cb * a {
                 best = i;
                 cb = c;
@@ -551,36 +1181,39 @@ impl Workspace {
         if best == NONE {
             return None;
         }
-        // Rows whose ratio ties with the minimum within the tie tolerance: counted first,
-        // listed (and broken lexicographically) only when there are two or more.
         let theta = cb / ab;
         let eps = opts.tie_tolerance * fmax(cmax, f64::MIN_POSITIVE);
-        let tied = |a: f64, c: f64| a > ptol && c - theta * a <= eps;
-        let count: usize =
-            acol.iter().zip(cval.iter()).map(|(&a, &c)| usize::from(tied(a, c))).sum();
-        if count <= 1 {
-            return Some(best);
-        }
+        Some(self.select_tied(s, initial, ptol, theta, eps))
+    }
+
+    /// Among the rows with `a_i > ptol` and `q̄_i − θ a_i <= eps`: z_0's row if it is one
+    /// of them (after the first step), otherwise the row whose row of `[q̄ | B^{-1}]`
+    /// divided by `a_i` is lexicographically smallest (q̄_i / a_i tie, so `B^{-1}` decides).
+    #[inline(never)]
+    fn select_tied(&mut self, s: usize, initial: bool, ptol: f64, theta: f64, eps: f64) -> usize {
+        let n = self.n;
+        let sign = if initial { 1.0 } else { -1.0 };
         self.ties.clear();
-        for (i, (&a, &c)) in acol.iter().zip(cval.iter()).enumerate() {
-            if tied(a, c) {
+        for i in 0..n {
+            let a = sign * self.entry(i, s);
+            if a > ptol && self.entry(i, n + 1) - theta * a <= eps {
                 self.ties.push(i);
             }
         }
         if !initial {
             let z0 = 2 * n;
             if let Some(&r) = self.ties.iter().find(|&&i| self.basic[i] == z0) {
-                return Some(r);
+                return r;
             }
         }
         let mut pick = self.ties[0];
         for t in 1..self.ties.len() {
             let i = self.ties[t];
-            if self.lex_less(i, self.acol[i], pick, self.acol[pick]) {
+            if self.lex_less(i, sign * self.entry(i, s), pick, sign * self.entry(pick, s)) {
                 pick = i;
             }
         }
-        Some(pick)
+        pick
     }
 
     /// `true` when row i of `B^{-1}` divided by `ai` is lexicographically smaller than
@@ -599,19 +1232,50 @@ impl Workspace {
 
     /// Exchanges the basic variable of row r with the non-basic variable of column s and
     /// returns the variable that left the basis.
-    fn pivot(&mut self, r: usize, s: usize) -> usize {
-        // Widths up to 32 (n <= 30) get a kernel of fixed row length, which the compiler
-        // unrolls into whole packed multiply-adds with no loop or bounds checks.
-        match self.width {
-            4 => self.pivot_rows::<4>(r, s),
-            8 => self.pivot_rows::<8>(r, s),
-            12 => self.pivot_rows::<12>(r, s),
-            16 => self.pivot_rows::<16>(r, s),
-            20 => self.pivot_rows::<20>(r, s),
-            24 => self.pivot_rows::<24>(r, s),
-            28 => self.pivot_rows::<28>(r, s),
-            32 => self.pivot_rows::<32>(r, s),
-            _ => self.pivot_rows::<0>(r, s),
+    ///
+    /// With `inv = 1 / T_rs`, every other column j gets `ρ_j = −(T_rj inv)` in row r and
+    /// `T_ij + T_is ρ_j` in the other rows, and column s becomes `T_is inv` with `inv` in
+    /// row r (the leaving variable's column): the operations, and so the roundings, of the
+    /// row update `row_i += T_is · row_r / (−T_rs)`. Row r is selected by bit masks
+    /// built once per pivot, not by a compare per lane, which the compiler would turn into
+    /// branches on r, nor by a scalar store into a chunk that the next kernel reads whole.
+    #[inline(always)]
+    fn pivot<const H: usize>(&mut self, r: usize, s: usize) -> usize {
+        let n = self.n;
+        let nb = self.chunks::<H>();
+        let tab = &mut self.tab[..(n + 2) * nb];
+        let (left, rest) = tab.split_at_mut(s * nb);
+        let (u, right) = rest.split_at_mut(nb);
+        let inv = 1.0 / u[r / LANES][r % LANES];
+        // Bit masks that clear row r, built once.
+        let mut local_keep = [[0u64; LANES]; MAX_CHUNKS];
+        let keep: &mut [[u64; LANES]] =
+            if H == 0 { &mut self.keep[..nb] } else { &mut local_keep[..nb] };
+        for b in 0..nb {
+            for l in 0..LANES {
+                keep[b][l] = if b * LANES + l == r { 0 } else { u64::MAX };
+            }
+        }
+        let keep: &[[u64; LANES]] = keep;
+        // v: column s with 1 in row r, so that row r of each column receives ρ_j itself.
+        let mut local = [[0.0; LANES]; MAX_CHUNKS];
+        let v: &mut [Chunk] = if H == 0 { &mut self.scratch[..nb] } else { &mut local[..nb] };
+        let one = 1.0f64.to_bits();
+        for b in 0..nb {
+            for l in 0..LANES {
+                let k = keep[b][l];
+                v[b][l] = f64::from_bits((u[b][l].to_bits() & k) | (one & !k));
+            }
+        }
+        let v: &[Chunk] = v;
+        update_columns::<H>(left, v, keep, nb, r, inv);
+        update_columns::<H>(right, v, keep, nb, r, inv);
+        let inv_bits = inv.to_bits();
+        for b in 0..nb {
+            for l in 0..LANES {
+                let k = keep[b][l];
+                u[b][l] = f64::from_bits(((u[b][l] * inv).to_bits() & k) | (inv_bits & !k));
+            }
         }
         let leaving = self.basic[r];
         let entering = self.nonbasic[s];
@@ -624,35 +1288,12 @@ impl Workspace {
         leaving
     }
 
-    /// The row operations of a pivot on (r, s) for rows of length `W` (0: `self.width`).
-    #[inline(always)]
-    fn pivot_rows<const W: usize>(&mut self, r: usize, s: usize) {
-        let n = self.n;
-        let width = if W == 0 { self.width } else { W };
-        let (before, rest) = self.tab[..n * width].split_at_mut(r * width);
-        let (row_r, after) = rest.split_at_mut(width);
-        let inv = 1.0 / row_r[s];
-        for v in row_r.iter_mut() {
-            *v *= -inv;
-        }
-        row_r[s] = inv;
-        let row_r: &[f64] = row_r;
-        for rows in [before, after] {
-            for row in rows.chunks_exact_mut(width) {
-                let f = row[s];
-                if f != 0.0 {
-                    row[s] = 0.0;
-                    axpy(f, row_r, row);
-                }
-            }
-        }
-    }
-
     /// Fills the row-major copy of M from the column-major one, for the LU re-solve.
     fn fill_m_rows(&mut self) {
         let n = self.n;
-        for (j, col) in self.m_cols[..n * n].chunks_exact(n).enumerate() {
-            for (i, v) in col.iter().enumerate() {
+        let nb = self.nb;
+        for (j, col) in self.m_cols[..n * nb].chunks_exact(nb).enumerate() {
+            for (i, v) in col.as_flattened()[..n].iter().enumerate() {
                 self.m_rows[i * n + j] = *v;
             }
         }
@@ -725,36 +1366,106 @@ impl Workspace {
             finish_row_major_sparse(&self.m_rows, self.n, &self.q, &out.z, &self.alpha, &mut out.w);
     }
 
-    /// Uses the basic values of the tableau as z (clamped at 0); keeps the better of it and
-    /// any candidate already in `out`.
-    fn tableau_candidate(&mut self, out: &mut Solution, tol: f64, otherwise: Status) {
+    /// Writes the basic values of the tableau as z into `out` (values at or below
+    /// `zero_below` taken as 0; `zero_below = 0` clamps at 0), with `w = M z + q` and its
+    /// residual (status left to the caller).
+    ///
+    /// w is accumulated column by column in ascending order, each row summing its terms
+    /// `M_ij z_j` in that order. For heights with a fixed kernel every column takes part
+    /// (a non-basic z_j = 0 adds zero), which costs less than branching on the basis; w and
+    /// the row sums then stay in registers.
+    #[allow(unsafe_code)]
+    #[inline(always)]
+    fn tableau_candidate<const H: usize, const AVX: bool>(
+        &mut self,
+        out: &mut Solution,
+        zero_below: f64,
+    ) {
         let n = self.n;
-        let width = self.width;
-        self.alpha.clear();
-        for i in 0..n {
-            let r = self.row_of[n + i];
-            self.z_alt[i] = if r != NONE {
-                self.alpha.push(i);
-                positive_part(self.tab[r * width + n + 1])
-            } else {
-                0.0
+        let nb = self.chunks::<H>();
+        #[cfg(target_arch = "x86_64")]
+        if AVX && H != 0 {
+            // SAFETY: AVX is true only in the copy that `Workspace::run` calls after
+            // detecting AVX and AVX2 on this processor.
+            out.residual = unsafe {
+                avx::candidate::<H>(
+                    n,
+                    &self.m_cols,
+                    &self.q_pad,
+                    self.tab[(n + 1) * nb..(n + 2) * nb].as_flattened(),
+                    &self.row_of[n..2 * n],
+                    zero_below,
+                    &mut out.z,
+                    &mut out.w,
+                )
             };
+            return;
         }
-        let res = finish_col_major_sparse(
-            &self.m_cols,
-            n,
-            &self.q,
-            &self.z_alt,
-            &self.alpha,
-            &mut self.w_alt,
-            &mut self.abs,
-        );
-        if !(out.residual.relative <= res.relative) {
-            std::mem::swap(&mut out.z, &mut self.z_alt);
-            std::mem::swap(&mut out.w, &mut self.w_alt);
-            out.residual = res;
+        let mut lz = [[0.0; LANES]; MAX_CHUNKS];
+        let mut lw = [[0.0; LANES]; MAX_CHUNKS];
+        let mut la = [[0.0; LANES]; MAX_CHUNKS];
+        let (z, w, abs): (&mut [Chunk], &mut [Chunk], &mut [Chunk]) = if H == 0 {
+            let (z, rest) = self.scratch[..3 * nb].split_at_mut(nb);
+            let (w, abs) = rest.split_at_mut(nb);
+            z.fill([0.0; LANES]);
+            abs.fill([0.0; LANES]);
+            (z, w, abs)
+        } else {
+            (&mut lz[..nb], &mut lw[..nb], &mut la[..nb])
+        };
+        let q = &self.q_pad[..nb];
+        w.copy_from_slice(q);
+        let qbar = self.tab[(n + 1) * nb..(n + 2) * nb].as_flattened();
+        for (j, col) in self.m_cols[..n * nb].chunks_exact(nb).enumerate() {
+            let r = self.row_of[n + j];
+            if H == 0 && r == NONE {
+                continue;
+            }
+            let v = qbar[if r < n { r } else { 0 }];
+            let zj = if r < n && v > zero_below { v } else { 0.0 };
+            for b in 0..nb {
+                for l in 0..LANES {
+                    let t = col[b][l] * zj;
+                    w[b][l] += t;
+                    abs[b][l] += t.abs();
+                    z[b][l] = if b * LANES + l == j { zj } else { z[b][l] };
+                }
+            }
         }
-        out.status = status_for(out.residual, tol, otherwise);
+        out.residual = residual_chunks(q, z, w, abs);
+        out.z.copy_from_slice(&z.as_flattened()[..n]);
+        out.w.copy_from_slice(&w.as_flattened()[..n]);
+    }
+}
+
+/// The column updates of a pivot in row r with `inv = 1 / T_rs`: every column x of `cols`
+/// (columns of `nb` chunks) becomes `x + ρ v` with `ρ = −(x_r inv)` and x_r cleared first
+/// (`keep`: all bits set but in row r; `v`: the pivot column with 1 in row r).
+#[inline(always)]
+fn update_columns<const H: usize>(
+    cols: &mut [Chunk],
+    v: &[Chunk],
+    keep: &[[u64; LANES]],
+    nb: usize,
+    r: usize,
+    inv: f64,
+) {
+    let (v, keep) = (&v[..nb], &keep[..nb]);
+    let (rb, rl) = (r / LANES, r % LANES);
+    for col in cols.chunks_exact_mut(nb) {
+        let x_r = col[rb][rl];
+        // Large problems skip the columns with a zero in the pivot row (unchanged); the
+        // kernels of fixed size update them too rather than branch.
+        if H == 0 && x_r == 0.0 {
+            continue;
+        }
+        let rho = -(x_r * inv);
+        for b in 0..nb {
+            for l in 0..LANES {
+                let x = f64::from_bits(col[b][l].to_bits() & keep[b][l]);
+                col[b][l] = x + rho * v[b][l];
+            }
+        }
     }
 }
 
@@ -767,5 +1478,72 @@ impl Solver for Lemke {
     ) -> Result<(), LcpError> {
         check_warm_start(lcp.n(), warm_start)?;
         self.solve_covering(lcp, Cover::FromOptions, out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use faer::Mat;
+
+    use super::*;
+    use crate::Lcp;
+
+    /// splitmix64 mapped to [-1, 1).
+    fn uniform(state: &mut u64) -> f64 {
+        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = *state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        2.0 * ((z >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+    }
+
+    /// The AVX2 and the baseline copies of the kernels give the same pivots, z, w and
+    /// residual, bit for bit, on SPD, non-symmetric and degenerate problems of sizes 1 to
+    /// 40 (fixed-size and run-time-size kernels), with both covering vectors.
+    #[test]
+    fn avx2_and_baseline_kernels_agree_bit_for_bit() {
+        if !avx2_available() {
+            return;
+        }
+        let mut state = 7u64;
+        let mut fast = Lemke::default();
+        let mut plain = Lemke::default();
+        let (mut a, mut b) = (Solution::new(), Solution::new());
+        for n in (1..=40).chain([3, 9, 9, 12, 30]) {
+            for trial in 0..6 {
+                let r = Mat::from_fn(n, n, |_, _| uniform(&mut state));
+                let m = if trial % 2 == 0 {
+                    let mut m = &r * r.transpose() * (1.0 / n as f64);
+                    for i in 0..n {
+                        m[(i, i)] += 0.05;
+                    }
+                    m
+                } else {
+                    r
+                };
+                let q = faer::Col::from_fn(n, |i| {
+                    let v = uniform(&mut state);
+                    if trial >= 4 && i % 3 == 0 { 0.0 } else { v }
+                });
+                let lcp = Lcp::new(m, q).expect("valid problem");
+                for cover in [Cover::FromOptions, Cover::RowScaled] {
+                    let cover2 = match cover {
+                        Cover::FromOptions => Cover::FromOptions,
+                        _ => Cover::RowScaled,
+                    };
+                    fast.solve_covering(lcp.view(), cover, &mut a).expect("valid");
+                    plain.ws.prepare(n);
+                    plain.ws.avx = false;
+                    plain.solve_covering(lcp.view(), cover2, &mut b).expect("valid");
+                    assert_eq!(a.status, b.status, "n = {n}, trial {trial}");
+                    assert_eq!(a.iterations, b.iterations, "n = {n}, trial {trial}");
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&a.z), bits(&b.z), "n = {n}, trial {trial}");
+                    assert_eq!(bits(&a.w), bits(&b.w), "n = {n}, trial {trial}");
+                    assert_eq!(a.residual.relative.to_bits(), b.residual.relative.to_bits());
+                }
+            }
+        }
     }
 }
