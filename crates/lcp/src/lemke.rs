@@ -5,8 +5,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::dense::{Lu, TINY_MAX, pow2_inverse, refine, solve_tiny};
 use crate::solution::{
-    Chunk, check_warm_start, finish_row_major, finish_row_major_sparse, hmax, residual_chunks,
-    residual_of_zero,
+    Chunk, check_warm_start, finish_basis_columns, finish_row_major, finish_row_major_sparse, hmax,
+    residual_chunks, residual_of_zero,
 };
 use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 
@@ -168,6 +168,8 @@ struct Workspace {
     m_cols: Vec<Chunk>,
     /// M row-major, filled only for the LU paths (warm basis, re-solve fallback).
     m_rows: Vec<f64>,
+    /// The columns of M in `alpha`, each of n rows, for the warm basis' small solve.
+    basis_cols: Vec<f64>,
     /// q padded to h rows.
     q_pad: Vec<Chunk>,
     /// Three columns of scratch for the kernels of run-time height (n > 32).
@@ -326,7 +328,6 @@ impl Lemke {
         out.reset(n, Method::WarmBasis);
         let ws = &mut self.ws;
         ws.prepare(n);
-        lcp.copy_m_row_major(&mut ws.m_rows);
         lcp.copy_q(&mut ws.q);
         ws.alpha.clear();
         for (i, &g) in guess.iter().enumerate() {
@@ -339,12 +340,17 @@ impl Lemke {
         // rejects the candidate.
         let k = ws.alpha.len();
         if k <= TINY_MAX {
-            let (m, alpha) = (&ws.m_rows, &ws.alpha);
+            // Only the basis' columns of M are read: their rows in the basis for the solve,
+            // all their rows for w = M z + q (z is zero off the basis).
+            lcp.copy_columns(&ws.alpha, &mut ws.basis_cols);
+            let (cols, alpha) = (&ws.basis_cols, &ws.alpha);
             for (t, &i) in alpha.iter().enumerate() {
                 ws.rhs[t] = -ws.q[i];
             }
-            if solve_tiny(k, |r, c| m[alpha[r] * n + alpha[c]], &mut ws.rhs) {
-                ws.scatter(out);
+            if solve_tiny(k, |r, c| cols[c * n + alpha[r]], &mut ws.rhs) {
+                ws.set_basic_z(out);
+                out.residual =
+                    finish_basis_columns(&ws.basis_cols, n, &ws.q, &out.z, &ws.alpha, &mut out.w);
                 if out.residual.relative <= tol {
                     out.status = Status::Solved;
                     return true;
@@ -352,6 +358,7 @@ impl Lemke {
             }
         }
         // The equilibrated LU with refinement, for larger or harder bases.
+        lcp.copy_m_row_major(&mut ws.m_rows);
         ws.solve_alpha(out, tol)
     }
 }
@@ -843,6 +850,7 @@ impl Workspace {
         let nb = self.nb;
         self.m_cols.resize(n * nb, [0.0; LANES]);
         self.m_rows.resize(n * n, 0.0);
+        self.basis_cols.resize(n * n, 0.0);
         self.q_pad.resize(nb, [0.0; LANES]);
         self.scratch.resize(3 * nb, [0.0; LANES]);
         self.keep.resize(nb, [0; LANES]);
@@ -1355,12 +1363,17 @@ impl Workspace {
         }
     }
 
-    /// z = the basic solution in `rhs` (clamped at 0), w = M z + q, and its residual.
-    fn scatter(&mut self, out: &mut Solution) {
+    /// z = the basic solution in `rhs` (clamped at 0), zero off the basis.
+    fn set_basic_z(&self, out: &mut Solution) {
         out.z.fill(0.0);
         for (t, &i) in self.alpha.iter().enumerate() {
             out.z[i] = positive_part(self.rhs[t]);
         }
+    }
+
+    /// z = the basic solution in `rhs` (clamped at 0), w = M z + q, and its residual.
+    fn scatter(&mut self, out: &mut Solution) {
+        self.set_basic_z(out);
         // z is zero off the (ascending) basis: the sparse product gives the dense one's w.
         out.residual =
             finish_row_major_sparse(&self.m_rows, self.n, &self.q, &out.z, &self.alpha, &mut out.w);

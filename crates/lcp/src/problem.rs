@@ -209,6 +209,22 @@ impl<'a> LcpRef<'a> {
         }
     }
 
+    /// Copies the columns of M listed in `cols` into `out`, one after the other (`out[t n + i]
+    /// = M_i,cols[t]`).
+    pub(crate) fn copy_columns(&self, cols: &[usize], out: &mut [f64]) {
+        let n = self.n();
+        for (dst, &j) in out.chunks_exact_mut(n).zip(cols) {
+            let col = self.m.col(j);
+            if let Some(slice) = col.try_as_col_major().map(|c| c.as_slice()) {
+                dst.copy_from_slice(slice);
+            } else {
+                for (i, v) in dst.iter_mut().enumerate() {
+                    *v = col[i];
+                }
+            }
+        }
+    }
+
     /// Copies q into `out`.
     pub(crate) fn copy_q(&self, out: &mut [f64]) {
         if let Some(slice) = self.q.try_as_col_major().map(|c| c.as_slice()) {

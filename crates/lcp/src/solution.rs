@@ -343,6 +343,33 @@ pub(crate) fn finish_row_major_sparse(
     acc.finish()
 }
 
+/// [`finish_row_major_sparse`] with the columns of M in `cols` given as a block (`block[t n +
+/// i] = M_i,cols[t]`): the same terms summed in the same order, so the same w and residual.
+pub(crate) fn finish_basis_columns(
+    block: &[f64],
+    n: usize,
+    q: &[f64],
+    z: &[f64],
+    cols: &[usize],
+    w: &mut [f64],
+) -> Residual {
+    let z = &z[..n];
+    let block = &block[..cols.len() * n];
+    let mut acc = Acc::new(z);
+    for (i, wi) in w[..n].iter_mut().enumerate() {
+        let mut sum = q[i];
+        let mut abs = 0.0;
+        for (t, &j) in cols.iter().enumerate() {
+            let v = block[t * n + i] * z[j];
+            sum += v;
+            abs += v.abs();
+        }
+        *wi = sum;
+        acc.row(q[i], z[i], sum, abs, sum);
+    }
+    acc.finish()
+}
+
 /// Four consecutive rows: the unit of the lane-wise kernels (Lemke's tableau columns are
 /// padded to a multiple of four rows).
 pub(crate) type Chunk = [f64; 4];
