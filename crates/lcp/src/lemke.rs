@@ -349,8 +349,16 @@ impl Lemke {
             }
             if solve_tiny(k, |r, c| cols[c * n + alpha[r]], &mut ws.rhs) {
                 ws.set_basic_z(out);
-                out.residual =
-                    finish_basis_columns(&ws.basis_cols, n, &ws.q, &out.z, &ws.alpha, &mut out.w);
+                // w_alt serves as the scratch of row sums |M_ij z_j| here.
+                out.residual = finish_basis_columns(
+                    &ws.basis_cols[..k * n],
+                    n,
+                    &ws.q,
+                    &out.z,
+                    &ws.alpha,
+                    &mut out.w,
+                    &mut ws.w_alt,
+                );
                 if out.residual.relative <= tol {
                     out.status = Status::Solved;
                     return true;

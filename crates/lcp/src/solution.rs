@@ -344,7 +344,8 @@ pub(crate) fn finish_row_major_sparse(
 }
 
 /// [`finish_row_major_sparse`] with the columns of M in `cols` given as a block (`block[t n +
-/// i] = M_i,cols[t]`): the same terms summed in the same order, so the same w and residual.
+/// i] = M_i,cols[t]`), accumulated column by column: each row still sums the same terms in
+/// the same order, so w and the residual are the same. `abs` (length n) is scratch.
 pub(crate) fn finish_basis_columns(
     block: &[f64],
     n: usize,
@@ -352,20 +353,22 @@ pub(crate) fn finish_basis_columns(
     z: &[f64],
     cols: &[usize],
     w: &mut [f64],
+    abs: &mut [f64],
 ) -> Residual {
-    let z = &z[..n];
-    let block = &block[..cols.len() * n];
-    let mut acc = Acc::new(z);
-    for (i, wi) in w[..n].iter_mut().enumerate() {
-        let mut sum = q[i];
-        let mut abs = 0.0;
-        for (t, &j) in cols.iter().enumerate() {
-            let v = block[t * n + i] * z[j];
-            sum += v;
-            abs += v.abs();
+    let (z, q, w, abs) = (&z[..n], &q[..n], &mut w[..n], &mut abs[..n]);
+    w.copy_from_slice(q);
+    abs.fill(0.0);
+    for (col, &j) in block.chunks_exact(n).zip(cols) {
+        let zj = z[j];
+        for ((wi, ai), m) in w.iter_mut().zip(abs.iter_mut()).zip(col) {
+            let v = m * zj;
+            *wi += v;
+            *ai += v.abs();
         }
-        *wi = sum;
-        acc.row(q[i], z[i], sum, abs, sum);
+    }
+    let mut acc = Acc::new(z);
+    for i in 0..n {
+        acc.row(q[i], z[i], w[i], abs[i], w[i]);
     }
     acc.finish()
 }
