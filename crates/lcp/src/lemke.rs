@@ -19,6 +19,10 @@ const ROUND_OFF_ZERO: f64 = 1e-14;
 /// Above this relative residual the re-solved basis gets a step of iterative refinement.
 const REFINE_ABOVE: f64 = 1e-14;
 
+/// A tableau z whose relative residual passes the tolerance but exceeds this is compared
+/// with the LU re-solve of its basis (with refinement), and the better of the two is kept.
+const TABLEAU_ACCURATE: f64 = 1e-12;
+
 /// The covering vector d > 0 of Lemke's augmented problem `w = q + M z + d z_0`.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub enum Covering {
@@ -283,24 +287,24 @@ impl Lemke {
         match end {
             End::Complementary => {
                 out.status = status_for(out.residual, tol, Status::NumericalFailure);
-                if out.status == Status::Solved {
+                if out.status == Status::Solved && out.residual.relative <= TABLEAU_ACCURATE {
                     return Ok(());
                 }
-                // Otherwise re-solve the basis by LU (with refinement) and keep the
+                // Otherwise (a failed or merely passing tableau z, as pivots on a nearly
+                // singular basis give) re-solve the basis by LU with refinement and keep the
                 // better of the two candidates.
                 std::mem::swap(&mut out.z, &mut ws.z_tab);
                 std::mem::swap(&mut out.w, &mut ws.w_tab);
                 let tab_residual = out.residual;
                 ws.fill_m_rows();
-                if ws.resolve_basis(out, tol) {
-                    return Ok(());
-                }
+                ws.resolve_basis(out, tol);
                 if !(out.residual.relative <= tab_residual.relative) {
                     std::mem::swap(&mut out.z, &mut ws.z_tab);
                     std::mem::swap(&mut out.w, &mut ws.w_tab);
                     out.residual = tab_residual;
                 }
-                out.status = Status::NumericalFailure;
+                out.method = Method::Lemke;
+                out.status = status_for(out.residual, tol, Status::NumericalFailure);
             }
             End::Ray => out.status = status_for(out.residual, tol, Status::RayTermination),
             End::Limit => out.status = status_for(out.residual, tol, Status::IterationLimit),
