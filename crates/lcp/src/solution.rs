@@ -528,16 +528,11 @@ impl Solution {
         self.residual = Residual::INFINITE;
     }
 
-    /// Resizes z and w to n (no allocation once the capacity has been reached).
+    /// [`Self::prepare`] with z and w zeroed (no allocation once the capacity has been reached).
     pub(crate) fn reset(&mut self, n: usize, method: Method) {
-        self.z.clear();
-        self.z.resize(n, 0.0);
-        self.w.clear();
-        self.w.resize(n, 0.0);
-        self.iterations = 0;
-        self.method = method;
-        self.status = Status::NumericalFailure;
-        self.residual = Residual::INFINITE;
+        self.prepare(n, method);
+        self.z.fill(0.0);
+        self.w.fill(0.0);
     }
 }
 
