@@ -77,12 +77,8 @@ impl Cholesky {
         }
         self.l[..n * n].copy_from_slice(m);
         match self.buffer.as_mut() {
-            // Constant loop bounds for the orders of the common small mechanisms.
-            None if N > 0 => self.factor_and_invert::<N>(),
-            None if n == 2 => self.factor_and_invert::<2>(),
-            None if n == 3 => self.factor_and_invert::<3>(),
-            None if n == 4 => self.factor_and_invert::<4>(),
-            None => self.factor_and_invert::<0>(),
+            // The stepper states the orders of the common small mechanisms as N.
+            None => self.factor_and_invert::<N>(),
             Some(buffer) => {
                 let mut l = MatMut::from_column_major_slice_mut(&mut self.l, n, n);
                 llt::factor::cholesky_in_place(

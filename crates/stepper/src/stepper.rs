@@ -264,6 +264,16 @@ fn check_finite(what: &'static str, v: &[f64], t: f64) -> Result<(), StepError> 
     Err(StepError::NonFinite { what, index, t })
 }
 
+/// A contact's force directions w_N and w_T must be finite; the error names the first entry
+/// that is not (w_N's entries first, then w_T's).
+#[inline(always)]
+fn check_directions(w_n: &[f64], w_t: &[f64]) -> Result<(), LcpFailure> {
+    match w_n.iter().chain(w_t).position(|x| !x.is_finite()) {
+        None => Ok(()),
+        Some(index) => Err(LcpFailure::NonFinite { what: "w_N/w_T", index }),
+    }
+}
+
 /// Names the first non-finite value among h, u_E and q_E of a step (in that order); `Ok` when
 /// all are finite after all.
 #[cold]
@@ -717,9 +727,7 @@ impl<M: Mechanism> Stepper<M> {
         for (a, &i) in ws.active.iter().enumerate() {
             let (w_n, w_t) = (&ws.w_n[a * f..(a + 1) * f], &ws.w_t[a * f..(a + 1) * f]);
             let point = ws.points[a];
-            if let Some(index) = w_n.iter().chain(w_t.iter()).position(|x| !x.is_finite()) {
-                return Err(LcpFailure::NonFinite { what: "w_N/w_T", index });
-            }
+            check_directions(w_n, w_t)?;
             ws.w_n_hat[a] = point.w_n_hat;
             ws.w_t_hat[a] = point.w_t_hat;
             ws.gamma_na[a] = dot(w_n, u_a) + point.w_n_hat;
@@ -808,7 +816,7 @@ impl<M: Mechanism> Stepper<M> {
         }
 
         ws.last_size = s;
-        let one_contact = na == 1 && matches!(options.solver, SolverChoice::Auto);
+        let one_contact = na == 1 && nf == 1 && matches!(options.solver, SolverChoice::Auto);
         let solved = if one_contact
             && let Some(info) = one_contact_closed_form(
                 &ws.a[..s * s],
@@ -901,14 +909,7 @@ impl<M: Mechanism> Stepper<M> {
         let u_a = &u_a[..f];
         let (w_n, w_t) = (&mut ws.w_n[..f], &mut ws.w_t[..f]);
         let point = mech.contact(i, &ws.q_m, t_m, w_n, w_t);
-        let mut poison = 0.0;
-        for (n, t) in w_n.iter().zip(w_t.iter()) {
-            poison += n * 0.0 + t * 0.0;
-        }
-        if poison != 0.0 {
-            let index = w_n.iter().chain(w_t.iter()).position(|x| !x.is_finite());
-            return Err(LcpFailure::NonFinite { what: "w_N/w_T", index: index.unwrap_or(0) });
-        }
+        check_directions(w_n, w_t)?;
         ws.w_n_hat[0] = point.w_n_hat;
         ws.w_t_hat[0] = point.w_t_hat;
         let gamma_na = dot(w_n, u_a) + point.w_n_hat;
@@ -1066,13 +1067,13 @@ enum Mode {
     SlideNegative,
 }
 
-/// Solves the LCP of a single active contact in closed form, as the time-stepper's default
-/// solver does: one row (frictionless, P_N = −b/A) or three (x = (P_N, P_R, ξ_L)). With
-/// b_N < 0 the contact carries an impulse, and with friction one of stick, slip forwards and
-/// slip backwards holds; they are tried starting with the previous step's case, the one that
-/// holds on most steps (should several hold, it is also the one kept, as with Auto's warm
-/// basis). The z found is accepted only when the shared residual passes
-/// [`CLOSED_FORM_TOLERANCE`]; otherwise `None`, and the caller runs the general solver.
+/// Solves the LCP of a single active frictional contact (three rows, x = (P_N, P_R, ξ_L)) in
+/// closed form, as the time-stepper's default solver does (a frictionless one takes
+/// `Stepper::one_frictionless_contact`). With b_N < 0 the contact carries an impulse, and one
+/// of stick, slip forwards and slip backwards holds; they are tried starting with the previous
+/// step's case, the one that holds on most steps (should several hold, it is also the one
+/// kept, as with Auto's warm basis). The z found is accepted only when the shared residual
+/// passes [`CLOSED_FORM_TOLERANCE`]; otherwise `None`, and the caller runs the general solver.
 fn one_contact_closed_form(
     A: &[f64],
     b: &[f64],
@@ -1080,68 +1081,41 @@ fn one_contact_closed_form(
     prev: [f64; 3],
     out: &mut Solution,
 ) -> Option<LcpInfo> {
-    let s = b.len();
-    let z = &mut out.z;
-    z.clear();
-    match s {
-        1 => {
-            // z = −b/A > 0 and w = A z + b are each one rounding from exact, so z passes any
-            // tolerance: the shared residual (with its divisions, a third of a ball's step)
-            // is not computed, and the equation error |A z + b| is reported.
-            let p_n = -b[0] / A[0];
-            if !(A[0] > 0.0 && b[0] < 0.0 && p_n.is_finite()) {
-                return None;
-            }
-            z.push(p_n);
-            out.w.clear();
-            out.w.push(A[0] * p_n + b[0]);
-            return Some(LcpInfo {
-                method: Method::ClosedForm,
-                status: Status::Solved,
-                iterations: 0,
-                residual: out.w[0].abs(),
-            });
-        }
-        3 => {
-            // A is column-major: A[r + 3 c].
-            let (a00, a10, a01, a11) = (A[0], A[1], A[3], A[4]);
-            let [p_n, p_r, xi_l] = prev;
-            let first = if p_n > 0.0 && xi_l > 0.0 {
-                Mode::SlideNegative
-            } else if p_n > 0.0 && p_r == 0.0 {
-                Mode::SlidePositive
-            } else {
-                Mode::Stick
-            };
-            let others = [Mode::Stick, Mode::SlidePositive, Mode::SlideNegative];
-            let mut order =
-                std::iter::once(first).chain(others.into_iter().filter(|&m| m != first));
-            // Comparisons with NaN are false: a singular case yields no candidate.
-            let found = order.find_map(|mode| match mode {
-                Mode::Stick => {
-                    let det = a00 * a11 - a01 * a10;
-                    let p_n = (a01 * b[1] - a11 * b[0]) / det;
-                    let p_r = (a10 * b[0] - a00 * b[1]) / det;
-                    (p_n >= 0.0 && p_r >= 0.0 && 2.0 * mu * p_n - p_r >= 0.0)
-                        .then_some([p_n, p_r, 0.0])
-                }
-                Mode::SlidePositive => {
-                    let p_n = -b[0] / a00;
-                    (p_n >= 0.0 && a10 * p_n + b[1] >= 0.0).then_some([p_n, 0.0, 0.0])
-                }
-                Mode::SlideNegative => {
-                    let p_n = -b[0] / (a00 + 2.0 * mu * a01);
-                    let xi_l = -(a10 * p_n + 2.0 * mu * a11 * p_n + b[1]);
-                    (p_n >= 0.0 && xi_l >= 0.0).then_some([p_n, 2.0 * mu * p_n, xi_l])
-                }
-            });
-            z.extend_from_slice(&found?);
-        }
-        _ => return None,
-    }
-    // Only the three-row case gets here: its size as a constant unrolls the loops.
     const S: usize = 3;
-    let w = &mut out.w;
+    let (A, b): (&[f64; S * S], &[f64; S]) = (A.try_into().ok()?, b.try_into().ok()?);
+    // A is column-major: A[r + 3 c].
+    let (a00, a10, a01, a11) = (A[0], A[1], A[3], A[4]);
+    let [p_n, p_r, xi_l] = prev;
+    let first = if p_n > 0.0 && xi_l > 0.0 {
+        Mode::SlideNegative
+    } else if p_n > 0.0 && p_r == 0.0 {
+        Mode::SlidePositive
+    } else {
+        Mode::Stick
+    };
+    let others = [Mode::Stick, Mode::SlidePositive, Mode::SlideNegative];
+    let mut order = std::iter::once(first).chain(others.into_iter().filter(|&m| m != first));
+    // Comparisons with NaN are false: a singular case yields no candidate.
+    let found = order.find_map(|mode| match mode {
+        Mode::Stick => {
+            let det = a00 * a11 - a01 * a10;
+            let p_n = (a01 * b[1] - a11 * b[0]) / det;
+            let p_r = (a10 * b[0] - a00 * b[1]) / det;
+            (p_n >= 0.0 && p_r >= 0.0 && 2.0 * mu * p_n - p_r >= 0.0).then_some([p_n, p_r, 0.0])
+        }
+        Mode::SlidePositive => {
+            let p_n = -b[0] / a00;
+            (p_n >= 0.0 && a10 * p_n + b[1] >= 0.0).then_some([p_n, 0.0, 0.0])
+        }
+        Mode::SlideNegative => {
+            let p_n = -b[0] / (a00 + 2.0 * mu * a01);
+            let xi_l = -(a10 * p_n + 2.0 * mu * a11 * p_n + b[1]);
+            (p_n >= 0.0 && xi_l >= 0.0).then_some([p_n, 2.0 * mu * p_n, xi_l])
+        }
+    })?;
+    let (z, w) = (&mut out.z, &mut out.w);
+    z.clear();
+    z.extend_from_slice(&found);
     w.clear();
     for r in 0..S {
         w.push(b[r] + (0..S).map(|c| A[r + c * S] * z[c]).sum::<f64>());
