@@ -186,20 +186,4 @@ impl Mechanism for Ball {
     fn constant_mass_matrix(&self) -> bool {
         true
     }
-    fn evaluate(
-        &self,
-        q: &[f64],
-        u: &[f64],
-        t: f64,
-        mass: Option<&mut [f64]>,
-        h: &mut [f64],
-        gaps: &mut [f64],
-    ) {
-        // The one coordinate, force and gap written directly: this is most of a free step.
-        if let Some(m) = mass {
-            self.mass_matrix(q, t, m);
-        }
-        self.forces(q, u, t, h);
-        gaps[0] = self.normal_gap(0, q, t);
-    }
 }

@@ -323,7 +323,7 @@ impl SliderCrank {
 
     /// g_N of every modelled corner, in contact order, from y3 and (sin θ3, cos θ3).
     fn gaps_at(&self, y3: f64, s3: f64, c3: f64, g: &mut [f64]) {
-        for (i, gi) in g.iter_mut().enumerate().take(self.local.len()) {
+        for (i, gi) in g.iter_mut().enumerate() {
             *gi = self.gap_at(i, y3, s3, c3);
         }
     }
