@@ -5,8 +5,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::dense::{Lu, TINY_MAX, pow2_inverse, refine, solve_tiny};
 use crate::solution::{
-    Chunk, check_warm_start, finish_basis_columns, finish_row_major, finish_row_major_sparse, hmax,
-    residual_chunks, residual_of_zero,
+    Chunk, check_warm_start, finish_row_major, finish_sparse, hmax, residual_chunks,
+    residual_of_zero,
 };
 use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 
@@ -172,7 +172,8 @@ struct Workspace {
     m_cols: Vec<Chunk>,
     /// M row-major, filled only for the LU paths (warm basis, re-solve fallback).
     m_rows: Vec<f64>,
-    /// The columns of M in `alpha`, each of n rows, for the warm basis' small solve.
+    /// The columns of M in `alpha`, each of n rows: the warm basis' small solve and every
+    /// residual of a basis read them.
     basis_cols: Vec<f64>,
     /// q padded to h rows.
     q_pad: Vec<Chunk>,
@@ -193,6 +194,8 @@ struct Workspace {
     rhs: Vec<f64>,
     z_alt: Vec<f64>,
     w_alt: Vec<f64>,
+    /// Scratch of the row sums `Σ_j |M_ij z_j|` of a sparse residual.
+    row_abs: Vec<f64>,
     z_tab: Vec<f64>,
     w_tab: Vec<f64>,
     lu: Lu,
@@ -353,15 +356,14 @@ impl Lemke {
             }
             if solve_tiny(k, |r, c| cols[c * n + alpha[r]], &mut ws.rhs) {
                 ws.set_basic_z(out);
-                // w_alt serves as the scratch of row sums |M_ij z_j| here.
-                out.residual = finish_basis_columns(
-                    &ws.basis_cols[..k * n],
+                out.residual = finish_sparse(
+                    &cols[..k * n],
                     n,
                     &ws.q,
                     &out.z,
-                    &ws.alpha,
+                    alpha,
                     &mut out.w,
-                    &mut ws.w_alt,
+                    &mut ws.row_abs,
                 );
                 if out.residual.relative <= tol {
                     out.status = Status::Solved;
@@ -876,6 +878,7 @@ impl Workspace {
         self.rhs.resize(n, 0.0);
         self.z_alt.resize(n, 0.0);
         self.w_alt.resize(n, 0.0);
+        self.row_abs.resize(n, 0.0);
         self.z_tab.resize(n, 0.0);
         self.w_tab.resize(n, 0.0);
         if self.ties.capacity() < n {
@@ -1386,9 +1389,22 @@ impl Workspace {
     /// z = the basic solution in `rhs` (clamped at 0), w = M z + q, and its residual.
     fn scatter(&mut self, out: &mut Solution) {
         self.set_basic_z(out);
-        // z is zero off the (ascending) basis: the sparse product gives the dense one's w.
-        out.residual =
-            finish_row_major_sparse(&self.m_rows, self.n, &self.q, &out.z, &self.alpha, &mut out.w);
+        // The basis' columns of M from its row-major copy, as the warm basis has them.
+        let (n, k) = (self.n, self.alpha.len());
+        for (col, &j) in self.basis_cols.chunks_exact_mut(n).zip(&self.alpha) {
+            for (i, v) in col.iter_mut().enumerate() {
+                *v = self.m_rows[i * n + j];
+            }
+        }
+        out.residual = finish_sparse(
+            &self.basis_cols[..k * n],
+            n,
+            &self.q,
+            &out.z,
+            &self.alpha,
+            &mut out.w,
+            &mut self.row_abs,
+        );
     }
 
     /// Writes the basic values of the tableau as z into `out` (values at or below

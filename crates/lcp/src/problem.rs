@@ -102,16 +102,7 @@ impl Lcp {
     /// # Errors
     /// As [`Lcp::new`]; `m.len() != n n` gives [`LcpError::DimensionMismatch`].
     pub fn from_column_major(n: usize, m: &[f64], q: &[f64]) -> Result<Lcp, LcpError> {
-        if m.len() != n * n {
-            return Err(LcpError::DimensionMismatch {
-                what: "M (column-major, n*n entries)",
-                expected: n * n,
-                found: m.len(),
-            });
-        }
-        let mat = Mat::from_fn(n, n, |i, j| m[i + j * n]);
-        let q = Col::from_fn(q.len(), |i| q[i]);
-        Lcp::new(mat, q)
+        LcpRef::from_column_major(n, m, q).map(|view| view.to_owned())
     }
 
     /// The size n of the problem.
@@ -153,15 +144,15 @@ impl<'a> LcpRef<'a> {
     /// [`LcpError::Empty`] for n = 0, [`LcpError::DimensionMismatch`] when `m` does not
     /// have n² entries or `q` n, and [`LcpError::NonFinite`] for a non-finite entry.
     pub fn from_column_major(n: usize, m: &'a [f64], q: &'a [f64]) -> Result<Self, LcpError> {
-        if n == 0 {
-            return Err(LcpError::Empty);
-        }
         if m.len() != n * n {
             return Err(LcpError::DimensionMismatch {
                 what: "M (column-major, n*n entries)",
                 expected: n * n,
                 found: m.len(),
             });
+        }
+        if n == 0 {
+            return Err(LcpError::Empty);
         }
         if q.len() != n {
             return Err(LcpError::DimensionMismatch { what: "q", expected: n, found: q.len() });

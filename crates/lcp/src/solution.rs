@@ -316,37 +316,12 @@ pub(crate) fn finish_row_major(
     acc.finish()
 }
 
-/// As [`finish_row_major`] for a z that is zero outside `cols` (ascending column
-/// indices): only those columns are read, in the same order, so `w` and the residual are
-/// the same as from the dense product (a skipped term `M_ij · 0` adds zero).
-pub(crate) fn finish_row_major_sparse(
-    m: &[f64],
-    n: usize,
-    q: &[f64],
-    z: &[f64],
-    cols: &[usize],
-    w: &mut [f64],
-) -> Residual {
-    let z = &z[..n];
-    let mut acc = Acc::new(z);
-    for ((i, row), wi) in m[..n * n].chunks_exact(n).enumerate().zip(&mut w[..n]) {
-        let mut sum = q[i];
-        let mut abs = 0.0;
-        for &j in cols {
-            let t = row[j] * z[j];
-            sum += t;
-            abs += t.abs();
-        }
-        *wi = sum;
-        acc.row(q[i], z[i], sum, abs, sum);
-    }
-    acc.finish()
-}
-
-/// [`finish_row_major_sparse`] with the columns of M in `cols` given as a block (`block[t n +
-/// i] = M_i,cols[t]`), accumulated column by column: each row still sums the same terms in
-/// the same order, so w and the residual are the same. `abs` (length n) is scratch.
-pub(crate) fn finish_basis_columns(
+/// Sets `w = M z + q` for a z that is zero off the (ascending) columns `cols`, and returns the
+/// residual of (z, w): the sparse product gives the dense one's w. `block` holds those
+/// columns of M one after the other (`block[t n + i] = M_i,cols[t]`); the product is
+/// accumulated column by column, each row summing its terms in ascending column order.
+/// `abs` (length n) is scratch.
+pub(crate) fn finish_sparse(
     block: &[f64],
     n: usize,
     q: &[f64],
