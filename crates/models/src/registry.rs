@@ -5,7 +5,7 @@ use std::str::FromStr;
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::Mechanism;
+use moreau_stepper::{ConcreteOp, Mechanism};
 use serde::{Deserialize, Serialize};
 
 use crate::draw::Drawing;
@@ -330,5 +330,10 @@ impl Mechanism for AnyModel {
         gaps: &mut [f64],
     ) {
         dispatch!(self, m => m.evaluate(q, u, t, mass, h, gaps))
+    }
+    /// Runs `op` with the model inside, so that a stepper of an `AnyModel` runs the loop
+    /// compiled for that model's type (chosen once per run).
+    fn with_concrete<O: ConcreteOp>(&self, op: O) -> O::Output {
+        dispatch!(self, m => op.run(m))
     }
 }

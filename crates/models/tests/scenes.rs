@@ -270,3 +270,75 @@ fn run_with_streams_and_stops_at_the_rule() {
     assert_eq!(summary.steps, count);
     assert!(last[0] >= 1.0 && last[0] < 1.0 + 150.0 * scene.dt * 1.5);
 }
+
+/// (t, q, u) after each of `steps` steps of a stepper of `model`, by `step` and by
+/// `run_until`, as bits.
+fn trajectory<M: moreau_stepper::Mechanism + Clone>(
+    model: M,
+    scene: &Scene,
+    steps: usize,
+) -> Vec<u64> {
+    let (q0, u0) = scene.build().unwrap().initial_state();
+    let options = scene.stepper_options();
+    let mut by_step =
+        moreau_stepper::Stepper::new(model.clone(), &q0, &u0, 0.0, options.clone()).unwrap();
+    let mut bits = Vec::new();
+    let mut push = |t: f64, q: &[f64], u: &[f64]| {
+        bits.push(t.to_bits());
+        bits.extend(q.iter().chain(u).map(|v| v.to_bits()));
+    };
+    for _ in 0..steps {
+        let r = by_step.step().unwrap();
+        push(r.t, r.q, r.u);
+    }
+    let mut by_run = moreau_stepper::Stepper::new(model, &q0, &u0, 0.0, options).unwrap();
+    let summary = by_run
+        .run_until(steps as f64 * scene.dt, &mut |r: &moreau_stepper::StepReport<'_>| {
+            push(r.t, r.q, r.u);
+            std::ops::ControlFlow::Continue(())
+        })
+        .unwrap();
+    assert_eq!(summary.steps, steps as u64);
+    bits
+}
+
+#[test]
+fn a_scene_built_model_steps_exactly_as_its_concrete_type() {
+    // `AnyModel` hands the stepper the model inside (`Mechanism::with_concrete`); the
+    // trajectories must be those of the model's own type, bit for bit.
+    for kind in ModelKind::ALL {
+        let scene = Scene::report(kind);
+        let steps = 3000;
+        let any = trajectory(scene.build().unwrap(), &scene, steps);
+        let concrete = match scene.build().unwrap() {
+            AnyModel::Ball(m) => trajectory(m, &scene, steps),
+            AnyModel::Woodpecker(m) => trajectory(m, &scene, steps),
+            AnyModel::SliderCrank(m) => trajectory(m, &scene, steps),
+            AnyModel::SliderCrankIdeal(m) => trajectory(m, &scene, steps),
+            AnyModel::Cam(m) => trajectory(m, &scene, steps),
+            AnyModel::Painleve(m) => trajectory(m, &scene, steps),
+        };
+        assert_eq!(any.len(), 2 * steps * (1 + 2 * scene.build().unwrap().initial_state().0.len()));
+        assert!(any == concrete, "{kind}");
+    }
+}
+
+#[test]
+fn the_observer_of_a_scene_built_stepper_sees_the_scene_built_model() {
+    struct Kinds(Vec<ModelKind>);
+    impl moreau_stepper::Observer<AnyModel> for Kinds {
+        fn observe(
+            &mut self,
+            model: &AnyModel,
+            _: &moreau_stepper::StepReport<'_>,
+        ) -> std::ops::ControlFlow<()> {
+            self.0.push(model.kind());
+            std::ops::ControlFlow::Continue(())
+        }
+    }
+    let scene = Scene::report(ModelKind::Woodpecker);
+    let mut stepper = scene.stepper().unwrap();
+    let mut kinds = Kinds(Vec::new());
+    stepper.run_until(10.0 * scene.dt, &mut kinds).unwrap();
+    assert_eq!(kinds.0, vec![ModelKind::Woodpecker; 10]);
+}

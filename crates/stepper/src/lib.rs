@@ -82,7 +82,7 @@ mod options;
 mod stepper;
 
 pub use error::StepError;
-pub use mechanism::Mechanism;
+pub use mechanism::{ConcreteOp, Mechanism};
 pub use observer::{Observer, Record, Recorder};
 pub use options::{SolverChoice, StepperOptions};
 pub use stepper::{ContactReport, ContactState, LcpInfo, RunSummary, StepReport, Stepper};

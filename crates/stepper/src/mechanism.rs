@@ -54,4 +54,25 @@ pub trait Mechanism: ContactKinematics {
         self.forces(q, u, t, h);
         self.normal_gaps(q, t, gaps);
     }
+
+    /// Runs `op` with the mechanism that does the work: `self` by default. A type that
+    /// forwards every method to one of several mechanisms (an enum over models) passes the
+    /// one it holds, so that the stepper's loop is compiled for that type and the choice is
+    /// made once per run instead of at every call. The mechanism passed must behave exactly
+    /// as `self` does.
+    fn with_concrete<O: ConcreteOp>(&self, op: O) -> O::Output
+    where
+        Self: Sized,
+    {
+        op.run(self)
+    }
+}
+
+/// An operation generic over the concrete mechanism type, for [`Mechanism::with_concrete`].
+pub trait ConcreteOp {
+    /// What the operation returns.
+    type Output;
+
+    /// Runs the operation with `mechanism`.
+    fn run<K: Mechanism>(self, mechanism: &K) -> Self::Output;
 }

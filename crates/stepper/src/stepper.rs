@@ -9,7 +9,7 @@ use moreau_lcp::{
 
 use crate::dense::{Cholesky, dot, half_quadratic, order};
 use crate::observer::{Observer, Recorder};
-use crate::{Mechanism, Record, SolverChoice, StepError, StepperOptions};
+use crate::{ConcreteOp, Mechanism, Record, SolverChoice, StepError, StepperOptions};
 
 /// Whether a contact is open, sticking or slipping at the end of a step.
 #[derive(
@@ -237,6 +237,12 @@ struct Workspace {
 ///   contact-impact events in rigid multibody systems using the LCP formulation.
 pub struct Stepper<M: Mechanism> {
     mechanism: M,
+    core: Core,
+}
+
+/// A stepper's state and workspace: everything but the mechanism, so that the step loop can
+/// be compiled for the concrete mechanism that [`Mechanism::with_concrete`] names.
+struct Core {
     options: StepperOptions,
     solver: SolverImpl,
     t0: f64,
@@ -362,31 +368,33 @@ impl<M: Mechanism> Stepper<M> {
         };
         Ok(Self {
             mechanism,
-            options,
-            solver,
-            t0,
-            step: 0,
-            t: t0,
-            q: q0.to_vec(),
-            u: u0.to_vec(),
-            contacts: vec![ContactReport::default(); n],
-            ws,
+            core: Core {
+                options,
+                solver,
+                t0,
+                step: 0,
+                t: t0,
+                q: q0.to_vec(),
+                u: u0.to_vec(),
+                contacts: vec![ContactReport::default(); n],
+                ws,
+            },
         })
     }
 
     /// Current time t (s).
     pub fn t(&self) -> f64 {
-        self.t
+        self.core.t
     }
 
     /// Current positions q.
     pub fn q(&self) -> &[f64] {
-        &self.q
+        &self.core.q
     }
 
     /// Current velocities u.
     pub fn u(&self) -> &[f64] {
-        &self.u
+        &self.core.u
     }
 
     /// The mechanism being integrated.
@@ -396,12 +404,12 @@ impl<M: Mechanism> Stepper<M> {
 
     /// The options the stepper was built with.
     pub fn options(&self) -> &StepperOptions {
-        &self.options
+        &self.core.options
     }
 
     /// Number of steps taken so far.
     pub fn steps(&self) -> u64 {
-        self.step
+        self.core.step
     }
 
     /// Restarts from state (q, u) at time t, forgetting the warm start.
@@ -409,7 +417,7 @@ impl<M: Mechanism> Stepper<M> {
     /// # Errors
     /// [`StepError::Dimension`] or [`StepError::NonFinite`] for a bad state.
     pub fn set_state(&mut self, t: f64, q: &[f64], u: &[f64]) -> Result<(), StepError> {
-        let f = self.q.len();
+        let f = self.core.q.len();
         for (what, len) in [("q", q.len()), ("u", u.len())] {
             if len != f {
                 return Err(StepError::Dimension { what, expected: f, found: len });
@@ -420,12 +428,12 @@ impl<M: Mechanism> Stepper<M> {
         }
         check_finite("q", q, t)?;
         check_finite("u", u, t)?;
-        self.q.copy_from_slice(q);
-        self.u.copy_from_slice(u);
-        self.t0 = t;
-        self.t = t;
-        self.step = 0;
-        self.ws.prev.fill([0.0; 3]);
+        self.core.q.copy_from_slice(q);
+        self.core.u.copy_from_slice(u);
+        self.core.t0 = t;
+        self.core.t = t;
+        self.core.step = 0;
+        self.core.ws.prev.fill([0.0; 3]);
         Ok(())
     }
 
@@ -437,10 +445,62 @@ impl<M: Mechanism> Stepper<M> {
     /// [`StepError::LcpFailed`] (carrying the LCP instance) when the step's LCP has no
     /// acceptable solution. The state is left at the start of the failed step.
     pub fn step(&mut self) -> Result<StepReport<'_>, StepError> {
-        self.advance()?;
-        Ok(self.report())
+        self.mechanism.with_concrete(Advance { core: &mut self.core })?;
+        Ok(self.core.report())
     }
 
+    /// The LCP (A, b) of eq. 7.41 that the last step assembled and gave to the solver, if it
+    /// needed one (not when no contact was closed or the zero impulse solved it at once).
+    pub fn last_lcp(&self) -> Option<LcpRef<'_>> {
+        let s = self.core.ws.last_size;
+        if s == 0 {
+            return None;
+        }
+        LcpRef::new(
+            MatRef::from_column_major_slice(&self.core.ws.a[..s * s], s, s),
+            ColRef::from_slice(&self.core.ws.b[..s]),
+        )
+        .ok()
+    }
+
+    /// Steps until t_end (the last step may end up to Δt/2 past it), calling `observer` after
+    /// every step; stops early when the observer breaks.
+    ///
+    /// The number of steps is the nearest whole number of Δt in `t_end − t` (rounded up when
+    /// it is not within 1e-6 Δt of one), and time is t_0 + kΔt, so no round-off accumulates.
+    ///
+    /// # Errors
+    /// [`StepError::EndBeforeStart`] when t_end < t, and every error of [`Self::step`].
+    pub fn run_until<O: Observer<M>>(
+        &mut self,
+        t_end: f64,
+        observer: &mut O,
+    ) -> Result<RunSummary, StepError> {
+        if !t_end.is_finite() {
+            return Err(StepError::NonFinite { what: "t_end", index: 0, t: t_end });
+        }
+        if t_end < self.core.t {
+            return Err(StepError::EndBeforeStart { t: self.core.t, t_end });
+        }
+        let x = (t_end - self.core.t) / self.core.options.dt;
+        let n = if (x - x.round()).abs() < 1e-6 { x.round() } else { x.ceil() } as u64;
+        let run = RunSteps { core: &mut self.core, outer: &self.mechanism, n, t_end, observer };
+        self.mechanism.with_concrete(run)
+    }
+
+    /// Runs until t_end and records every step (row 0 is the current state).
+    ///
+    /// # Errors
+    /// Every error of [`Self::run_until`].
+    pub fn record_until(&mut self, t_end: f64) -> Result<Record, StepError> {
+        let mut recorder = Recorder::new();
+        recorder.push_initial(&self.mechanism, self.core.t, &self.core.q, &self.core.u);
+        self.run_until(t_end, &mut recorder)?;
+        Ok(recorder.record)
+    }
+}
+
+impl Core {
     /// The report of the step just taken.
     fn report(&self) -> StepReport<'_> {
         StepReport {
@@ -457,27 +517,26 @@ impl<M: Mechanism> Stepper<M> {
         }
     }
 
-    /// The body of [`Self::step`]: updates (t, q, u) and the contact reports.
-    fn advance(&mut self) -> Result<(), StepError> {
+    /// The body of [`Stepper::step`]: updates (t, q, u) and the contact reports.
+    fn advance<K: Mechanism>(&mut self, mech: &K) -> Result<(), StepError> {
         match self.q.len() {
-            1 => self.advance_n::<1>(),
-            2 => self.advance_n::<2>(),
-            3 => self.advance_n::<3>(),
-            4 => self.advance_n::<4>(),
-            _ => self.advance_n::<0>(),
+            1 => self.advance_n::<K, 1>(mech),
+            2 => self.advance_n::<K, 2>(mech),
+            3 => self.advance_n::<K, 3>(mech),
+            4 => self.advance_n::<K, 4>(mech),
+            _ => self.advance_n::<K, 0>(mech),
         }
     }
 
     /// [`Self::advance`] for f = N coordinates (`N > 0`: the small mechanisms, whose loops over
     /// the coordinates then have constant bounds) or any f (`N = 0`).
     #[inline(always)]
-    fn advance_n<const N: usize>(&mut self) -> Result<(), StepError> {
+    fn advance_n<K: Mechanism, const N: usize>(&mut self, mech: &K) -> Result<(), StepError> {
         let f = order::<N>(self.q.len());
         let dt = self.options.dt;
         let half = 0.5 * dt;
         let t_m = self.t + half;
         let ws = &mut self.ws;
-        let mech = &self.mechanism;
 
         for ((q_m, q), u) in ws.q_m[..f].iter_mut().zip(&self.q[..f]).zip(&self.u[..f]) {
             *q_m = q + half * u;
@@ -514,7 +573,7 @@ impl<M: Mechanism> Stepper<M> {
         // line.
         let contacts = !(ws.active.is_empty() && ws.reported.is_empty());
         if contacts {
-            self.solve_contacts::<N>(t_m)?;
+            self.solve_contacts::<K, N>(mech, t_m)?;
         } else {
             self.ws.lcp_size = 0;
         }
@@ -542,12 +601,12 @@ impl<M: Mechanism> Stepper<M> {
         }
 
         if contacts {
-            self.report_contacts::<N>();
+            self.report_contacts::<K, N>(mech);
         }
 
         if self.options.projection {
             let t_e = self.t0 + step_count_as_f64(self.step + 1) * dt;
-            self.project(t_e)?;
+            self.project(mech, t_e)?;
         }
 
         self.step += 1;
@@ -559,7 +618,11 @@ impl<M: Mechanism> Stepper<M> {
     /// and, when contacts are closed, solves their LCP (u_E into `ws.tmp`). Sets the step's
     /// LCP size and information.
     #[inline(never)]
-    fn solve_contacts<const N: usize>(&mut self, t_m: f64) -> Result<(), StepError> {
+    fn solve_contacts<K: Mechanism, const N: usize>(
+        &mut self,
+        mech: &K,
+        t_m: f64,
+    ) -> Result<(), StepError> {
         let ws = &mut self.ws;
         for &i in &ws.reported {
             self.contacts[i] = ContactReport::default();
@@ -569,15 +632,9 @@ impl<M: Mechanism> Stepper<M> {
         ws.lcp_info = None;
         if !ws.active.is_empty() {
             check_finite("h", &ws.h[..order::<N>(ws.h.len())], t_m)?;
-            let (size, solved) = Self::contact_step::<N>(
-                &self.mechanism,
-                &self.options,
-                &mut self.solver,
-                ws,
-                &self.u,
-                t_m,
-            )
-            .map_err(|e| self.lcp_error(e))?;
+            let (size, solved) =
+                Self::contact_step::<K, N>(mech, &self.options, &mut self.solver, ws, &self.u, t_m)
+                    .map_err(|e| self.lcp_error(e))?;
             let ws = &mut self.ws;
             ws.lcp_size = size;
             ws.lcp_info = Some(solved);
@@ -591,10 +648,10 @@ impl<M: Mechanism> Stepper<M> {
     /// The contact reports of a step from its end velocities; forgets the impulses of the
     /// contacts that have opened.
     #[inline(never)]
-    fn report_contacts<const N: usize>(&mut self) {
+    fn report_contacts<K: Mechanism, const N: usize>(&mut self, mech: &K) {
         let f = order::<N>(self.q.len());
         let ws = &mut self.ws;
-        let laws = self.mechanism.laws();
+        let laws = mech.laws();
         let u = &self.u[..f];
         for (a, &i) in ws.active.iter().enumerate() {
             let w_n = &ws.w_n[a * f..(a + 1) * f];
@@ -627,10 +684,9 @@ impl<M: Mechanism> Stepper<M> {
     /// q_E ← q_E + M⁻¹ W_N λ with 0 ≤ λ ⊥ W_Nᵀ M⁻¹ W_N λ + g_N ≥ 0 over all contacts, when
     /// one penetrates, repeated (at most four times) while the linearisation leaves some
     /// penetration. Velocities are not changed, so kinetic energy is not changed.
-    fn project(&mut self, t_e: f64) -> Result<(), StepError> {
+    fn project<K: Mechanism>(&mut self, mech: &K, t_e: f64) -> Result<(), StepError> {
         let f = self.q.len();
         let ws = &mut self.ws;
-        let mech = &self.mechanism;
         for _ in 0..4 {
             // Every contact enters the projection LCP once one penetrates: pushing a corner
             // out can push its neighbour on the same face in, and complementarity keeps the
@@ -680,24 +736,10 @@ impl<M: Mechanism> Stepper<M> {
         check_finite("q", &self.q, t_e)
     }
 
-    /// The LCP (A, b) of eq. 7.41 that the last step assembled and gave to the solver, if it
-    /// needed one (not when no contact was closed or the zero impulse solved it at once).
-    pub fn last_lcp(&self) -> Option<LcpRef<'_>> {
-        let s = self.ws.last_size;
-        if s == 0 {
-            return None;
-        }
-        LcpRef::new(
-            MatRef::from_column_major_slice(&self.ws.a[..s * s], s, s),
-            ColRef::from_slice(&self.ws.b[..s]),
-        )
-        .ok()
-    }
-
     /// Assembles and solves the LCP of the active contacts; writes u_E into `ws.tmp` and the
     /// impulses (P_N, P_R, ξ_L) into `ws.prev`. Returns the LCP size and how it was solved.
-    fn contact_step<const N: usize>(
-        mech: &M,
+    fn contact_step<K: Mechanism, const N: usize>(
+        mech: &K,
         options: &StepperOptions,
         solver: &mut SolverImpl,
         ws: &mut Workspace,
@@ -710,7 +752,7 @@ impl<M: Mechanism> Stepper<M> {
         if let [i] = ws.active[..]
             && !(laws[i].is_frictional() || options.friction_rows_when_frictionless)
             && matches!(options.solver, SolverChoice::Auto)
-            && let Some(done) = Self::one_frictionless_contact::<N>(mech, ws, u_a, t_m, i)?
+            && let Some(done) = Self::one_frictionless_contact::<K, N>(mech, ws, u_a, t_m, i)?
         {
             return Ok(done);
         }
@@ -898,8 +940,8 @@ impl<M: Mechanism> Stepper<M> {
     /// P_N = −b/A otherwise; u_E = ũ + M⁻¹ w_N P_N. `None` (nothing written that the general
     /// path needs) when A is not positive or −b/A is not finite.
     #[inline(always)]
-    fn one_frictionless_contact<const N: usize>(
-        mech: &M,
+    fn one_frictionless_contact<K: Mechanism, const N: usize>(
+        mech: &K,
         ws: &mut Workspace,
         u_a: &[f64],
         t_m: f64,
@@ -983,39 +1025,12 @@ impl<M: Mechanism> Stepper<M> {
         }
     }
 
-    /// Steps until t_end (the last step may end up to Δt/2 past it), calling `observer` after
-    /// every step; stops early when the observer breaks.
-    ///
-    /// The number of steps is the nearest whole number of Δt in `t_end − t` (rounded up when
-    /// it is not within 1e-6 Δt of one), and time is t_0 + kΔt, so no round-off accumulates.
-    ///
-    /// # Errors
-    /// [`StepError::EndBeforeStart`] when t_end < t, and every error of [`Self::step`].
-    pub fn run_until<O: Observer<M>>(
+    /// The loop of [`Stepper::run_until`]: `n` steps of [`Self::advance_n`] with `mech`, the
+    /// concrete mechanism behind `outer`, which the observer sees.
+    fn run_steps<K: Mechanism, M: Mechanism, const N: usize, O: Observer<M>>(
         &mut self,
-        t_end: f64,
-        observer: &mut O,
-    ) -> Result<RunSummary, StepError> {
-        if !t_end.is_finite() {
-            return Err(StepError::NonFinite { what: "t_end", index: 0, t: t_end });
-        }
-        if t_end < self.t {
-            return Err(StepError::EndBeforeStart { t: self.t, t_end });
-        }
-        let x = (t_end - self.t) / self.options.dt;
-        let n = if (x - x.round()).abs() < 1e-6 { x.round() } else { x.ceil() } as u64;
-        match self.q.len() {
-            1 => self.run_steps::<1, O>(n, t_end, observer),
-            2 => self.run_steps::<2, O>(n, t_end, observer),
-            3 => self.run_steps::<3, O>(n, t_end, observer),
-            4 => self.run_steps::<4, O>(n, t_end, observer),
-            _ => self.run_steps::<0, O>(n, t_end, observer),
-        }
-    }
-
-    /// The loop of [`Self::run_until`]: `n` steps of [`Self::advance_n`].
-    fn run_steps<const N: usize, O: Observer<M>>(
-        &mut self,
+        mech: &K,
+        outer: &M,
         n: u64,
         t_end: f64,
         observer: &mut O,
@@ -1024,9 +1039,9 @@ impl<M: Mechanism> Stepper<M> {
         let mut steps = 0;
         let mut stopped = false;
         for _ in 0..n {
-            self.advance_n::<N>()?;
+            self.advance_n::<K, N>(mech)?;
             steps += 1;
-            if observer.observe(&self.mechanism, &self.report()).is_break() {
+            if observer.observe(outer, &self.report()).is_break() {
                 stopped = true;
                 break;
             }
@@ -1038,16 +1053,40 @@ impl<M: Mechanism> Stepper<M> {
             stopped_early: stopped && self.t < t_end,
         })
     }
+}
 
-    /// Runs until t_end and records every step (row 0 is the current state).
-    ///
-    /// # Errors
-    /// Every error of [`Self::run_until`].
-    pub fn record_until(&mut self, t_end: f64) -> Result<Record, StepError> {
-        let mut recorder = Recorder::new();
-        recorder.push_initial(&self.mechanism, self.t, &self.q, &self.u);
-        self.run_until(t_end, &mut recorder)?;
-        Ok(recorder.record)
+/// One step of a [`Core`] with the concrete mechanism.
+struct Advance<'a> {
+    core: &'a mut Core,
+}
+
+impl ConcreteOp for Advance<'_> {
+    type Output = Result<(), StepError>;
+    fn run<K: Mechanism>(self, mechanism: &K) -> Self::Output {
+        self.core.advance(mechanism)
+    }
+}
+
+/// The loop of [`Stepper::run_until`] with the concrete mechanism, the order f chosen once.
+struct RunSteps<'a, M, O> {
+    core: &'a mut Core,
+    outer: &'a M,
+    n: u64,
+    t_end: f64,
+    observer: &'a mut O,
+}
+
+impl<M: Mechanism, O: Observer<M>> ConcreteOp for RunSteps<'_, M, O> {
+    type Output = Result<RunSummary, StepError>;
+    fn run<K: Mechanism>(self, mech: &K) -> Self::Output {
+        let RunSteps { core, outer, n, t_end, observer } = self;
+        match core.q.len() {
+            1 => core.run_steps::<K, M, 1, O>(mech, outer, n, t_end, observer),
+            2 => core.run_steps::<K, M, 2, O>(mech, outer, n, t_end, observer),
+            3 => core.run_steps::<K, M, 3, O>(mech, outer, n, t_end, observer),
+            4 => core.run_steps::<K, M, 4, O>(mech, outer, n, t_end, observer),
+            _ => core.run_steps::<K, M, 0, O>(mech, outer, n, t_end, observer),
+        }
     }
 }
 
@@ -1268,10 +1307,10 @@ fn _assert_send_sync() {
 impl<M: Mechanism> std::fmt::Debug for Stepper<M> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Stepper")
-            .field("t", &self.t)
-            .field("q", &self.q)
-            .field("u", &self.u)
-            .field("options", &self.options)
+            .field("t", &self.core.t)
+            .field("q", &self.core.q)
+            .field("u", &self.core.u)
+            .field("options", &self.core.options)
             .finish_non_exhaustive()
     }
 }
