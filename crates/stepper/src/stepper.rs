@@ -654,8 +654,8 @@ impl Core {
         let laws = mech.laws();
         let u = &self.u[..f];
         for (a, &i) in ws.active.iter().enumerate() {
-            let w_n = &ws.w_n[a * f..(a + 1) * f];
-            let w_t = &ws.w_t[a * f..(a + 1) * f];
+            let w_n = &ws.w_n[a * f..][..f];
+            let w_t = &ws.w_t[a * f..][..f];
             let gamma_n = dot(w_n, u) + ws.w_n_hat[a];
             let gamma_t = dot(w_t, u) + ws.w_t_hat[a];
             let [p_n, p_r, _] = ws.prev[i];
@@ -707,7 +707,7 @@ impl Core {
             }
             for (a, &i) in ws.proj_active.iter().enumerate() {
                 let (w_n, x) =
-                    (&mut ws.proj_w[a * f..(a + 1) * f], &mut ws.proj_x[a * f..(a + 1) * f]);
+                    (&mut ws.proj_w[a * f..][..f], &mut ws.proj_x[a * f..][..f]);
                 mech.contact(i, &self.q, t_e, w_n, &mut ws.tmp);
                 x.copy_from_slice(w_n);
                 ws.chol.solve(x);
@@ -715,7 +715,7 @@ impl Core {
             for c in 0..k {
                 for r in 0..k {
                     ws.proj_a[r + c * k] =
-                        dot(&ws.proj_w[r * f..(r + 1) * f], &ws.proj_x[c * f..(c + 1) * f]);
+                        dot(&ws.proj_w[r * f..][..f], &ws.proj_x[c * f..][..f]);
                 }
             }
             let lcp = LcpRef::new(
@@ -728,7 +728,7 @@ impl Core {
                 break;
             }
             for (c, lambda) in ws.proj_solution.z.iter().enumerate() {
-                for (q, x) in self.q.iter_mut().zip(&ws.proj_x[c * f..(c + 1) * f]) {
+                for (q, x) in self.q.iter_mut().zip(&ws.proj_x[c * f..][..f]) {
                     *q += x * lambda.max(0.0);
                 }
             }
@@ -767,7 +767,7 @@ impl Core {
             &mut ws.points[..na],
         );
         for (a, &i) in ws.active.iter().enumerate() {
-            let (w_n, w_t) = (&ws.w_n[a * f..(a + 1) * f], &ws.w_t[a * f..(a + 1) * f]);
+            let (w_n, w_t) = (&ws.w_n[a * f..][..f], &ws.w_t[a * f..][..f]);
             let point = ws.points[a];
             check_directions(w_n, w_t)?;
             ws.w_n_hat[a] = point.w_n_hat;
@@ -785,13 +785,13 @@ impl Core {
         let mut all_separating = true;
         for a in 0..na {
             let law = laws[ws.active[a]];
-            let w_n = &ws.w_n[a * f..(a + 1) * f];
+            let w_n = &ws.w_n[a * f..][..f];
             ws.b[a] = dot(w_n, &ws.u_free[..f]) + ws.w_n_hat[a] + law.eps_n() * ws.gamma_na[a];
             all_separating &= ws.b[a] >= 0.0;
         }
         for (k, &a) in ws.frictional.iter().enumerate() {
             let law = laws[ws.active[a]];
-            let w_t = &ws.w_t[a * f..(a + 1) * f];
+            let w_t = &ws.w_t[a * f..][..f];
             ws.b[na + k] = dot(w_t, &ws.u_free[..f]) + ws.w_t_hat[a] + law.eps_t() * ws.gamma_ta[a];
             ws.b[na + nf + k] = 0.0;
         }
@@ -816,15 +816,15 @@ impl Core {
 
         // Columns M⁻¹ w_T of the frictional contacts and M⁻¹ (w_N − μ w_T) of all.
         for (k, &a) in ws.frictional.iter().enumerate() {
-            ws.chol.solve_into::<N>(&ws.w_t[a * f..(a + 1) * f], &mut ws.x_t[k * f..(k + 1) * f]);
+            ws.chol.solve_into::<N>(&ws.w_t[a * f..][..f], &mut ws.x_t[k * f..][..f]);
         }
         let mut k = 0;
         for a in 0..na {
-            let y = &mut ws.y_n[a * f..(a + 1) * f];
-            ws.chol.solve_into::<N>(&ws.w_n[a * f..(a + 1) * f], y);
+            let y = &mut ws.y_n[a * f..][..f];
+            ws.chol.solve_into::<N>(&ws.w_n[a * f..][..f], y);
             if k < nf && ws.frictional[k] == a {
                 let mu = laws[ws.active[a]].mu();
-                for (yj, xj) in y.iter_mut().zip(&ws.x_t[k * f..(k + 1) * f]) {
+                for (yj, xj) in y.iter_mut().zip(&ws.x_t[k * f..][..f]) {
                     *yj -= mu * xj;
                 }
                 k += 1;
@@ -835,22 +835,22 @@ impl Core {
         let A = &mut ws.a[..s * s];
         A.fill(0.0);
         for c in 0..na {
-            let y = &ws.y_n[c * f..(c + 1) * f];
+            let y = &ws.y_n[c * f..][..f];
             for r in 0..na {
-                A[r + c * s] = dot(&ws.w_n[r * f..(r + 1) * f], y);
+                A[r + c * s] = dot(&ws.w_n[r * f..][..f], y);
             }
             for (k, &r) in ws.frictional.iter().enumerate() {
-                A[na + k + c * s] = dot(&ws.w_t[r * f..(r + 1) * f], y);
+                A[na + k + c * s] = dot(&ws.w_t[r * f..][..f], y);
             }
         }
         for (l, &c) in ws.frictional.iter().enumerate() {
-            let x = &ws.x_t[l * f..(l + 1) * f];
+            let x = &ws.x_t[l * f..][..f];
             let col = na + l;
             for r in 0..na {
-                A[r + col * s] = dot(&ws.w_n[r * f..(r + 1) * f], x);
+                A[r + col * s] = dot(&ws.w_n[r * f..][..f], x);
             }
             for (k, &r) in ws.frictional.iter().enumerate() {
-                A[na + k + col * s] = dot(&ws.w_t[r * f..(r + 1) * f], x);
+                A[na + k + col * s] = dot(&ws.w_t[r * f..][..f], x);
             }
             A[na + nf + l + col * s] = -1.0;
             A[na + l + (na + nf + l) * s] = 1.0;
@@ -915,7 +915,7 @@ impl Core {
             let p_n = z[a].max(0.0);
             ws.prev[ws.active[a]] = [p_n, 0.0, 0.0];
             if p_n != 0.0 {
-                for (u, y) in ws.tmp.iter_mut().zip(&ws.y_n[a * f..(a + 1) * f]) {
+                for (u, y) in ws.tmp.iter_mut().zip(&ws.y_n[a * f..][..f]) {
                     *u += y * p_n;
                 }
             }
@@ -926,7 +926,7 @@ impl Core {
             ws.prev[i][1] = p_r;
             ws.prev[i][2] = z[na + nf + k].max(0.0);
             if p_r != 0.0 {
-                for (u, x) in ws.tmp.iter_mut().zip(&ws.x_t[k * f..(k + 1) * f]) {
+                for (u, x) in ws.tmp.iter_mut().zip(&ws.x_t[k * f..][..f]) {
                     *u += x * p_r;
                 }
             }
@@ -1188,16 +1188,16 @@ fn nonsmooth_gauss_seidel(
     // M⁻¹ w_N = y_N + μ x_T for frictional contacts, y_N otherwise.
     let column = |ws: &Workspace, c: usize, out: &mut [f64]| {
         if c < na {
-            out.copy_from_slice(&ws.y_n[c * f..(c + 1) * f]);
+            out.copy_from_slice(&ws.y_n[c * f..][..f]);
             if let Some(k) = ws.frictional.iter().position(|&a| a == c) {
                 let mu = laws[ws.active[c]].mu();
-                for (o, x) in out.iter_mut().zip(&ws.x_t[k * f..(k + 1) * f]) {
+                for (o, x) in out.iter_mut().zip(&ws.x_t[k * f..][..f]) {
                     *o += mu * x;
                 }
             }
         } else {
             let k = c - na;
-            out.copy_from_slice(&ws.x_t[k * f..(k + 1) * f]);
+            out.copy_from_slice(&ws.x_t[k * f..][..f]);
         }
     };
     let row = |ws: &Workspace, r: usize| -> std::ops::Range<usize> {
