@@ -254,10 +254,13 @@ fn solve_fixed<const K: usize>(entry: impl Fn(usize, usize) -> f64, rhs: &mut [f
         a.swap(c, p);
         x.swap(c, p);
         let inv = 1.0 / pivot;
+        let pivot_row = a[c];
         for r in c + 1..K {
             let f = a[r][c] * inv;
-            for j in c + 1..K {
-                a[r][j] -= f * a[c][j];
+            // The whole row, so that the loop has constant bounds: the entries left of the
+            // pivot column are never read again.
+            for j in 0..K {
+                a[r][j] -= f * pivot_row[j];
             }
             x[r] -= f * x[c];
         }
