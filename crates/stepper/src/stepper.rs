@@ -173,6 +173,8 @@ struct Workspace {
     active: Vec<usize>,
     /// Positions in `active` of the active frictional contacts.
     frictional: Vec<usize>,
+    /// μ of each contact in `frictional`, in its order.
+    mu_f: Vec<f64>,
     /// The kinematics of the active contacts: their scalars, and w_N and w_T, one column
     /// of length f each.
     points: Vec<ContactPoint>,
@@ -337,6 +339,7 @@ impl<M: Mechanism> Stepper<M> {
             factored: false,
             active: Vec::with_capacity(n),
             frictional: Vec::with_capacity(n),
+            mu_f: vec![0.0; n],
             points: vec![ContactPoint::default(); n],
             w_n: vec![0.0; f * n],
             w_t: vec![0.0; f * n],
@@ -766,35 +769,43 @@ impl Core {
             &mut ws.w_t[..na * f],
             &mut ws.points[..na],
         );
+        // γ_A, and b = W' ũ + ŵ + ε γ_A (eq. 7.41 with W' M⁻¹ h Δt + γ_A = W' ũ + ŵ): rows N
+        // of all contacts, rows R of the frictional ones; rows L are zero.
+        let u_free = &ws.u_free[..f];
+        let mut all_separating = true;
+        let mut poison = 0.0;
         for (a, &i) in ws.active.iter().enumerate() {
+            let law = laws[i];
             let (w_n, w_t) = (&ws.w_n[a * f..][..f], &ws.w_t[a * f..][..f]);
+            // x · 0 is 0 for a finite x and NaN otherwise: one test after the loop.
+            for (n_j, t_j) in w_n.iter().zip(w_t) {
+                poison += n_j * 0.0 + t_j * 0.0;
+            }
             let point = ws.points[a];
-            check_directions(w_n, w_t)?;
             ws.w_n_hat[a] = point.w_n_hat;
             ws.w_t_hat[a] = point.w_t_hat;
-            ws.gamma_na[a] = dot(w_n, u_a) + point.w_n_hat;
-            ws.gamma_ta[a] = dot(w_t, u_a) + point.w_t_hat;
-            if laws[i].is_frictional() || options.friction_rows_when_frictionless {
+            let gamma_n = dot(w_n, u_a) + point.w_n_hat;
+            let gamma_t = dot(w_t, u_a) + point.w_t_hat;
+            ws.gamma_na[a] = gamma_n;
+            ws.gamma_ta[a] = gamma_t;
+            let b_n = dot(w_n, u_free) + point.w_n_hat + law.eps_n() * gamma_n;
+            ws.b[a] = b_n;
+            all_separating &= b_n >= 0.0;
+            if law.is_frictional() || options.friction_rows_when_frictionless {
+                let k = ws.frictional.len();
+                ws.b[na + k] = dot(w_t, u_free) + point.w_t_hat + law.eps_t() * gamma_t;
+                ws.mu_f[k] = law.mu();
                 ws.frictional.push(a);
+            }
+        }
+        if poison != 0.0 {
+            for a in 0..na {
+                check_directions(&ws.w_n[a * f..][..f], &ws.w_t[a * f..][..f])?;
             }
         }
         let nf = ws.frictional.len();
         let s = na + 2 * nf;
-
-        // b = W' ũ + ŵ + ε γ_A (eq. 7.41 with W' M⁻¹ h Δt + γ_A = W' ũ + ŵ).
-        let mut all_separating = true;
-        for a in 0..na {
-            let law = laws[ws.active[a]];
-            let w_n = &ws.w_n[a * f..][..f];
-            ws.b[a] = dot(w_n, &ws.u_free[..f]) + ws.w_n_hat[a] + law.eps_n() * ws.gamma_na[a];
-            all_separating &= ws.b[a] >= 0.0;
-        }
-        for (k, &a) in ws.frictional.iter().enumerate() {
-            let law = laws[ws.active[a]];
-            let w_t = &ws.w_t[a * f..][..f];
-            ws.b[na + k] = dot(w_t, &ws.u_free[..f]) + ws.w_t_hat[a] + law.eps_t() * ws.gamma_ta[a];
-            ws.b[na + nf + k] = 0.0;
-        }
+        ws.b[na + nf..s].fill(0.0);
 
         if all_separating {
             // The zero-impulse solution: P_N = P_R = 0, ξ_L = max(0, −b_R).
@@ -823,7 +834,7 @@ impl Core {
             let y = &mut ws.y_n[a * f..][..f];
             ws.chol.solve_into::<N>(&ws.w_n[a * f..][..f], y);
             if k < nf && ws.frictional[k] == a {
-                let mu = laws[ws.active[a]].mu();
+                let mu = ws.mu_f[k];
                 for (yj, xj) in y.iter_mut().zip(&ws.x_t[k * f..][..f]) {
                     *yj -= mu * xj;
                 }
@@ -854,7 +865,7 @@ impl Core {
             }
             A[na + nf + l + col * s] = -1.0;
             A[na + l + (na + nf + l) * s] = 1.0;
-            A[na + nf + l + c * s] = 2.0 * laws[ws.active[c]].mu();
+            A[na + nf + l + c * s] = 2.0 * ws.mu_f[l];
         }
 
         ws.last_size = s;
