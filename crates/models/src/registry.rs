@@ -163,7 +163,8 @@ impl ModelParams {
     }
 }
 
-/// Any model of the report, as one [`Mechanism`] type (dispatching by `match`).
+/// Any model of the report, as one [`Mechanism`] type (dispatching by `match`; a stepper of
+/// an `AnyModel` runs the model's own type through [`Mechanism::with_concrete`]).
 #[derive(Clone, Debug)]
 pub enum AnyModel {
     /// Bouncing ball.
