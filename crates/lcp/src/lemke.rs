@@ -388,6 +388,19 @@ const FIXED_MAX: usize = 32;
 /// Chunks per column at [`FIXED_MAX`]: the size of the kernels' local arrays.
 const MAX_CHUNKS: usize = FIXED_MAX / LANES;
 
+/// The bookkeeping arrays (`basic`, `nonbasic`, `row_of`, `col_of`) hold at least this
+/// many entries, a power of two above the 2 n + 1 <= 65 variables of the fixed heights.
+const IDX: usize = 128;
+
+/// Row masks of a pivot for the fixed heights: `KEEP[FIXED_MAX - 1 - r + i]` is zero for
+/// i = r and all ones otherwise, so the window from `FIXED_MAX - 1 - r` holds the masks of
+/// rows 0, 1, ... (all bits set but in row r).
+static KEEP: [u64; 2 * FIXED_MAX] = {
+    let mut k = [u64::MAX; 2 * FIXED_MAX];
+    k[FIXED_MAX - 1] = 0;
+    k
+};
+
 /// n rounded up to a multiple of [`LANES`].
 #[inline]
 fn padded_height(n: usize) -> usize {
@@ -541,7 +554,7 @@ mod avx {
 
     use std::arch::x86_64::*;
 
-    use super::{LANES, NONE, POP4, Ratio};
+    use super::{End, IDX, LANES, LemkeOptions, NONE, POP4, Ratio, Workspace};
     use crate::solution::Chunk;
 
     /// Loads a chunk.
@@ -792,6 +805,155 @@ mod avx {
         )
     }
 
+    /// [`super::ratio_portable`] for heights `H` of a fixed kernel (`a`, `c`: at least
+    /// H / 4 chunks), with the same result: the entering column and q̄ are loaded once, the
+    /// divisions `c_i / a_i` start while the maxima are reduced, and the rows attaining θ
+    /// and tied with it come out as bit masks over all rows.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn ratio_fixed<const H: usize>(
+        a: &[Chunk],
+        c: &[Chunk],
+        sign: f64,
+        pivot_rel: f64,
+        tie_rel: f64,
+    ) -> Ratio {
+        let nb = H / LANES;
+        let (a, c) = (&a[..nb], &c[..nb]);
+        let zero = _mm256_setzero_pd();
+        let abs = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
+        let vsign = _mm256_set1_pd(sign);
+        let (mut av, mut cv, mut q) =
+            ([zero; super::MAX_CHUNKS], [zero; super::MAX_CHUNKS], [zero; super::MAX_CHUNKS]);
+        let (mut amax, mut cmax) = (zero, zero);
+        for b in 0..nb {
+            let (x, y) = (load(&a[b]), load(&c[b]));
+            amax = _mm256_max_pd(_mm256_and_pd(x, abs), amax);
+            cmax = _mm256_max_pd(_mm256_and_pd(y, abs), cmax);
+            av[b] = _mm256_mul_pd(vsign, x);
+            cv[b] = y;
+            q[b] = _mm256_div_pd(y, av[b]);
+        }
+        let vptol = _mm256_set1_pd(pivot_rel * hmax(amax));
+        let inf = _mm256_set1_pd(f64::INFINITY);
+        let mut valid = [zero; super::MAX_CHUNKS];
+        let mut rmin = inf;
+        for b in 0..nb {
+            valid[b] = _mm256_cmp_pd::<_CMP_GT_OQ>(av[b], vptol);
+            q[b] = _mm256_blendv_pd(inf, q[b], valid[b]);
+            rmin = _mm256_min_pd(q[b], rmin);
+        }
+        let theta = hmin(rmin);
+        if !(theta < f64::INFINITY) {
+            return Ratio::NoFinite;
+        }
+        let eps = tie_rel * super::fmax(hmax(cmax), f64::MIN_POSITIVE);
+        let (vtheta, veps) = (_mm256_set1_pd(theta), _mm256_set1_pd(eps));
+        // Bit i: row i attains θ (only valid rows can: the others hold +∞), row i ties.
+        let (mut at, mut tied) = (0u32, 0u32);
+        for b in 0..nb {
+            let hit = _mm256_cmp_pd::<_CMP_EQ_OQ>(q[b], vtheta);
+            let gap = _mm256_sub_pd(cv[b], _mm256_mul_pd(vtheta, av[b]));
+            let tie = _mm256_and_pd(valid[b], _mm256_cmp_pd::<_CMP_LE_OQ>(gap, veps));
+            at |= (_mm256_movemask_pd(hit) as u32) << (LANES * b);
+            tied |= (_mm256_movemask_pd(tie) as u32) << (LANES * b);
+        }
+        if tied & tied.wrapping_sub(1) == 0 {
+            // At most one row ties; θ is attained, so `at` has a bit.
+            Ratio::Row(at.trailing_zeros() as usize)
+        } else {
+            Ratio::Tied { ptol: pivot_rel * hmax(amax), theta, eps }
+        }
+    }
+
+    /// `Workspace::pivot_loop` for heights `H` of a fixed kernel: ratio tests by
+    /// [`ratio_fixed`] and the pivots' column updates in line, with the same results as
+    /// the portable loop. The bookkeeping arrays hold at least [`super::IDX`] entries and are indexed
+    /// modulo that length (all indices are below 2 n + 1 <= 65), which needs no bounds
+    /// checks.
+    #[inline(never)]
+    #[target_feature(enable = "avx,avx2")]
+    pub(super) fn pivot_loop<const H: usize>(
+        ws: &mut Workspace,
+        opts: &LemkeOptions,
+    ) -> (End, usize) {
+        const M: usize = IDX - 1;
+        let n = ws.n;
+        let nb = H / LANES;
+        let z0 = 2 * n;
+        let (pr, tr) = (opts.pivot_tolerance, opts.tie_tolerance);
+        let zero = _mm256_setzero_pd();
+        let one = _mm256_set1_pd(1.0);
+        let sign0 = _mm256_set1_pd(-0.0);
+        // First pivot: z_0 enters (column n) and every row takes part with a_i = d_i.
+        let mut s = n;
+        let mut pivots = 0usize;
+        loop {
+            let initial = pivots == 0;
+            let sign = if initial { 1.0 } else { -1.0 };
+            let tab = &ws.tab[..(n + 2) * nb];
+            let r = match ratio_fixed::<H>(&tab[s * nb..], &tab[(n + 1) * nb..], sign, pr, tr) {
+                Ratio::Row(r) => r,
+                Ratio::Tied { ptol, theta, eps } => ws.select_tied(s, initial, ptol, theta, eps),
+                Ratio::NoFinite => match ws.select_row_exact(s, initial, opts) {
+                    Some(r) => r,
+                    None => return (End::Ray, pivots),
+                },
+            };
+            let basic: &mut [usize; IDX] = (&mut ws.basic[..IDX]).try_into().expect("IDX");
+            let nonbasic: &mut [usize; IDX] = (&mut ws.nonbasic[..IDX]).try_into().expect("IDX");
+            let row_of: &mut [usize; IDX] = (&mut ws.row_of[..IDX]).try_into().expect("IDX");
+            let col_of: &mut [usize; IDX] = (&mut ws.col_of[..IDX]).try_into().expect("IDX");
+            let leaving = basic[r & M];
+            let last = leaving == z0;
+            // The pivot (`Workspace::pivot`): the columns from `first` (all n + 2, or q̄
+            // alone when z_0 leaves) become `(x & keep) + ρ v` with `ρ = −(x_r inv)`, then
+            // column s becomes `v inv`.
+            let r = r & (super::FIXED_MAX - 1);
+            let (rb, rl) = (r / LANES, r % LANES);
+            let window = &super::KEEP[super::FIXED_MAX - 1 - r..][..super::FIXED_MAX];
+            let tab = &mut ws.tab[..(n + 2) * nb];
+            let u = &tab[s * nb..][..nb];
+            let inv = 1.0 / u[rb][rl];
+            let vinv = _mm256_set1_pd(inv);
+            let (mut keep, mut v) = ([zero; super::MAX_CHUNKS], [zero; super::MAX_CHUNKS]);
+            for b in 0..nb {
+                // SAFETY: the window holds FIXED_MAX >= 4 (b + 1) masks; unaligned load.
+                keep[b] = unsafe { _mm256_loadu_pd(window.as_ptr().add(b * LANES).cast()) };
+                v[b] = _mm256_blendv_pd(one, load(&u[b]), keep[b]);
+            }
+            let first = if last { n + 1 } else { 0 };
+            for col in tab[first * nb..].chunks_exact_mut(nb) {
+                let rho = _mm256_xor_pd(_mm256_mul_pd(_mm256_set1_pd(col[rb][rl]), vinv), sign0);
+                for b in 0..nb {
+                    let x = _mm256_and_pd(load(&col[b]), keep[b]);
+                    store(&mut col[b], _mm256_add_pd(x, _mm256_mul_pd(rho, v[b])));
+                }
+            }
+            if !last {
+                for (b, c) in tab[s * nb..][..nb].iter_mut().enumerate() {
+                    store(c, _mm256_mul_pd(v[b], vinv));
+                }
+            }
+            let entering = nonbasic[s & M];
+            basic[r & M] = entering;
+            row_of[entering & M] = r;
+            col_of[entering & M] = NONE;
+            nonbasic[s & M] = leaving;
+            col_of[leaving & M] = s;
+            row_of[leaving & M] = NONE;
+            pivots += 1;
+            if last {
+                return (End::Complementary, pivots);
+            }
+            if pivots >= opts.max_pivots {
+                return (End::Limit, pivots);
+            }
+            let next = if leaving < n { leaving + n } else { leaving - n };
+            s = col_of[next & M];
+        }
+    }
+
     /// [`super::ratio_portable`] in 256-bit operations, with the same result.
     #[inline]
     #[target_feature(enable = "avx,avx2")]
@@ -871,10 +1033,12 @@ impl Workspace {
         self.q.resize(n, 0.0);
         self.d.resize(n, 1.0);
         self.tab.resize((n + 2) * nb, [0.0; LANES]);
-        self.basic.resize(n, NONE);
-        self.nonbasic.resize(n + 1, NONE);
-        self.row_of.resize(2 * n + 1, NONE);
-        self.col_of.resize(2 * n + 1, NONE);
+        // At least IDX entries each: the kernels of fixed height index them modulo IDX.
+        let idx = (2 * n + 1).max(IDX);
+        self.basic.resize(idx, NONE);
+        self.nonbasic.resize(idx, NONE);
+        self.row_of.resize(idx, NONE);
+        self.col_of.resize(idx, NONE);
         self.rhs.resize(n, 0.0);
         self.z_alt.resize(n, 0.0);
         self.w_alt.resize(n, 0.0);
@@ -1097,8 +1261,15 @@ impl Workspace {
         }
     }
 
+    #[allow(unsafe_code)]
     #[inline(always)]
     fn pivot_loop<const H: usize, const AVX: bool>(&mut self, opts: &LemkeOptions) -> (End, usize) {
+        #[cfg(target_arch = "x86_64")]
+        if AVX && H != 0 {
+            // SAFETY: AVX is true only in the copy that `Workspace::run` calls after
+            // detecting AVX and AVX2 on this processor.
+            return unsafe { avx::pivot_loop::<H>(self, opts) };
+        }
         let n = self.n;
         let z0 = 2 * n;
         // First pivot: z_0 enters and the row with the most negative q_i / d_i leaves.
@@ -1260,30 +1431,47 @@ impl Workspace {
     /// `T_ij + T_is ρ_j` in the other rows, and column s becomes `T_is inv` with `inv` in
     /// row r (the leaving variable's column): the operations, and so the roundings, of the
     /// row update `row_i += T_is · row_r / (−T_rs)`. Row r is selected by bit masks
-    /// built once per pivot, not by a compare per lane, which the compiler would turn into
-    /// branches on r, nor by a scalar store into a chunk that the next kernel reads whole.
+    /// (from [`KEEP`] for the fixed heights), not by a compare per lane, which the
+    /// compiler would turn into branches on r, nor by a scalar store into a chunk that the
+    /// next kernel reads whole. All columns, s included, go through one loop; column s is
+    /// then overwritten with `v inv` (v: column s with 1 in row r).
+    ///
+    /// When z_0 leaves, the pivot ends the method and only q̄ (the basic values) is read
+    /// afterwards, so only q̄ is updated.
     #[inline(always)]
     fn pivot<const H: usize>(&mut self, r: usize, s: usize) -> usize {
         let n = self.n;
         let nb = self.chunks::<H>();
+        let leaving = self.basic[r];
+        let last = leaving == 2 * n;
+        // The columns to update: all n + 2, or q̄ alone in the last pivot.
+        let (first_col, ncols) = if last { (n + 1, 1) } else { (0, n + 2) };
         let tab = &mut self.tab[..(n + 2) * nb];
-        let (left, rest) = tab.split_at_mut(s * nb);
-        let (u, right) = rest.split_at_mut(nb);
-        let inv = 1.0 / u[r / LANES][r % LANES];
-        // Bit masks that clear row r, built once.
+        let inv = 1.0 / tab[s * nb + r / LANES][r % LANES];
+        // Bit masks that clear row r.
         let mut local_keep = [[0u64; LANES]; MAX_CHUNKS];
-        let keep: &mut [[u64; LANES]] =
-            if H == 0 { &mut self.keep[..nb] } else { &mut local_keep[..nb] };
-        for b in 0..nb {
-            for l in 0..LANES {
-                keep[b][l] = if b * LANES + l == r { 0 } else { u64::MAX };
+        let keep: &[[u64; LANES]] = if H == 0 {
+            let keep = &mut self.keep[..nb];
+            for b in 0..nb {
+                for l in 0..LANES {
+                    keep[b][l] = if b * LANES + l == r { 0 } else { u64::MAX };
+                }
             }
-        }
-        let keep: &[[u64; LANES]] = keep;
+            keep
+        } else {
+            let window = &KEEP[FIXED_MAX - 1 - r..][..H];
+            for b in 0..nb {
+                for l in 0..LANES {
+                    local_keep[b][l] = window[b * LANES + l];
+                }
+            }
+            &local_keep[..nb]
+        };
         // v: column s with 1 in row r, so that row r of each column receives ρ_j itself.
         let mut local = [[0.0; LANES]; MAX_CHUNKS];
         let v: &mut [Chunk] = if H == 0 { &mut self.scratch[..nb] } else { &mut local[..nb] };
         let one = 1.0f64.to_bits();
+        let u = &tab[s * nb..(s + 1) * nb];
         for b in 0..nb {
             for l in 0..LANES {
                 let k = keep[b][l];
@@ -1291,15 +1479,29 @@ impl Workspace {
             }
         }
         let v: &[Chunk] = v;
-        update_columns::<H>(left, v, keep, nb, r, inv);
-        update_columns::<H>(right, v, keep, nb, r, inv);
-        let inv_bits = inv.to_bits();
-        for b in 0..nb {
-            for l in 0..LANES {
-                let k = keep[b][l];
-                u[b][l] = f64::from_bits(((u[b][l] * inv).to_bits() & k) | (inv_bits & !k));
+        update_columns::<H>(
+            &mut tab[first_col * nb..(first_col + ncols) * nb],
+            v,
+            keep,
+            nb,
+            r,
+            inv,
+        );
+        if !last {
+            for (b, c) in tab[s * nb..(s + 1) * nb].iter_mut().enumerate() {
+                for l in 0..LANES {
+                    c[l] = v[b][l] * inv;
+                }
             }
         }
+        self.exchange(r, s);
+        leaving
+    }
+
+    /// The bookkeeping of a pivot: the basic variable of row r and the non-basic variable
+    /// of column s change places.
+    #[inline(always)]
+    fn exchange(&mut self, r: usize, s: usize) {
         let leaving = self.basic[r];
         let entering = self.nonbasic[s];
         self.basic[r] = entering;
@@ -1308,7 +1510,6 @@ impl Workspace {
         self.nonbasic[s] = leaving;
         self.col_of[leaving] = s;
         self.row_of[leaving] = NONE;
-        leaving
     }
 
     /// Fills the row-major copy of M from the column-major one, for the LU re-solve.
