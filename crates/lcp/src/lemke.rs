@@ -392,6 +392,17 @@ const MAX_CHUNKS: usize = FIXED_MAX / LANES;
 /// many entries, a power of two above the 2 n + 1 <= 65 variables of the fixed heights.
 const IDX: usize = 128;
 
+/// 0, 1, 2, ...: the initial bookkeeping of the fixed heights is copied from it.
+static IOTA: [usize; IDX] = {
+    let mut v = [0; IDX];
+    let mut i = 0;
+    while i < IDX {
+        v[i] = i;
+        i += 1;
+    }
+    v
+};
+
 /// Row masks of a pivot for the fixed heights: `KEEP[FIXED_MAX - 1 - r + i]` is zero for
 /// i = r and all ones otherwise, so the window from `FIXED_MAX - 1 - r` holds the masks of
 /// rows 0, 1, ... (all bits set but in row r).
@@ -599,15 +610,31 @@ mod avx {
         unsafe { _mm256_storeu_pd(c.as_mut_ptr(), v) }
     }
 
-    /// Chunk b of `src` (zero past its end), as [`super::load_chunk`].
+    /// Lane masks of a partial chunk: the four from `TAIL[4 - k]` select the first k lanes.
+    static TAIL: [i64; 8] = [-1, -1, -1, -1, 0, 0, 0, 0];
+
+    /// The lane masks of the chunks of a column of n rows: every lane of a whole chunk,
+    /// the first n mod 4 of a partial one, none past it.
     #[inline]
     #[target_feature(enable = "avx,avx2")]
-    fn load_part(src: &[f64], b: usize) -> __m256d {
-        match src.get(b * LANES..b * LANES + LANES) {
-            // SAFETY: the subslice holds four initialised f64; the load is unaligned.
-            Some(c) => unsafe { _mm256_loadu_pd(c.as_ptr()) },
-            None => load(&super::load_chunk(src, b)),
+    fn row_masks<const H: usize>(n: usize) -> [__m256i; super::MAX_CHUNKS] {
+        let mut m = [_mm256_setzero_si256(); super::MAX_CHUNKS];
+        for b in 0..H / LANES {
+            let k = n.saturating_sub(b * LANES).min(LANES);
+            // SAFETY: the subslice holds four i64; the load is unaligned.
+            m[b] = unsafe { _mm256_loadu_si256(TAIL[LANES - k..][..LANES].as_ptr().cast()) };
         }
+        m
+    }
+
+    /// Chunk b of `src` (length n), zero past its end, as [`super::load_chunk`]; `mask`:
+    /// chunk b's entry of [`row_masks`] for n.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn load_rows(src: &[f64], b: usize, mask: __m256i) -> __m256d {
+        // SAFETY: the mask selects the lanes 4 b + l < n = src.len() only, and a masked
+        // load reads no other lane (the address of a chunk past the end is not accessed).
+        unsafe { _mm256_maskload_pd(src.as_ptr().wrapping_add(b * LANES), mask) }
     }
 
     /// Per lane `x > 0 ? pow2_inverse(x) : 1` (see `dense::pow2_inverse`): `2^(1023 - E)`
@@ -650,10 +677,12 @@ mod avx {
         let nb = H / LANES;
         let abs = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
         let mut big = [_mm256_setzero_pd(); super::MAX_CHUNKS];
+        let masks = row_masks::<H>(n);
+        let (d, q) = (&d[..n], &q[..n]);
         for (j, dst) in m_cols[..n * nb].chunks_exact_mut(nb).enumerate() {
-            let src = col(j);
+            let src = &col(j)[..n];
             for b in 0..nb {
-                let v = load_part(src, b);
+                let v = load_rows(src, b, masks[b]);
                 store(&mut dst[b], v);
                 big[b] = _mm256_max_pd(_mm256_and_pd(v, abs), big[b]);
             }
@@ -671,18 +700,12 @@ mod avx {
         let (t_d, t_q) = t_rest.split_at_mut(nb);
         for b in 0..nb {
             let dv = if row_scaled {
-                let mut ones = [0.0; LANES];
-                for (l, v) in ones.iter_mut().enumerate() {
-                    if b * LANES + l < n {
-                        *v = 1.0;
-                    }
-                }
-                load(&ones)
+                _mm256_and_pd(_mm256_set1_pd(1.0), _mm256_castsi256_pd(masks[b]))
             } else {
-                _mm256_mul_pd(load_part(d, b), r[b])
+                _mm256_mul_pd(load_rows(d, b, masks[b]), r[b])
             };
             store(&mut t_d[b], dv);
-            let qv = load_part(q, b);
+            let qv = load_rows(q, b, masks[b]);
             store(&mut q_pad[b], qv);
             store(&mut t_q[b], _mm256_mul_pd(qv, r[b]));
         }
@@ -1167,7 +1190,7 @@ impl Workspace {
                     &mut self.q_pad,
                 );
             }
-            self.init_basis();
+            self.init_basis::<H>();
             return;
         }
         let mut local = [[0.0; LANES]; MAX_CHUNKS];
@@ -1235,14 +1258,25 @@ impl Workspace {
                 t_q[b][l] = q[l] * r[b][l];
             }
         }
-        self.init_basis();
+        self.init_basis::<H>();
     }
 
     /// The basis {w}: `w_i` basic in row i, `z_j` non-basic in column j, `z_0` in
     /// column n.
     #[inline(always)]
-    fn init_basis(&mut self) {
+    fn init_basis<const H: usize>(&mut self) {
         let n = self.n;
+        if H != 0 {
+            // Copies of fixed length H or H + 1 (the arrays hold IDX >= n + H + 1 entries;
+            // what they write past 2 n + 1 is never read).
+            self.basic[..H].copy_from_slice(&IOTA[..H]);
+            self.nonbasic[..H + 1].copy_from_slice(&IOTA[n..n + H + 1]);
+            self.row_of[..H].copy_from_slice(&IOTA[..H]);
+            self.row_of[n..n + H + 1].fill(NONE);
+            self.col_of[..H].fill(NONE);
+            self.col_of[n..n + H + 1].copy_from_slice(&IOTA[..H + 1]);
+            return;
+        }
         for (i, v) in self.basic[..n].iter_mut().enumerate() {
             *v = i;
         }
