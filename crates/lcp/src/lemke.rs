@@ -637,6 +637,16 @@ mod avx {
         unsafe { _mm256_maskload_pd(src.as_ptr().wrapping_add(b * LANES), mask) }
     }
 
+    /// Stores the lanes of chunk b of `v` that `mask` (chunk b's entry of [`row_masks`] for
+    /// n = dst.len()) selects into `dst`.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn store_rows(dst: &mut [f64], b: usize, mask: __m256i, v: __m256d) {
+        // SAFETY: the mask selects the lanes 4 b + l < dst.len() only, and a masked store
+        // writes no other lane (the address of a chunk past the end is not accessed).
+        unsafe { _mm256_maskstore_pd(dst.as_mut_ptr().wrapping_add(b * LANES), mask, v) }
+    }
+
     /// Per lane `x > 0 ? pow2_inverse(x) : 1` (see `dense::pow2_inverse`): `2^(1023 - E)`
     /// for the biased exponent E of x clamped to [23, 2023], built in the exponent bits.
     #[inline]
@@ -752,29 +762,22 @@ mod avx {
             qv[b] = load(&q_pad[b]);
             w[b] = qv[b];
         }
-        let lane = [
-            _mm256_set_epi64x(3, 2, 1, 0),
-            _mm256_set_epi64x(7, 6, 5, 4),
-            _mm256_set_epi64x(11, 10, 9, 8),
-            _mm256_set_epi64x(15, 14, 13, 12),
-            _mm256_set_epi64x(19, 18, 17, 16),
-            _mm256_set_epi64x(23, 22, 21, 20),
-            _mm256_set_epi64x(27, 26, 25, 24),
-            _mm256_set_epi64x(31, 30, 29, 28),
-        ];
+        // z_j by column into `zs` (zero for the non-basic and the padding rows).
+        let mut zs = [[0.0; LANES]; super::MAX_CHUNKS];
         for (j, col) in m_cols[..n * nb].chunks_exact(nb).enumerate() {
             let r = row_of_z[j];
             let v = qbar[if r < n { r } else { 0 }];
             let zj = if r < n && v > zero_below { v } else { 0.0 };
+            zs.as_flattened_mut()[j % super::FIXED_MAX] = zj;
             let zv = _mm256_set1_pd(zj);
-            let jv = _mm256_set1_epi64x(j as i64);
             for b in 0..nb {
                 let t = _mm256_mul_pd(load(&col[b]), zv);
                 w[b] = _mm256_add_pd(w[b], t);
                 a[b] = _mm256_add_pd(a[b], _mm256_and_pd(t, abs_mask));
-                let here = _mm256_castsi256_pd(_mm256_cmpeq_epi64(lane[b], jv));
-                z[b] = _mm256_blendv_pd(z[b], zv, here);
             }
+        }
+        for b in 0..nb {
+            z[b] = load(&zs[b]);
         }
         let mut zm = zero;
         for b in 0..nb {
@@ -806,14 +809,12 @@ mod avx {
             let c = _mm256_and_pd(_mm256_min_pd(zr, wp), both);
             relative = _mm256_max_pd(_mm256_max_pd(c, w_rel), relative);
         }
-        let mut zs = [[0.0; LANES]; super::MAX_CHUNKS];
-        let mut ws = [[0.0; LANES]; super::MAX_CHUNKS];
+        let masks = row_masks::<H>(n);
+        let (z_out, w_out) = (&mut z_out[..n], &mut w_out[..n]);
         for b in 0..nb {
-            store(&mut zs[b], z[b]);
-            store(&mut ws[b], w[b]);
+            store_rows(z_out, b, masks[b], z[b]);
+            store_rows(w_out, b, masks[b], w[b]);
         }
-        z_out[..n].copy_from_slice(&zs.as_flattened()[..n]);
-        w_out[..n].copy_from_slice(&ws.as_flattened()[..n]);
         let mut bads = [0.0; LANES];
         store(&mut bads, bad);
         crate::solution::residual_from_maxima(
@@ -857,15 +858,32 @@ mod avx {
             cv[b] = y;
             q[b] = _mm256_div_pd(y, av[b]);
         }
-        let vptol = _mm256_set1_pd(pivot_rel * hmax(amax));
+        // The rows with a_i > 0 first, which does not wait for the tolerance: they are the
+        // rows with a_i > ptol unless some 0 < a_i <= ptol, which is checked aside.
         let inf = _mm256_set1_pd(f64::INFINITY);
         let mut valid = [zero; super::MAX_CHUNKS];
+        let mut ratios = [zero; super::MAX_CHUNKS];
         let mut rmin = inf;
         for b in 0..nb {
-            valid[b] = _mm256_cmp_pd::<_CMP_GT_OQ>(av[b], vptol);
-            q[b] = _mm256_blendv_pd(inf, q[b], valid[b]);
-            rmin = _mm256_min_pd(q[b], rmin);
+            valid[b] = _mm256_cmp_pd::<_CMP_GT_OQ>(av[b], zero);
+            ratios[b] = _mm256_blendv_pd(inf, q[b], valid[b]);
+            rmin = _mm256_min_pd(ratios[b], rmin);
         }
+        let vptol = _mm256_set1_pd(pivot_rel * hmax(amax));
+        let mut small = _mm256_setzero_pd();
+        for b in 0..nb {
+            let big = _mm256_cmp_pd::<_CMP_GT_OQ>(av[b], vptol);
+            small = _mm256_or_pd(small, _mm256_andnot_pd(big, valid[b]));
+        }
+        if _mm256_movemask_pd(small) != 0 {
+            rmin = inf;
+            for b in 0..nb {
+                valid[b] = _mm256_cmp_pd::<_CMP_GT_OQ>(av[b], vptol);
+                ratios[b] = _mm256_blendv_pd(inf, q[b], valid[b]);
+                rmin = _mm256_min_pd(ratios[b], rmin);
+            }
+        }
+        let q = ratios;
         let theta = hmin(rmin);
         if !(theta < f64::INFINITY) {
             return Ratio::NoFinite;
