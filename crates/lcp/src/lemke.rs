@@ -398,6 +398,30 @@ const FIXED_MAX: usize = 32;
 /// Chunks per column at [`FIXED_MAX`]: the size of the kernels' local arrays.
 const MAX_CHUNKS: usize = FIXED_MAX / LANES;
 
+/// The bookkeeping arrays (`basic`, `nonbasic`, `row_of`, `col_of`) hold at least this
+/// many entries, a power of two above the 2 n + 1 <= 65 variables of the fixed heights.
+const IDX: usize = 128;
+
+/// 0, 1, 2, ...: the initial bookkeeping of the fixed heights is copied from it.
+static IOTA: [usize; IDX] = {
+    let mut v = [0; IDX];
+    let mut i = 0;
+    while i < IDX {
+        v[i] = i;
+        i += 1;
+    }
+    v
+};
+
+/// Row masks of a pivot for the fixed heights: `KEEP[FIXED_MAX - 1 - r + i]` is zero for
+/// i = r and all ones otherwise, so the window from `FIXED_MAX - 1 - r` holds the masks of
+/// rows 0, 1, ... (all bits set but in row r).
+static KEEP: [u64; 2 * FIXED_MAX] = {
+    let mut k = [u64::MAX; 2 * FIXED_MAX];
+    k[FIXED_MAX - 1] = 0;
+    k
+};
+
 /// n rounded up to a multiple of [`LANES`].
 #[inline]
 fn padded_height(n: usize) -> usize {
@@ -551,7 +575,7 @@ mod avx {
 
     use std::arch::x86_64::*;
 
-    use super::{LANES, NONE, POP4, Ratio};
+    use super::{End, IDX, LANES, LemkeOptions, NONE, POP4, Ratio, Workspace};
     use crate::solution::Chunk;
 
     /// Loads a chunk.
@@ -596,15 +620,41 @@ mod avx {
         unsafe { _mm256_storeu_pd(c.as_mut_ptr(), v) }
     }
 
-    /// Chunk b of `src` (zero past its end), as [`super::load_chunk`].
+    /// Lane masks of a partial chunk: the four from `TAIL[4 - k]` select the first k lanes.
+    static TAIL: [i64; 8] = [-1, -1, -1, -1, 0, 0, 0, 0];
+
+    /// The lane masks of the chunks of a column of n rows: every lane of a whole chunk,
+    /// the first n mod 4 of a partial one, none past it.
     #[inline]
     #[target_feature(enable = "avx,avx2")]
-    fn load_part(src: &[f64], b: usize) -> __m256d {
-        match src.get(b * LANES..b * LANES + LANES) {
-            // SAFETY: the subslice holds four initialised f64; the load is unaligned.
-            Some(c) => unsafe { _mm256_loadu_pd(c.as_ptr()) },
-            None => load(&super::load_chunk(src, b)),
+    fn row_masks<const H: usize>(n: usize) -> [__m256i; super::MAX_CHUNKS] {
+        let mut m = [_mm256_setzero_si256(); super::MAX_CHUNKS];
+        for b in 0..H / LANES {
+            let k = n.saturating_sub(b * LANES).min(LANES);
+            // SAFETY: the subslice holds four i64; the load is unaligned.
+            m[b] = unsafe { _mm256_loadu_si256(TAIL[LANES - k..][..LANES].as_ptr().cast()) };
         }
+        m
+    }
+
+    /// Chunk b of `src` (length n), zero past its end, as [`super::load_chunk`]; `mask`:
+    /// chunk b's entry of [`row_masks`] for n.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn load_rows(src: &[f64], b: usize, mask: __m256i) -> __m256d {
+        // SAFETY: the mask selects the lanes 4 b + l < n = src.len() only, and a masked
+        // load reads no other lane (the address of a chunk past the end is not accessed).
+        unsafe { _mm256_maskload_pd(src.as_ptr().wrapping_add(b * LANES), mask) }
+    }
+
+    /// Stores the lanes of chunk b of `v` that `mask` (chunk b's entry of [`row_masks`] for
+    /// n = dst.len()) selects into `dst`.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn store_rows(dst: &mut [f64], b: usize, mask: __m256i, v: __m256d) {
+        // SAFETY: the mask selects the lanes 4 b + l < dst.len() only, and a masked store
+        // writes no other lane (the address of a chunk past the end is not accessed).
+        unsafe { _mm256_maskstore_pd(dst.as_mut_ptr().wrapping_add(b * LANES), mask, v) }
     }
 
     /// Per lane `x > 0 ? pow2_inverse(x) : 1` (see `dense::pow2_inverse`): `2^(1023 - E)`
@@ -647,10 +697,12 @@ mod avx {
         let nb = H / LANES;
         let abs = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
         let mut big = [_mm256_setzero_pd(); super::MAX_CHUNKS];
+        let masks = row_masks::<H>(n);
+        let (d, q) = (&d[..n], &q[..n]);
         for (j, dst) in m_cols[..n * nb].chunks_exact_mut(nb).enumerate() {
-            let src = col(j);
+            let src = &col(j)[..n];
             for b in 0..nb {
-                let v = load_part(src, b);
+                let v = load_rows(src, b, masks[b]);
                 store(&mut dst[b], v);
                 big[b] = _mm256_max_pd(_mm256_and_pd(v, abs), big[b]);
             }
@@ -668,18 +720,12 @@ mod avx {
         let (t_d, t_q) = t_rest.split_at_mut(nb);
         for b in 0..nb {
             let dv = if row_scaled {
-                let mut ones = [0.0; LANES];
-                for (l, v) in ones.iter_mut().enumerate() {
-                    if b * LANES + l < n {
-                        *v = 1.0;
-                    }
-                }
-                load(&ones)
+                _mm256_and_pd(_mm256_set1_pd(1.0), _mm256_castsi256_pd(masks[b]))
             } else {
-                _mm256_mul_pd(load_part(d, b), r[b])
+                _mm256_mul_pd(load_rows(d, b, masks[b]), r[b])
             };
             store(&mut t_d[b], dv);
-            let qv = load_part(q, b);
+            let qv = load_rows(q, b, masks[b]);
             store(&mut q_pad[b], qv);
             store(&mut t_q[b], _mm256_mul_pd(qv, r[b]));
         }
@@ -726,29 +772,22 @@ mod avx {
             qv[b] = load(&q_pad[b]);
             w[b] = qv[b];
         }
-        let lane = [
-            _mm256_set_epi64x(3, 2, 1, 0),
-            _mm256_set_epi64x(7, 6, 5, 4),
-            _mm256_set_epi64x(11, 10, 9, 8),
-            _mm256_set_epi64x(15, 14, 13, 12),
-            _mm256_set_epi64x(19, 18, 17, 16),
-            _mm256_set_epi64x(23, 22, 21, 20),
-            _mm256_set_epi64x(27, 26, 25, 24),
-            _mm256_set_epi64x(31, 30, 29, 28),
-        ];
+        // z_j by column into `zs` (zero for the non-basic and the padding rows).
+        let mut zs = [[0.0; LANES]; super::MAX_CHUNKS];
         for (j, col) in m_cols[..n * nb].chunks_exact(nb).enumerate() {
             let r = row_of_z[j];
             let v = qbar[if r < n { r } else { 0 }];
             let zj = if r < n && v > zero_below { v } else { 0.0 };
+            zs.as_flattened_mut()[j % super::FIXED_MAX] = zj;
             let zv = _mm256_set1_pd(zj);
-            let jv = _mm256_set1_epi64x(j as i64);
             for b in 0..nb {
                 let t = _mm256_mul_pd(load(&col[b]), zv);
                 w[b] = _mm256_add_pd(w[b], t);
                 a[b] = _mm256_add_pd(a[b], _mm256_and_pd(t, abs_mask));
-                let here = _mm256_castsi256_pd(_mm256_cmpeq_epi64(lane[b], jv));
-                z[b] = _mm256_blendv_pd(z[b], zv, here);
             }
+        }
+        for b in 0..nb {
+            z[b] = load(&zs[b]);
         }
         let mut zm = zero;
         for b in 0..nb {
@@ -780,14 +819,12 @@ mod avx {
             let c = _mm256_and_pd(_mm256_min_pd(zr, wp), both);
             relative = _mm256_max_pd(_mm256_max_pd(c, w_rel), relative);
         }
-        let mut zs = [[0.0; LANES]; super::MAX_CHUNKS];
-        let mut ws = [[0.0; LANES]; super::MAX_CHUNKS];
+        let masks = row_masks::<H>(n);
+        let (z_out, w_out) = (&mut z_out[..n], &mut w_out[..n]);
         for b in 0..nb {
-            store(&mut zs[b], z[b]);
-            store(&mut ws[b], w[b]);
+            store_rows(z_out, b, masks[b], z[b]);
+            store_rows(w_out, b, masks[b], w[b]);
         }
-        z_out[..n].copy_from_slice(&zs.as_flattened()[..n]);
-        w_out[..n].copy_from_slice(&ws.as_flattened()[..n]);
         let mut bads = [0.0; LANES];
         store(&mut bads, bad);
         crate::solution::residual_from_maxima(
@@ -800,6 +837,172 @@ mod avx {
             hmax(relative),
             bads.iter().all(|&v| v == 0.0),
         )
+    }
+
+    /// [`super::ratio_portable`] for heights `H` of a fixed kernel (`a`, `c`: at least
+    /// H / 4 chunks), with the same result: the entering column and q̄ are loaded once, the
+    /// divisions `c_i / a_i` start while the maxima are reduced, and the rows attaining θ
+    /// and tied with it come out as bit masks over all rows.
+    #[inline]
+    #[target_feature(enable = "avx,avx2")]
+    fn ratio_fixed<const H: usize>(
+        a: &[Chunk],
+        c: &[Chunk],
+        sign: f64,
+        pivot_rel: f64,
+        tie_rel: f64,
+    ) -> Ratio {
+        let nb = H / LANES;
+        let (a, c) = (&a[..nb], &c[..nb]);
+        let zero = _mm256_setzero_pd();
+        let abs = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
+        let vsign = _mm256_set1_pd(sign);
+        let (mut av, mut cv, mut q) =
+            ([zero; super::MAX_CHUNKS], [zero; super::MAX_CHUNKS], [zero; super::MAX_CHUNKS]);
+        let (mut amax, mut cmax) = (zero, zero);
+        for b in 0..nb {
+            let (x, y) = (load(&a[b]), load(&c[b]));
+            amax = _mm256_max_pd(_mm256_and_pd(x, abs), amax);
+            cmax = _mm256_max_pd(_mm256_and_pd(y, abs), cmax);
+            av[b] = _mm256_mul_pd(vsign, x);
+            cv[b] = y;
+            q[b] = _mm256_div_pd(y, av[b]);
+        }
+        // The rows with a_i > 0 first, which does not wait for the tolerance: they are the
+        // rows with a_i > ptol unless some 0 < a_i <= ptol, which is checked aside.
+        let inf = _mm256_set1_pd(f64::INFINITY);
+        let mut valid = [zero; super::MAX_CHUNKS];
+        let mut ratios = [zero; super::MAX_CHUNKS];
+        let mut rmin = inf;
+        for b in 0..nb {
+            valid[b] = _mm256_cmp_pd::<_CMP_GT_OQ>(av[b], zero);
+            ratios[b] = _mm256_blendv_pd(inf, q[b], valid[b]);
+            rmin = _mm256_min_pd(ratios[b], rmin);
+        }
+        let vptol = _mm256_set1_pd(pivot_rel * hmax(amax));
+        let mut small = _mm256_setzero_pd();
+        for b in 0..nb {
+            let big = _mm256_cmp_pd::<_CMP_GT_OQ>(av[b], vptol);
+            small = _mm256_or_pd(small, _mm256_andnot_pd(big, valid[b]));
+        }
+        if _mm256_movemask_pd(small) != 0 {
+            rmin = inf;
+            for b in 0..nb {
+                valid[b] = _mm256_cmp_pd::<_CMP_GT_OQ>(av[b], vptol);
+                ratios[b] = _mm256_blendv_pd(inf, q[b], valid[b]);
+                rmin = _mm256_min_pd(ratios[b], rmin);
+            }
+        }
+        let q = ratios;
+        let theta = hmin(rmin);
+        if !(theta < f64::INFINITY) {
+            return Ratio::NoFinite;
+        }
+        let eps = tie_rel * super::fmax(hmax(cmax), f64::MIN_POSITIVE);
+        let (vtheta, veps) = (_mm256_set1_pd(theta), _mm256_set1_pd(eps));
+        // Bit i: row i attains θ (only valid rows can: the others hold +∞), row i ties.
+        let (mut at, mut tied) = (0u32, 0u32);
+        for b in 0..nb {
+            let hit = _mm256_cmp_pd::<_CMP_EQ_OQ>(q[b], vtheta);
+            let gap = _mm256_sub_pd(cv[b], _mm256_mul_pd(vtheta, av[b]));
+            let tie = _mm256_and_pd(valid[b], _mm256_cmp_pd::<_CMP_LE_OQ>(gap, veps));
+            at |= (_mm256_movemask_pd(hit) as u32) << (LANES * b);
+            tied |= (_mm256_movemask_pd(tie) as u32) << (LANES * b);
+        }
+        if tied & tied.wrapping_sub(1) == 0 {
+            // At most one row ties; θ is attained, so `at` has a bit.
+            Ratio::Row(at.trailing_zeros() as usize)
+        } else {
+            Ratio::Tied { ptol: pivot_rel * hmax(amax), theta, eps }
+        }
+    }
+
+    /// `Workspace::pivot_loop` for heights `H` of a fixed kernel: ratio tests by
+    /// [`ratio_fixed`] and the pivots' column updates in line, with the same results as
+    /// the portable loop. The bookkeeping arrays hold at least [`super::IDX`] entries and are indexed
+    /// modulo that length (all indices are below 2 n + 1 <= 65), which needs no bounds
+    /// checks.
+    #[inline(never)]
+    #[target_feature(enable = "avx,avx2")]
+    pub(super) fn pivot_loop<const H: usize>(
+        ws: &mut Workspace,
+        opts: &LemkeOptions,
+    ) -> (End, usize) {
+        const M: usize = IDX - 1;
+        let n = ws.n;
+        let nb = H / LANES;
+        let z0 = 2 * n;
+        let (pr, tr) = (opts.pivot_tolerance, opts.tie_tolerance);
+        let zero = _mm256_setzero_pd();
+        let one = _mm256_set1_pd(1.0);
+        let sign0 = _mm256_set1_pd(-0.0);
+        // First pivot: z_0 enters (column n) and every row takes part with a_i = d_i.
+        let mut s = n;
+        let mut pivots = 0usize;
+        loop {
+            let initial = pivots == 0;
+            let sign = if initial { 1.0 } else { -1.0 };
+            let tab = &ws.tab[..(n + 2) * nb];
+            let r = match ratio_fixed::<H>(&tab[s * nb..], &tab[(n + 1) * nb..], sign, pr, tr) {
+                Ratio::Row(r) => r,
+                Ratio::Tied { ptol, theta, eps } => ws.select_tied(s, initial, ptol, theta, eps),
+                Ratio::NoFinite => match ws.select_row_exact(s, initial, opts) {
+                    Some(r) => r,
+                    None => return (End::Ray, pivots),
+                },
+            };
+            let basic: &mut [usize; IDX] = (&mut ws.basic[..IDX]).try_into().expect("IDX");
+            let nonbasic: &mut [usize; IDX] = (&mut ws.nonbasic[..IDX]).try_into().expect("IDX");
+            let row_of: &mut [usize; IDX] = (&mut ws.row_of[..IDX]).try_into().expect("IDX");
+            let col_of: &mut [usize; IDX] = (&mut ws.col_of[..IDX]).try_into().expect("IDX");
+            let leaving = basic[r & M];
+            let last = leaving == z0;
+            // The pivot (`Workspace::pivot`): the columns from `first` (all n + 2, or q̄
+            // alone when z_0 leaves) become `(x & keep) + ρ v` with `ρ = −(x_r inv)`, then
+            // column s becomes `v inv`.
+            let r = r & (super::FIXED_MAX - 1);
+            let (rb, rl) = (r / LANES, r % LANES);
+            let window = &super::KEEP[super::FIXED_MAX - 1 - r..][..super::FIXED_MAX];
+            let tab = &mut ws.tab[..(n + 2) * nb];
+            let u = &tab[s * nb..][..nb];
+            let inv = 1.0 / u[rb][rl];
+            let vinv = _mm256_set1_pd(inv);
+            let (mut keep, mut v) = ([zero; super::MAX_CHUNKS], [zero; super::MAX_CHUNKS]);
+            for b in 0..nb {
+                // SAFETY: the window holds FIXED_MAX >= 4 (b + 1) masks; unaligned load.
+                keep[b] = unsafe { _mm256_loadu_pd(window.as_ptr().add(b * LANES).cast()) };
+                v[b] = _mm256_blendv_pd(one, load(&u[b]), keep[b]);
+            }
+            let first = if last { n + 1 } else { 0 };
+            for col in tab[first * nb..].chunks_exact_mut(nb) {
+                let rho = _mm256_xor_pd(_mm256_mul_pd(_mm256_set1_pd(col[rb][rl]), vinv), sign0);
+                for b in 0..nb {
+                    let x = _mm256_and_pd(load(&col[b]), keep[b]);
+                    store(&mut col[b], _mm256_add_pd(x, _mm256_mul_pd(rho, v[b])));
+                }
+            }
+            if !last {
+                for (b, c) in tab[s * nb..][..nb].iter_mut().enumerate() {
+                    store(c, _mm256_mul_pd(v[b], vinv));
+                }
+            }
+            let entering = nonbasic[s & M];
+            basic[r & M] = entering;
+            row_of[entering & M] = r;
+            col_of[entering & M] = NONE;
+            nonbasic[s & M] = leaving;
+            col_of[leaving & M] = s;
+            row_of[leaving & M] = NONE;
+            pivots += 1;
+            if last {
+                return (End::Complementary, pivots);
+            }
+            if pivots >= opts.max_pivots {
+                return (End::Limit, pivots);
+            }
+            let next = if leaving < n { leaving + n } else { leaving - n };
+            s = col_of[next & M];
+        }
     }
 
     /// [`super::ratio_portable`] in 256-bit operations, with the same result.
@@ -881,10 +1084,12 @@ impl Workspace {
         self.q.resize(n, 0.0);
         self.d.resize(n, 1.0);
         self.tab.resize((n + 2) * nb, [0.0; LANES]);
-        self.basic.resize(n, NONE);
-        self.nonbasic.resize(n + 1, NONE);
-        self.row_of.resize(2 * n + 1, NONE);
-        self.col_of.resize(2 * n + 1, NONE);
+        // At least IDX entries each: the kernels of fixed height index them modulo IDX.
+        let idx = (2 * n + 1).max(IDX);
+        self.basic.resize(idx, NONE);
+        self.nonbasic.resize(idx, NONE);
+        self.row_of.resize(idx, NONE);
+        self.col_of.resize(idx, NONE);
         self.rhs.resize(n, 0.0);
         self.z_alt.resize(n, 0.0);
         self.w_alt.resize(n, 0.0);
@@ -1013,7 +1218,7 @@ impl Workspace {
                     &mut self.q_pad,
                 );
             }
-            self.init_basis();
+            self.init_basis::<H>();
             return;
         }
         let mut local = [[0.0; LANES]; MAX_CHUNKS];
@@ -1081,14 +1286,25 @@ impl Workspace {
                 t_q[b][l] = q[l] * r[b][l];
             }
         }
-        self.init_basis();
+        self.init_basis::<H>();
     }
 
     /// The basis {w}: `w_i` basic in row i, `z_j` non-basic in column j, `z_0` in
     /// column n.
     #[inline(always)]
-    fn init_basis(&mut self) {
+    fn init_basis<const H: usize>(&mut self) {
         let n = self.n;
+        if H != 0 {
+            // Copies of fixed length H or H + 1 (the arrays hold IDX >= n + H + 1 entries;
+            // what they write past 2 n + 1 is never read).
+            self.basic[..H].copy_from_slice(&IOTA[..H]);
+            self.nonbasic[..H + 1].copy_from_slice(&IOTA[n..n + H + 1]);
+            self.row_of[..H].copy_from_slice(&IOTA[..H]);
+            self.row_of[n..n + H + 1].fill(NONE);
+            self.col_of[..H].fill(NONE);
+            self.col_of[n..n + H + 1].copy_from_slice(&IOTA[..H + 1]);
+            return;
+        }
         for (i, v) in self.basic[..n].iter_mut().enumerate() {
             *v = i;
         }
@@ -1107,8 +1323,15 @@ impl Workspace {
         }
     }
 
+    #[allow(unsafe_code)]
     #[inline(always)]
     fn pivot_loop<const H: usize, const AVX: bool>(&mut self, opts: &LemkeOptions) -> (End, usize) {
+        #[cfg(target_arch = "x86_64")]
+        if AVX && H != 0 {
+            // SAFETY: AVX is true only in the copy that `Workspace::run` calls after
+            // detecting AVX and AVX2 on this processor.
+            return unsafe { avx::pivot_loop::<H>(self, opts) };
+        }
         let n = self.n;
         let z0 = 2 * n;
         // First pivot: z_0 enters and the row with the most negative q_i / d_i leaves.
@@ -1270,30 +1493,47 @@ impl Workspace {
     /// `T_ij + T_is ρ_j` in the other rows, and column s becomes `T_is inv` with `inv` in
     /// row r (the leaving variable's column): the operations, and so the roundings, of the
     /// row update `row_i += T_is · row_r / (−T_rs)`. Row r is selected by bit masks
-    /// built once per pivot, not by a compare per lane, which the compiler would turn into
-    /// branches on r, nor by a scalar store into a chunk that the next kernel reads whole.
+    /// (from [`KEEP`] for the fixed heights), not by a compare per lane, which the
+    /// compiler would turn into branches on r, nor by a scalar store into a chunk that the
+    /// next kernel reads whole. All columns, s included, go through one loop; column s is
+    /// then overwritten with `v inv` (v: column s with 1 in row r).
+    ///
+    /// When z_0 leaves, the pivot ends the method and only q̄ (the basic values) is read
+    /// afterwards, so only q̄ is updated.
     #[inline(always)]
     fn pivot<const H: usize>(&mut self, r: usize, s: usize) -> usize {
         let n = self.n;
         let nb = self.chunks::<H>();
+        let leaving = self.basic[r];
+        let last = leaving == 2 * n;
+        // The columns to update: all n + 2, or q̄ alone in the last pivot.
+        let (first_col, ncols) = if last { (n + 1, 1) } else { (0, n + 2) };
         let tab = &mut self.tab[..(n + 2) * nb];
-        let (left, rest) = tab.split_at_mut(s * nb);
-        let (u, right) = rest.split_at_mut(nb);
-        let inv = 1.0 / u[r / LANES][r % LANES];
-        // Bit masks that clear row r, built once.
+        let inv = 1.0 / tab[s * nb + r / LANES][r % LANES];
+        // Bit masks that clear row r.
         let mut local_keep = [[0u64; LANES]; MAX_CHUNKS];
-        let keep: &mut [[u64; LANES]] =
-            if H == 0 { &mut self.keep[..nb] } else { &mut local_keep[..nb] };
-        for b in 0..nb {
-            for l in 0..LANES {
-                keep[b][l] = if b * LANES + l == r { 0 } else { u64::MAX };
+        let keep: &[[u64; LANES]] = if H == 0 {
+            let keep = &mut self.keep[..nb];
+            for b in 0..nb {
+                for l in 0..LANES {
+                    keep[b][l] = if b * LANES + l == r { 0 } else { u64::MAX };
+                }
             }
-        }
-        let keep: &[[u64; LANES]] = keep;
+            keep
+        } else {
+            let window = &KEEP[FIXED_MAX - 1 - r..][..H];
+            for b in 0..nb {
+                for l in 0..LANES {
+                    local_keep[b][l] = window[b * LANES + l];
+                }
+            }
+            &local_keep[..nb]
+        };
         // v: column s with 1 in row r, so that row r of each column receives ρ_j itself.
         let mut local = [[0.0; LANES]; MAX_CHUNKS];
         let v: &mut [Chunk] = if H == 0 { &mut self.scratch[..nb] } else { &mut local[..nb] };
         let one = 1.0f64.to_bits();
+        let u = &tab[s * nb..(s + 1) * nb];
         for b in 0..nb {
             for l in 0..LANES {
                 let k = keep[b][l];
@@ -1301,15 +1541,29 @@ impl Workspace {
             }
         }
         let v: &[Chunk] = v;
-        update_columns::<H>(left, v, keep, nb, r, inv);
-        update_columns::<H>(right, v, keep, nb, r, inv);
-        let inv_bits = inv.to_bits();
-        for b in 0..nb {
-            for l in 0..LANES {
-                let k = keep[b][l];
-                u[b][l] = f64::from_bits(((u[b][l] * inv).to_bits() & k) | (inv_bits & !k));
+        update_columns::<H>(
+            &mut tab[first_col * nb..(first_col + ncols) * nb],
+            v,
+            keep,
+            nb,
+            r,
+            inv,
+        );
+        if !last {
+            for (b, c) in tab[s * nb..(s + 1) * nb].iter_mut().enumerate() {
+                for l in 0..LANES {
+                    c[l] = v[b][l] * inv;
+                }
             }
         }
+        self.exchange(r, s);
+        leaving
+    }
+
+    /// The bookkeeping of a pivot: the basic variable of row r and the non-basic variable
+    /// of column s change places.
+    #[inline(always)]
+    fn exchange(&mut self, r: usize, s: usize) {
         let leaving = self.basic[r];
         let entering = self.nonbasic[s];
         self.basic[r] = entering;
@@ -1318,7 +1572,6 @@ impl Workspace {
         self.nonbasic[s] = leaving;
         self.col_of[leaving] = s;
         self.row_of[leaving] = NONE;
-        leaving
     }
 
     /// Fills the row-major copy of M from the column-major one, for the LU re-solve.
