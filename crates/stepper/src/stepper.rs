@@ -709,16 +709,14 @@ impl Core {
                 break;
             }
             for (a, &i) in ws.proj_active.iter().enumerate() {
-                let (w_n, x) =
-                    (&mut ws.proj_w[a * f..][..f], &mut ws.proj_x[a * f..][..f]);
+                let (w_n, x) = (&mut ws.proj_w[a * f..][..f], &mut ws.proj_x[a * f..][..f]);
                 mech.contact(i, &self.q, t_e, w_n, &mut ws.tmp);
                 x.copy_from_slice(w_n);
                 ws.chol.solve(x);
             }
             for c in 0..k {
                 for r in 0..k {
-                    ws.proj_a[r + c * k] =
-                        dot(&ws.proj_w[r * f..][..f], &ws.proj_x[c * f..][..f]);
+                    ws.proj_a[r + c * k] = dot(&ws.proj_w[r * f..][..f], &ws.proj_x[c * f..][..f]);
                 }
             }
             let lcp = LcpRef::new(
