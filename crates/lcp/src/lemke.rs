@@ -879,7 +879,8 @@ mod avx {
             ratios[b] = _mm256_blendv_pd(inf, q[b], valid[b]);
             rmin = _mm256_min_pd(ratios[b], rmin);
         }
-        let vptol = _mm256_set1_pd(pivot_rel * hmax(amax));
+        let ptol = pivot_rel * hmax(amax);
+        let vptol = _mm256_set1_pd(ptol);
         let mut small = _mm256_setzero_pd();
         for b in 0..nb {
             let big = _mm256_cmp_pd::<_CMP_GT_OQ>(av[b], vptol);
@@ -913,7 +914,7 @@ mod avx {
             // At most one row ties; θ is attained, so `at` has a bit.
             Ratio::Row(at.trailing_zeros() as usize)
         } else {
-            Ratio::Tied { ptol: pivot_rel * hmax(amax), theta, eps }
+            Ratio::Tied { ptol, theta, eps }
         }
     }
 
@@ -951,11 +952,7 @@ mod avx {
                     None => return (End::Ray, pivots),
                 },
             };
-            let basic: &mut [usize; IDX] = (&mut ws.basic[..IDX]).try_into().expect("IDX");
-            let nonbasic: &mut [usize; IDX] = (&mut ws.nonbasic[..IDX]).try_into().expect("IDX");
-            let row_of: &mut [usize; IDX] = (&mut ws.row_of[..IDX]).try_into().expect("IDX");
-            let col_of: &mut [usize; IDX] = (&mut ws.col_of[..IDX]).try_into().expect("IDX");
-            let leaving = basic[r & M];
+            let leaving = ws.basic[..IDX][r & M];
             let last = leaving == z0;
             // The pivot (`Workspace::pivot`): the columns from `first` (all n + 2, or q̄
             // alone when z_0 leaves) become `(x & keep) + ρ v` with `ρ = −(x_r inv)`, then
@@ -986,13 +983,7 @@ mod avx {
                     store(c, _mm256_mul_pd(v[b], vinv));
                 }
             }
-            let entering = nonbasic[s & M];
-            basic[r & M] = entering;
-            row_of[entering & M] = r;
-            col_of[entering & M] = NONE;
-            nonbasic[s & M] = leaving;
-            col_of[leaving & M] = s;
-            row_of[leaving & M] = NONE;
+            ws.exchange::<H>(r, s);
             pivots += 1;
             if last {
                 return (End::Complementary, pivots);
@@ -1001,7 +992,7 @@ mod avx {
                 return (End::Limit, pivots);
             }
             let next = if leaving < n { leaving + n } else { leaving - n };
-            s = col_of[next & M];
+            s = ws.col_of[..IDX][next & M];
         }
     }
 
@@ -1556,22 +1547,29 @@ impl Workspace {
                 }
             }
         }
-        self.exchange(r, s);
+        self.exchange::<H>(r, s);
         leaving
     }
 
     /// The bookkeeping of a pivot: the basic variable of row r and the non-basic variable
-    /// of column s change places.
+    /// of column s change places. For the fixed heights (`H > 0`) the arrays hold at least
+    /// [`IDX`] entries and every index is below 2 n + 1 <= 65, so they are indexed modulo
+    /// `IDX` within their first `IDX` entries, which needs no bounds checks.
     #[inline(always)]
-    fn exchange(&mut self, r: usize, s: usize) {
-        let leaving = self.basic[r];
-        let entering = self.nonbasic[s];
-        self.basic[r] = entering;
-        self.row_of[entering] = r;
-        self.col_of[entering] = NONE;
-        self.nonbasic[s] = leaving;
-        self.col_of[leaving] = s;
-        self.row_of[leaving] = NONE;
+    fn exchange<const H: usize>(&mut self, r: usize, s: usize) {
+        let (len, m) = if H != 0 { (IDX, IDX - 1) } else { (self.basic.len(), usize::MAX) };
+        let basic = &mut self.basic[..len];
+        let nonbasic = &mut self.nonbasic[..len];
+        let row_of = &mut self.row_of[..len];
+        let col_of = &mut self.col_of[..len];
+        let leaving = basic[r & m];
+        let entering = nonbasic[s & m];
+        basic[r & m] = entering;
+        row_of[entering & m] = r;
+        col_of[entering & m] = NONE;
+        nonbasic[s & m] = leaving;
+        col_of[leaving & m] = s;
+        row_of[leaving & m] = NONE;
     }
 
     /// Fills the row-major copy of M from the column-major one, for the LU re-solve.
