@@ -329,8 +329,26 @@ impl Mechanism for AnyModel {
         mass: Option<&mut [f64]>,
         h: &mut [f64],
         gaps: &mut [f64],
+        memo: &mut [f64],
     ) {
-        dispatch!(self, m => m.evaluate(q, u, t, mass, h, gaps))
+        dispatch!(self, m => m.evaluate(q, u, t, mass, h, gaps, memo))
+    }
+    #[inline]
+    fn memo_len(&self) -> usize {
+        dispatch!(self, m => m.memo_len())
+    }
+    #[inline(always)]
+    fn midpoint_contacts(
+        &self,
+        which: &[usize],
+        q: &[f64],
+        t: f64,
+        memo: &[f64],
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+        points: &mut [ContactPoint],
+    ) {
+        dispatch!(self, m => m.midpoint_contacts(which, q, t, memo, w_n, w_t, points))
     }
     /// Runs `op` with the model inside, so that a stepper of an `AnyModel` runs the loop
     /// compiled for that model's type (chosen once per run).

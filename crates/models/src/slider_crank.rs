@@ -408,11 +408,7 @@ impl ContactKinematics for SliderCrank {
         points: &mut [ContactPoint],
     ) {
         // The corners share the three angles' sines and cosines.
-        let angles = Angles::new(q);
-        for (k, &i) in which.iter().enumerate() {
-            let (w_n, w_t) = (&mut w_n[3 * k..3 * k + 3], &mut w_t[3 * k..3 * k + 3]);
-            points[k] = self.corner_at(i, &angles, w_n, w_t);
-        }
+        self.corners_at(which, &Angles::new(q), w_n, w_t, points);
     }
 }
 
@@ -429,9 +425,35 @@ impl Angles {
         let (s3, c3) = q[2].sin_cos();
         Self { s: [s1, s2, s3], c: [c1, c2, c3] }
     }
+
+    /// The layout kept in the stepper's memo: the sines, then the cosines.
+    fn to_memo(&self) -> [f64; 6] {
+        let ([s1, s2, s3], [c1, c2, c3]) = (self.s, self.c);
+        [s1, s2, s3, c1, c2, c3]
+    }
+
+    fn from_memo(memo: &[f64]) -> Self {
+        let [s1, s2, s3, c1, c2, c3] = memo[..6].try_into().expect("a memo of 6 values");
+        Self { s: [s1, s2, s3], c: [c1, c2, c3] }
+    }
 }
 
 impl SliderCrank {
+    /// [`ContactKinematics::contacts`] from the angles' sines and cosines.
+    fn corners_at(
+        &self,
+        which: &[usize],
+        angles: &Angles,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+        points: &mut [ContactPoint],
+    ) {
+        for (k, &i) in which.iter().enumerate() {
+            let (w_n, w_t) = (&mut w_n[3 * k..3 * k + 3], &mut w_t[3 * k..3 * k + 3]);
+            points[k] = self.corner_at(i, angles, w_n, w_t);
+        }
+    }
+
     /// The kinematics of the listed contact i from the angles' sines and cosines.
     fn corner_at(
         &self,
@@ -475,17 +497,33 @@ impl Mechanism for SliderCrank {
         mass: Option<&mut [f64]>,
         h: &mut [f64],
         gaps: &mut [f64],
+        memo: &mut [f64],
     ) {
-        // Three sine-cosine pairs serve M, h and every gap; θ2 − θ1 by the difference
-        // formulas.
-        let (s1, c1) = q[0].sin_cos();
-        let (s2, c2) = q[1].sin_cos();
-        let (s3, c3) = q[2].sin_cos();
+        // Three sine-cosine pairs serve M, h, every gap and, kept in `memo`, the closed
+        // corners' kinematics; θ2 − θ1 by the difference formulas.
+        let angles = Angles::new(q);
+        memo[..6].copy_from_slice(&angles.to_memo());
+        let ([s1, s2, s3], [c1, c2, c3]) = (angles.s, angles.c);
         if let Some(m) = mass {
             self.mass_at(c2 * c1 + s2 * s1, m);
         }
         self.forces_at(s2 * c1 - c2 * s1, c1, c2, u, h);
         self.gaps_at(self.params.l1 * s1 + self.params.l2 * s2, s3, c3, gaps);
+    }
+    fn memo_len(&self) -> usize {
+        6
+    }
+    fn midpoint_contacts(
+        &self,
+        which: &[usize],
+        _q: &[f64],
+        _t: f64,
+        memo: &[f64],
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+        points: &mut [ContactPoint],
+    ) {
+        self.corners_at(which, &Angles::from_memo(memo), w_n, w_t, points);
     }
     fn potential_energy(&self, q: &[f64], _t: f64) -> Option<f64> {
         let p = &self.params;

@@ -184,7 +184,8 @@ fn one_evaluation_gives_what_the_separate_calls_give() {
         for (k, (q, t)) in samples(&model, 0.02, 0.3, 0.01).into_iter().enumerate() {
             let u: Vec<f64> = (0..f).map(|j| ((k * f + j) as f64).sin() * 20.0).collect();
             let (mut m1, mut h1, mut g1) = (vec![0.0; f * f], vec![0.0; f], vec![0.0; n]);
-            model.evaluate(&q, &u, t, Some(&mut m1), &mut h1, &mut g1);
+            let mut memo = vec![f64::NAN; model.memo_len()];
+            model.evaluate(&q, &u, t, Some(&mut m1), &mut h1, &mut g1, &mut memo);
             let (mut m2, mut h2) = (vec![0.0; f * f], vec![0.0; f]);
             model.mass_matrix(&q, t, &mut m2);
             model.forces(&q, &u, t, &mut h2);
@@ -199,9 +200,23 @@ fn one_evaluation_gives_what_the_separate_calls_give() {
                     );
                 }
             }
+            // What `evaluate` kept in the memo gives the contacts' kinematics at the same q:
+            // the same values as `contacts` computing them afresh, for every contact at once
+            // and for each one alone.
+            let all: Vec<usize> = (0..n).collect();
+            let lists: Vec<Vec<usize>> =
+                std::iter::once(all.clone()).chain(all.iter().map(|&i| vec![i])).collect();
+            for which in &lists {
+                let k = which.len();
+                let mut fresh = (vec![0.0; k * f], vec![0.0; k * f], vec![Default::default(); k]);
+                model.contacts(which, &q, t, &mut fresh.0, &mut fresh.1, &mut fresh.2);
+                let mut kept = (vec![0.0; k * f], vec![0.0; k * f], vec![Default::default(); k]);
+                model.midpoint_contacts(which, &q, t, &memo, &mut kept.0, &mut kept.1, &mut kept.2);
+                assert_eq!(kept, fresh, "{}: contacts {which:?}", model.kind());
+            }
             // Without `mass` only h and the gaps are written.
             let mut h3 = vec![0.0; f];
-            model.evaluate(&q, &u, t, None, &mut h3, &mut g1);
+            model.evaluate(&q, &u, t, None, &mut h3, &mut g1, &mut memo);
             assert_eq!(h3, h1);
         }
     }

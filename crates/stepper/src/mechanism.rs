@@ -1,6 +1,6 @@
 //! The [`Mechanism`] trait: what the time-stepper needs to know of a mechanism.
 
-use moreau_kinematics::ContactKinematics;
+use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
 
 /// A planar rigid multibody system with unilateral frictional contacts.
@@ -36,9 +36,13 @@ pub trait Mechanism: ContactKinematics {
     /// `mass` (skipped when `None`, as when a constant M is already factorised), h(q, u, t)
     /// into `h` and the normal gaps of all contacts into `gaps`.
     ///
+    /// `memo` (length [`Self::memo_len`]) keeps what the same step's
+    /// [`Self::midpoint_contacts`] may reuse at this q, such as the sines and cosines of the
+    /// angles. The stepper passes it back unchanged, and only at the same q and t.
+    ///
     /// The default calls [`Self::mass_matrix`], [`Self::forces`] and
-    /// [`ContactKinematics::normal_gaps`]. Override it when they share work, such as the sines
-    /// and cosines of the same angles; it must give the same values.
+    /// [`ContactKinematics::normal_gaps`] and keeps nothing. Override it when they share
+    /// work; it must give the same values.
     fn evaluate(
         &self,
         q: &[f64],
@@ -47,12 +51,37 @@ pub trait Mechanism: ContactKinematics {
         mass: Option<&mut [f64]>,
         h: &mut [f64],
         gaps: &mut [f64],
+        memo: &mut [f64],
     ) {
+        let _ = memo;
         if let Some(m) = mass {
             self.mass_matrix(q, t, m);
         }
         self.forces(q, u, t, h);
         self.normal_gaps(q, t, gaps);
+    }
+
+    /// The length of the `memo` that [`Self::evaluate`] fills for
+    /// [`Self::midpoint_contacts`]: 0 by default.
+    fn memo_len(&self) -> usize {
+        0
+    }
+
+    /// [`ContactKinematics::contacts`] at the q and t of the last [`Self::evaluate`], which
+    /// left `memo` as it was. The default ignores `memo` and calls `contacts`; an override
+    /// must give the same values.
+    fn midpoint_contacts(
+        &self,
+        which: &[usize],
+        q: &[f64],
+        t: f64,
+        memo: &[f64],
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+        points: &mut [ContactPoint],
+    ) {
+        let _ = memo;
+        self.contacts(which, q, t, w_n, w_t, points);
     }
 
     /// Runs `op` with the mechanism that does the work: `self` by default. A type that

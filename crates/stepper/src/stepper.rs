@@ -158,6 +158,8 @@ struct Workspace {
     q_e: Vec<f64>,
     /// Normal gaps g_N(q_M, t_M) of all contacts.
     gaps: Vec<f64>,
+    /// What the mechanism's `evaluate` keeps for its `midpoint_contacts` at q_M.
+    memo: Vec<f64>,
     /// M(q_M, t_M), column-major.
     mass: Vec<f64>,
     /// h(q_M, u_A, t_M), then M⁻¹ h Δt.
@@ -331,6 +333,7 @@ impl<M: Mechanism> Stepper<M> {
             q_m: vec![0.0; f],
             q_e: vec![0.0; f],
             gaps: vec![0.0; n],
+            memo: vec![0.0; mechanism.memo_len()],
             mass: vec![0.0; f * f],
             h: vec![0.0; f],
             u_free: vec![0.0; f],
@@ -546,7 +549,15 @@ impl Core {
         }
         let new_mass = !(ws.factored && mech.constant_mass_matrix());
         let mass = new_mass.then_some(&mut ws.mass[..f * f]);
-        mech.evaluate(&ws.q_m[..f], &self.u[..f], t_m, mass, &mut ws.h[..f], &mut ws.gaps);
+        mech.evaluate(
+            &ws.q_m[..f],
+            &self.u[..f],
+            t_m,
+            mass,
+            &mut ws.h[..f],
+            &mut ws.gaps,
+            &mut ws.memo,
+        );
         if new_mass {
             check_finite("M", &ws.mass[..f * f], t_m)?;
             ws.chol
@@ -759,10 +770,11 @@ impl Core {
         }
         ws.frictional.clear();
         let na = ws.active.len();
-        mech.contacts(
+        mech.midpoint_contacts(
             &ws.active,
             &ws.q_m,
             t_m,
+            &ws.memo,
             &mut ws.w_n[..na * f],
             &mut ws.w_t[..na * f],
             &mut ws.points[..na],
