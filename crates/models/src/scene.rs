@@ -237,6 +237,10 @@ impl Scene {
         let mut stepper = self.stepper()?;
         let mut recorder = Recorder::every(self.record_every);
         recorder.push_initial(stepper.mechanism(), stepper.t(), stepper.q(), stepper.u());
+        // The rows up to t_end, or a million when more (a stop rule may end the run early).
+        let steps = (self.t_end - stepper.t()) / stepper.options().dt;
+        let rows = (steps / self.record_every.max(1) as f64).ceil().clamp(0.0, 1e6);
+        recorder.record.reserve(rows as usize + 1);
         let summary = self.drive(&mut stepper, &mut recorder)?;
         Ok(Simulation {
             record: recorder.record,

@@ -79,10 +79,12 @@ mod error;
 mod mechanism;
 mod observer;
 mod options;
+mod rows;
 mod stepper;
 
 pub use error::StepError;
 pub use mechanism::{ConcreteOp, Mechanism};
 pub use observer::{Observer, Record, Recorder};
 pub use options::{SolverChoice, StepperOptions};
+pub use rows::{RowIter, Rows};
 pub use stepper::{ContactReport, ContactState, LcpInfo, RunSummary, StepReport, Stepper};

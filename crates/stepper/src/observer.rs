@@ -5,7 +5,7 @@ use std::ops::ControlFlow;
 use serde::{Deserialize, Serialize};
 
 use crate::dense::half_quadratic;
-use crate::{ContactReport, ContactState, Mechanism, StepReport};
+use crate::{ContactReport, ContactState, Mechanism, Rows, StepReport};
 
 /// Receives every step of a run; returning [`ControlFlow::Break`] stops the run after it.
 ///
@@ -31,17 +31,17 @@ pub struct Record {
     /// Time t (s).
     pub t: Vec<f64>,
     /// Generalised coordinates q.
-    pub q: Vec<Vec<f64>>,
+    pub q: Rows<f64>,
     /// Generalised velocities u.
-    pub u: Vec<Vec<f64>>,
+    pub u: Rows<f64>,
     /// Normal impulses P_N per contact (zero when open).
-    pub p_n: Vec<Vec<f64>>,
+    pub p_n: Rows<f64>,
     /// Tangential impulses P_T per contact (zero when open or frictionless).
-    pub p_t: Vec<Vec<f64>>,
+    pub p_t: Rows<f64>,
     /// Whether each contact was in the active set (g_N(q_M) ≤ 0).
-    pub active: Vec<Vec<bool>>,
+    pub active: Rows<bool>,
     /// Open, sticking or slipping, per contact, at the end of the row's last step.
-    pub state: Vec<Vec<ContactState>>,
+    pub state: Rows<ContactState>,
     /// Size of the row's last LCP (0 when no contact was closed).
     pub lcp_size: Vec<usize>,
     /// Iterations or pivots of the row's last LCP solve.
@@ -55,6 +55,35 @@ pub struct Record {
 }
 
 impl Record {
+    /// Empties the record and makes its tables `f` (q, u) and `n` (the contacts) wide.
+    fn set_widths(&mut self, f: usize, n: usize) {
+        *self = Self {
+            q: Rows::new(f),
+            u: Rows::new(f),
+            p_n: Rows::new(n),
+            p_t: Rows::new(n),
+            active: Rows::new(n),
+            state: Rows::new(n),
+            ..Self::default()
+        };
+    }
+
+    /// Reserves room for `additional` more rows in every column, so that a run of known
+    /// length grows no buffer. The tables of q, u and the contacts take their widths from
+    /// the first row, so reserve after it for them to be reserved too.
+    pub fn reserve(&mut self, additional: usize) {
+        for v in [&mut self.t, &mut self.kinetic, &mut self.potential, &mut self.dissipated] {
+            v.reserve(additional);
+        }
+        self.lcp_size.reserve(additional);
+        self.iterations.reserve(additional);
+        for v in [&mut self.q, &mut self.u, &mut self.p_n, &mut self.p_t] {
+            v.reserve(additional);
+        }
+        self.active.reserve(additional);
+        self.state.reserve(additional);
+    }
+
     /// Number of rows.
     pub fn len(&self) -> usize {
         self.t.len()
@@ -82,6 +111,8 @@ pub struct Recorder {
     sum_p_n: Vec<f64>,
     sum_p_t: Vec<f64>,
     any_active: Vec<bool>,
+    /// The contacts' states of the row being written.
+    states: Vec<ContactState>,
     sum_dissipated: f64,
 }
 
@@ -108,6 +139,7 @@ impl Recorder {
             sum_p_n: Vec::new(),
             sum_p_t: Vec::new(),
             any_active: Vec::new(),
+            states: Vec::new(),
             sum_dissipated: 0.0,
         }
     }
@@ -148,13 +180,18 @@ impl Recorder {
         self.mass.resize(f * f, 0.0);
         mechanism.mass_matrix(q, t, &mut self.mass);
         let r = &mut self.record;
+        if r.is_empty() {
+            r.set_widths(f, contacts.len());
+        }
         r.t.push(t);
-        r.q.push(q.to_vec());
-        r.u.push(u.to_vec());
-        r.p_n.push(self.sum_p_n.clone());
-        r.p_t.push(self.sum_p_t.clone());
-        r.active.push(self.any_active.clone());
-        r.state.push(contacts.iter().map(|c| c.state).collect());
+        r.q.push(q);
+        r.u.push(u);
+        r.p_n.push(&self.sum_p_n);
+        r.p_t.push(&self.sum_p_t);
+        r.active.push(&self.any_active);
+        self.states.clear();
+        self.states.extend(contacts.iter().map(|c| c.state));
+        r.state.push(&self.states);
         r.lcp_size.push(lcp_size);
         r.iterations.push(iterations);
         r.kinetic.push(half_quadratic(&self.mass, f, u));

@@ -93,7 +93,7 @@ pub(super) fn entries() -> Vec<Entry> {
 
 /// Column `j` of the state (q then u), scaled.
 fn state(run: &RunResult, j: usize, scale: f64) -> Vec<f64> {
-    let f = run.record().q.first().map_or(0, Vec::len);
+    let f = run.record().q.width();
     let v = if j < f { run.q(j) } else { run.u(j - f) };
     v.into_iter().map(|x| x * scale).collect()
 }
