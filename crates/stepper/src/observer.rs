@@ -101,6 +101,12 @@ impl Record {
 }
 
 /// An [`Observer`] that keeps every `n`-th step in a [`Record`].
+///
+/// The record's tables take their widths (f coordinates, n contacts) from its first row, so
+/// one recorder serves runs of one mechanism.
+///
+/// # Panics
+/// When it is given a row of another mechanism's size after the first row.
 #[derive(Clone, Debug)]
 pub struct Recorder {
     /// What has been recorded so far.
