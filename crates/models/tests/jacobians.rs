@@ -5,7 +5,7 @@ use moreau_kinematics::{
     ContactKinematics, FdOptions, SampleOptions, assert_consistent, check_jacobians, sample_states,
 };
 use moreau_models::*;
-use moreau_stepper::Mechanism;
+use moreau_stepper::{Mechanism, check_evaluate};
 use nalgebra::DMatrix;
 
 fn samples(model: &AnyModel, t0: f64, q_radius: f64, t_radius: f64) -> Vec<(Vec<f64>, f64)> {
@@ -178,46 +178,15 @@ fn slider_crank_gaps_are_half_the_clearance_at_the_start() {
 #[test]
 fn one_evaluation_gives_what_the_separate_calls_give() {
     // `Mechanism::evaluate` (M, h and the gaps at once; the slider-crank shares its sines)
-    // against `mass_matrix`, `forces` and `normal_gap`, at sample states with velocities.
+    // against `mass_matrix`, `forces` and `normal_gaps`, and `midpoint_contacts` (the
+    // slider-crank's corners reuse the sines kept in the memo) against `contacts`, at sample
+    // states with velocities.
     for model in all_models() {
-        let (f, n) = (model.num_coordinates(), model.num_contacts());
+        let f = model.num_coordinates();
         for (k, (q, t)) in samples(&model, 0.02, 0.3, 0.01).into_iter().enumerate() {
             let u: Vec<f64> = (0..f).map(|j| ((k * f + j) as f64).sin() * 20.0).collect();
-            let (mut m1, mut h1, mut g1) = (vec![0.0; f * f], vec![0.0; f], vec![0.0; n]);
-            let mut memo = vec![f64::NAN; model.memo_len()];
-            model.evaluate(&q, &u, t, Some(&mut m1), &mut h1, &mut g1, &mut memo);
-            let (mut m2, mut h2) = (vec![0.0; f * f], vec![0.0; f]);
-            model.mass_matrix(&q, t, &mut m2);
-            model.forces(&q, &u, t, &mut h2);
-            let g2: Vec<f64> = (0..n).map(|i| model.normal_gap(i, &q, t)).collect();
-            for (what, a, b) in [("M", &m1, &m2), ("h", &h1, &h2), ("g_N", &g1, &g2)] {
-                let scale = b.iter().fold(1e-300f64, |s, v| s.max(v.abs()));
-                for (x, y) in a.iter().zip(b.iter()) {
-                    assert!(
-                        (x - y).abs() <= 1e-14 * scale,
-                        "{}: {what} {a:?} vs {b:?}",
-                        model.kind()
-                    );
-                }
-            }
-            // What `evaluate` kept in the memo gives the contacts' kinematics at the same q:
-            // the same values as `contacts` computing them afresh, for every contact at once
-            // and for each one alone.
-            let all: Vec<usize> = (0..n).collect();
-            let lists: Vec<Vec<usize>> =
-                std::iter::once(all.clone()).chain(all.iter().map(|&i| vec![i])).collect();
-            for which in &lists {
-                let k = which.len();
-                let mut fresh = (vec![0.0; k * f], vec![0.0; k * f], vec![Default::default(); k]);
-                model.contacts(which, &q, t, &mut fresh.0, &mut fresh.1, &mut fresh.2);
-                let mut kept = (vec![0.0; k * f], vec![0.0; k * f], vec![Default::default(); k]);
-                model.midpoint_contacts(which, &q, t, &memo, &mut kept.0, &mut kept.1, &mut kept.2);
-                assert_eq!(kept, fresh, "{}: contacts {which:?}", model.kind());
-            }
-            // Without `mass` only h and the gaps are written.
-            let mut h3 = vec![0.0; f];
-            model.evaluate(&q, &u, t, None, &mut h3, &mut g1, &mut memo);
-            assert_eq!(h3, h1);
+            let found = check_evaluate(&model, &q, &u, t, 1e-14).unwrap();
+            assert_eq!(found, None, "{} at q = {q:?}", model.kind());
         }
     }
 }

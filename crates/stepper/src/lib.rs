@@ -16,7 +16,8 @@
 //! Principal types: the [`Mechanism`] trait a user implements; [`Stepper`] with
 //! [`Stepper::step`] returning a [`StepReport`]; [`Stepper::run_until`] streaming steps to an
 //! [`Observer`]; [`Recorder`] and [`Record`] for keeping a trajectory; [`StepperOptions`] and
-//! [`SolverChoice`]; [`StepError`].
+//! [`SolverChoice`]; [`StepError`]; [`check_evaluate`] for the overrides that share work
+//! between M, h, the gaps and the contacts' kinematics.
 //!
 //! | symbol | identifier | meaning |
 //! |---|---|---|
@@ -74,6 +75,7 @@
 //!   Universidade do Minho.
 #![deny(missing_docs)]
 
+mod check;
 mod dense;
 mod error;
 mod mechanism;
@@ -82,6 +84,7 @@ mod options;
 mod rows;
 mod stepper;
 
+pub use check::{EvaluateMismatch, check_evaluate};
 pub use error::StepError;
 pub use mechanism::{ConcreteOp, Mechanism};
 pub use observer::{Observer, Record, Recorder};

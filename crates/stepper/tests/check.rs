@@ -1,0 +1,173 @@
+//! `check_evaluate`: overrides of `Mechanism::evaluate` and `Mechanism::midpoint_contacts`
+//! against the separate methods.
+
+use moreau_kinematics::{ContactKinematics, ContactPoint};
+use moreau_setvalued::ContactLaw;
+use moreau_stepper::{Mechanism, StepError, check_evaluate};
+
+/// A rod of length 2 l, q = (x, y, θ), whose two ends touch the floor y = 0; its overrides
+/// share sin θ and cos θ through the memo. `bug` plants one mistake.
+struct Rod {
+    l: f64,
+    laws: [ContactLaw; 2],
+    bug: Bug,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Bug {
+    None,
+    /// `evaluate` gives end 1 the gap of end 0.
+    Gap,
+    /// `midpoint_contacts` reads the memo with sine and cosine swapped.
+    MemoLayout,
+}
+
+impl Rod {
+    fn new(bug: Bug) -> Self {
+        let law = ContactLaw::new(0.5, 0.0, 0.3).unwrap();
+        Self { l: 0.5, laws: [law, law], bug }
+    }
+
+    /// End i's sign: −1 for the left end, +1 for the right one.
+    fn side(i: usize) -> f64 {
+        if i == 0 { -1.0 } else { 1.0 }
+    }
+
+    fn end(
+        &self,
+        i: usize,
+        q: &[f64],
+        (s, c): (f64, f64),
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) -> ContactPoint {
+        let a = Self::side(i) * self.l;
+        w_n.copy_from_slice(&[0.0, 1.0, a * c]);
+        w_t.copy_from_slice(&[1.0, 0.0, -a * s]);
+        ContactPoint { g_n: q[1] + a * s, g_t: q[0] + a * c, w_n_hat: 0.0, w_t_hat: 0.0 }
+    }
+}
+
+impl ContactKinematics for Rod {
+    fn num_coordinates(&self) -> usize {
+        3
+    }
+    fn num_contacts(&self) -> usize {
+        2
+    }
+    fn normal_gap(&self, i: usize, q: &[f64], _t: f64) -> f64 {
+        q[1] + Self::side(i) * self.l * q[2].sin()
+    }
+    fn contact(
+        &self,
+        i: usize,
+        q: &[f64],
+        _t: f64,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) -> ContactPoint {
+        self.end(i, q, q[2].sin_cos(), w_n, w_t)
+    }
+}
+
+impl Mechanism for Rod {
+    fn laws(&self) -> &[ContactLaw] {
+        &self.laws
+    }
+    fn mass_matrix(&self, _q: &[f64], _t: f64, m: &mut [f64]) {
+        m.fill(0.0);
+        (m[0], m[4], m[8]) = (1.0, 1.0, self.l * self.l / 3.0);
+    }
+    fn forces(&self, _q: &[f64], _u: &[f64], _t: f64, h: &mut [f64]) {
+        h.copy_from_slice(&[0.0, -9.81, 0.0]);
+    }
+    fn evaluate(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        t: f64,
+        mass: Option<&mut [f64]>,
+        h: &mut [f64],
+        gaps: &mut [f64],
+        memo: &mut [f64],
+    ) {
+        let (s, c) = q[2].sin_cos();
+        memo.copy_from_slice(&[s, c]);
+        if let Some(m) = mass {
+            self.mass_matrix(q, t, m);
+        }
+        self.forces(q, u, t, h);
+        gaps[0] = q[1] - self.l * s;
+        gaps[1] = if self.bug == Bug::Gap { gaps[0] } else { q[1] + self.l * s };
+    }
+    fn memo_len(&self) -> usize {
+        2
+    }
+    fn midpoint_contacts(
+        &self,
+        which: &[usize],
+        q: &[f64],
+        _t: f64,
+        memo: &[f64],
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+        points: &mut [ContactPoint],
+    ) {
+        let sc = if self.bug == Bug::MemoLayout { (memo[1], memo[0]) } else { (memo[0], memo[1]) };
+        for (k, &i) in which.iter().enumerate() {
+            points[k] = self.end(i, q, sc, &mut w_n[3 * k..][..3], &mut w_t[3 * k..][..3]);
+        }
+    }
+}
+
+/// States with the rod at several angles and heights.
+fn states() -> Vec<([f64; 3], [f64; 3])> {
+    (0..12)
+        .map(|k| {
+            let x = f64::from(k);
+            ([0.1 * x - 0.4, 0.05 * x, 0.37 * x - 2.0], [x.sin(), x.cos(), 3.0 - x])
+        })
+        .collect()
+}
+
+#[test]
+fn overrides_that_share_the_same_formulas_agree_to_the_last_bit() {
+    let rod = Rod::new(Bug::None);
+    for (q, u) in states() {
+        assert_eq!(check_evaluate(&rod, &q, &u, 0.2, 0.0).unwrap(), None, "q = {q:?}");
+    }
+}
+
+#[test]
+fn a_wrong_gap_in_evaluate_is_named_with_its_contact() {
+    let rod = Rod::new(Bug::Gap);
+    let (q, u) = states()[3];
+    let found = check_evaluate(&rod, &q, &u, 0.0, 1e-12).unwrap().expect("gap 1 differs");
+    assert_eq!((found.what, found.index), ("g_N", 1));
+    assert_eq!(found.separate, rod.normal_gap(1, &q, 0.0));
+    assert!(found.scaled > 1e-12);
+    assert!(found.to_string().starts_with("g_N[1]: "), "{found}");
+}
+
+#[test]
+fn a_misread_memo_in_midpoint_contacts_is_named_with_its_contact_and_entry() {
+    let rod = Rod::new(Bug::MemoLayout);
+    let (q, u) = states()[5];
+    let found = check_evaluate(&rod, &q, &u, 0.0, 1e-12).unwrap().expect("w_N differs");
+    // w_N of end 0 = (0, 1, −l cos θ): entry 2 is the first that reads the memo.
+    assert_eq!((found.what, found.index), ("w_N", 2));
+    let expected = -rod.l * q[2].cos();
+    assert_eq!(found.separate, expected);
+    assert_eq!(found.combined, -rod.l * q[2].sin());
+}
+
+#[test]
+fn bad_states_are_refused_with_typed_errors() {
+    let rod = Rod::new(Bug::None);
+    let short = check_evaluate(&rod, &[0.0, 1.0], &[0.0; 3], 0.0, 0.0);
+    assert!(matches!(short, Err(StepError::Dimension { what: "q", expected: 3, found: 2 })));
+    let nan_u = check_evaluate(&rod, &[0.0; 3], &[0.0, f64::NAN, 0.0], 0.0, 0.0);
+    assert!(matches!(nan_u, Err(StepError::NonFinite { what: "u", index: 1, .. })));
+    let inf_tol = check_evaluate(&rod, &[0.0; 3], &[0.0; 3], 0.0, f64::INFINITY);
+    assert!(matches!(inf_tol, Err(StepError::NonFinite { what: "tol", .. })));
+}
