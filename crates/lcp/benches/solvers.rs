@@ -15,26 +15,9 @@ mod common;
 
 use std::hint::black_box;
 
-use common::{Rng, friction, planted, random_spd};
+use common::{BENCH_SETS, bench_set};
 use criterion::{Criterion, criterion_group, criterion_main};
 use moreau_lcp::{Auto, Enumeration, Lcp, Lemke, Pgs, Solution, Solver};
-
-fn friction_set(nc: usize, seed: u64) -> Vec<Lcp> {
-    let mut rng = Rng::new(seed);
-    let mut out = Vec::new();
-    while out.len() < 16 {
-        let f = friction(nc, 3 + nc, &mut rng);
-        if Auto::default().solve(&f.lcp).is_ok_and(|s| s.is_solved()) {
-            out.push(f.lcp);
-        }
-    }
-    out
-}
-
-fn spd_set(n: usize, seed: u64) -> Vec<Lcp> {
-    let mut rng = Rng::new(seed);
-    (0..16).map(|_| planted(random_spd(n, &mut rng), &mut rng, false).0).collect()
-}
 
 fn run(c: &mut Criterion, group: &str, name: &str, solver: &mut dyn Solver, problems: &[Lcp]) {
     let mut out = Solution::new();
@@ -58,12 +41,8 @@ fn run(c: &mut Criterion, group: &str, name: &str, solver: &mut dyn Solver, prob
 }
 
 fn benches(c: &mut Criterion) {
-    let friction_3 = friction_set(1, 1);
-    let friction_9 = friction_set(3, 2);
-    let spd_3 = spd_set(3, 3);
-    let spd_9 = spd_set(9, 4);
-    let spd_30 = spd_set(30, 5);
-    let spd_90 = spd_set(90, 6);
+    let set = |name| bench_set(name).expect("a bench set");
+    let [friction_3, friction_9, spd_3, spd_9, spd_30, spd_90] = BENCH_SETS.map(set);
 
     let mut lemke = Lemke::default();
     for (name, set) in [

@@ -9,41 +9,16 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use common::{Rng, friction, planted, random_spd};
-use moreau_lcp::{Auto, Lcp, Lemke, Solution, Solver};
-
-fn friction_set(nc: usize, seed: u64) -> Vec<Lcp> {
-    let mut rng = Rng::new(seed);
-    let mut out = Vec::new();
-    while out.len() < 16 {
-        let f = friction(nc, 3 + nc, &mut rng);
-        if Auto::default().solve(&f.lcp).is_ok_and(|s| s.is_solved()) {
-            out.push(f.lcp);
-        }
-    }
-    out
-}
-
-fn spd_set(n: usize, seed: u64) -> Vec<Lcp> {
-    let mut rng = Rng::new(seed);
-    (0..16).map(|_| planted(random_spd(n, &mut rng), &mut rng, false).0).collect()
-}
+use common::{BENCH_SETS, bench_set};
+use moreau_lcp::{Lemke, Solution, Solver};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let case = args.get(1).map_or("friction_9", String::as_str);
     let repeat: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(100);
-    let set = match case {
-        "friction_3" => friction_set(1, 1),
-        "friction_9" => friction_set(3, 2),
-        "spd_3" => spd_set(3, 3),
-        "spd_9" => spd_set(9, 4),
-        "spd_30" => spd_set(30, 5),
-        "spd_90" => spd_set(90, 6),
-        other => {
-            eprintln!("unknown case {other}");
-            std::process::exit(2);
-        }
+    let Some(set) = bench_set(case) else {
+        eprintln!("unknown case {case}; known: {}", BENCH_SETS.join(", "));
+        std::process::exit(2);
     };
     let mut lemke = Lemke::default();
     let mut out = Solution::new();

@@ -5,7 +5,7 @@
 
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Col, Mat};
-use moreau_lcp::{Lcp, Solution};
+use moreau_lcp::{Auto, Lcp, Solution, Solver};
 
 /// splitmix64: a tiny deterministic generator.
 pub struct Rng(u64);
@@ -200,4 +200,38 @@ pub fn assert_status_honest(sol: &Solution, tol: f64) {
             sol.residual.relative
         );
     }
+}
+
+/// The names of the problem sets of the benches, in their order.
+pub const BENCH_SETS: [&str; 6] =
+    ["friction_3", "friction_9", "spd_3", "spd_9", "spd_30", "spd_90"];
+
+/// The 16 problems of a bench set: `friction_3` and `friction_9` (the step LCP with friction
+/// of 1 and 3 contacts, kept when `Auto` solves them), `spd_3` to `spd_90` (random SPD
+/// matrices with planted solutions); `None` for another name.
+pub fn bench_set(name: &str) -> Option<Vec<Lcp>> {
+    let friction_set = |nc: usize, seed: u64| {
+        let mut rng = Rng::new(seed);
+        let mut out = Vec::new();
+        while out.len() < 16 {
+            let f = friction(nc, 3 + nc, &mut rng);
+            if Auto::default().solve(&f.lcp).is_ok_and(|s| s.is_solved()) {
+                out.push(f.lcp);
+            }
+        }
+        out
+    };
+    let spd_set = |n: usize, seed: u64| {
+        let mut rng = Rng::new(seed);
+        (0..16).map(|_| planted(random_spd(n, &mut rng), &mut rng, false).0).collect()
+    };
+    Some(match name {
+        "friction_3" => friction_set(1, 1),
+        "friction_9" => friction_set(3, 2),
+        "spd_3" => spd_set(3, 3),
+        "spd_9" => spd_set(9, 4),
+        "spd_30" => spd_set(30, 5),
+        "spd_90" => spd_set(90, 6),
+        _ => return None,
+    })
 }
