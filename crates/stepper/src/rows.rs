@@ -23,6 +23,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 /// assert_eq!((q.len(), q.width()), (2, 2));
 /// assert_eq!(q[1], [0.5, 0.9]);
 /// assert_eq!(q.iter().map(|r| r[0]).sum::<f64>(), 0.5);
+/// assert_eq!(q.column(1).collect::<Vec<_>>(), [1.0, 0.9]);
 /// assert_eq!(q.last(), Some(&[0.5, 0.9][..]));
 /// ```
 #[derive(Clone, PartialEq)]
@@ -100,6 +101,18 @@ impl<T> Rows<T> {
     /// The rows in order.
     pub fn iter(&self) -> RowIter<'_, T> {
         RowIter { rows: self, front: 0, back: self.len }
+    }
+
+    /// Entry `j` of every row, in order: the time series of one coordinate or contact.
+    ///
+    /// # Panics
+    /// When `j` is not below [`Self::width`].
+    pub fn column(&self, j: usize) -> impl ExactSizeIterator<Item = T> + '_
+    where
+        T: Copy,
+    {
+        assert!(j < self.width, "column {j} of a table of width {}", self.width);
+        self.iter().map(move |row| row[j])
     }
 
     /// All values, row after row.
