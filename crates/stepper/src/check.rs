@@ -150,8 +150,8 @@ pub fn check_evaluate<M: Mechanism + ?Sized>(
             m
         };
         for (what, a, b, per) in [
-            ("w_N", kept.0.clone(), fresh.0.clone(), f),
-            ("w_T", kept.1.clone(), fresh.1.clone(), f),
+            ("w_N", kept.0, fresh.0, f),
+            ("w_T", kept.1, fresh.1, f),
             ("contact g_N", scalars(&kept.2, |p| p.g_n), scalars(&fresh.2, |p| p.g_n), 1),
             ("g_T", scalars(&kept.2, |p| p.g_t), scalars(&fresh.2, |p| p.g_t), 1),
             ("ŵ_N", scalars(&kept.2, |p| p.w_n_hat), scalars(&fresh.2, |p| p.w_n_hat), 1),

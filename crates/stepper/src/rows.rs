@@ -129,8 +129,7 @@ impl<T> Index<usize> for Rows<T> {
     /// # Panics
     /// When `k` is not below [`Rows::len`].
     fn index(&self, k: usize) -> &[T] {
-        assert!(k < self.len, "row {k} of a table of {} rows", self.len);
-        &self.data[k * self.width..][..self.width]
+        self.get(k).unwrap_or_else(|| panic!("row {k} of a table of {} rows", self.len))
     }
 }
 

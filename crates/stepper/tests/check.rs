@@ -1,15 +1,17 @@
 //! `check_evaluate`: overrides of `Mechanism::evaluate` and `Mechanism::midpoint_contacts`
 //! against the separate methods.
 
+mod common;
+
+use common::Rod;
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
 use moreau_stepper::{Mechanism, StepError, check_evaluate};
 
-/// A rod of length 2 l, q = (x, y, θ), whose two ends touch the floor y = 0; its overrides
-/// share sin θ and cos θ through the memo. `bug` plants one mistake.
-struct Rod {
-    l: f64,
-    laws: [ContactLaw; 2],
+/// The shared test rod, q = (x, y, φ), with overrides of `evaluate` and `midpoint_contacts`
+/// that share sin φ and cos φ through the memo. `bug` plants one mistake.
+struct SharedRod {
+    rod: Rod,
     bug: Bug,
 }
 
@@ -22,17 +24,12 @@ enum Bug {
     MemoLayout,
 }
 
-impl Rod {
+impl SharedRod {
     fn new(bug: Bug) -> Self {
-        let law = ContactLaw::new(0.5, 0.0, 0.3).unwrap();
-        Self { l: 0.5, laws: [law, law], bug }
+        Self { rod: Rod::new(0.5, 0.3), bug }
     }
 
-    /// End i's sign: −1 for the left end, +1 for the right one.
-    fn side(i: usize) -> f64 {
-        if i == 0 { -1.0 } else { 1.0 }
-    }
-
+    /// End i's kinematics (as `Rod::contact`) from sin φ and cos φ.
     fn end(
         &self,
         i: usize,
@@ -41,45 +38,44 @@ impl Rod {
         w_n: &mut [f64],
         w_t: &mut [f64],
     ) -> ContactPoint {
-        let a = Self::side(i) * self.l;
-        w_n.copy_from_slice(&[0.0, 1.0, a * c]);
-        w_t.copy_from_slice(&[1.0, 0.0, -a * s]);
-        ContactPoint { g_n: q[1] + a * s, g_t: q[0] + a * c, w_n_hat: 0.0, w_t_hat: 0.0 }
+        let k = if i == 0 { -self.rod.s } else { self.rod.s };
+        w_n.copy_from_slice(&[0.0, 1.0, k * c]);
+        w_t.copy_from_slice(&[1.0, 0.0, -k * s]);
+        ContactPoint { g_n: q[1] + k * s, g_t: q[0] + k * c, w_n_hat: 0.0, w_t_hat: 0.0 }
     }
 }
 
-impl ContactKinematics for Rod {
+impl ContactKinematics for SharedRod {
     fn num_coordinates(&self) -> usize {
-        3
+        self.rod.num_coordinates()
     }
     fn num_contacts(&self) -> usize {
-        2
+        self.rod.num_contacts()
     }
-    fn normal_gap(&self, i: usize, q: &[f64], _t: f64) -> f64 {
-        q[1] + Self::side(i) * self.l * q[2].sin()
+    fn normal_gap(&self, i: usize, q: &[f64], t: f64) -> f64 {
+        self.rod.normal_gap(i, q, t)
     }
     fn contact(
         &self,
         i: usize,
         q: &[f64],
-        _t: f64,
+        t: f64,
         w_n: &mut [f64],
         w_t: &mut [f64],
     ) -> ContactPoint {
-        self.end(i, q, q[2].sin_cos(), w_n, w_t)
+        self.rod.contact(i, q, t, w_n, w_t)
     }
 }
 
-impl Mechanism for Rod {
+impl Mechanism for SharedRod {
     fn laws(&self) -> &[ContactLaw] {
-        &self.laws
+        self.rod.laws()
     }
-    fn mass_matrix(&self, _q: &[f64], _t: f64, m: &mut [f64]) {
-        m.fill(0.0);
-        (m[0], m[4], m[8]) = (1.0, 1.0, self.l * self.l / 3.0);
+    fn mass_matrix(&self, q: &[f64], t: f64, m: &mut [f64]) {
+        self.rod.mass_matrix(q, t, m);
     }
-    fn forces(&self, _q: &[f64], _u: &[f64], _t: f64, h: &mut [f64]) {
-        h.copy_from_slice(&[0.0, -9.81, 0.0]);
+    fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]) {
+        self.rod.forces(q, u, t, h);
     }
     fn evaluate(
         &self,
@@ -97,8 +93,8 @@ impl Mechanism for Rod {
             self.mass_matrix(q, t, m);
         }
         self.forces(q, u, t, h);
-        gaps[0] = q[1] - self.l * s;
-        gaps[1] = if self.bug == Bug::Gap { gaps[0] } else { q[1] + self.l * s };
+        gaps[0] = q[1] + -self.rod.s * s;
+        gaps[1] = if self.bug == Bug::Gap { gaps[0] } else { q[1] + self.rod.s * s };
     }
     fn memo_len(&self) -> usize {
         2
@@ -132,7 +128,7 @@ fn states() -> Vec<([f64; 3], [f64; 3])> {
 
 #[test]
 fn overrides_that_share_the_same_formulas_agree_to_the_last_bit() {
-    let rod = Rod::new(Bug::None);
+    let rod = SharedRod::new(Bug::None);
     for (q, u) in states() {
         assert_eq!(check_evaluate(&rod, &q, &u, 0.2, 0.0).unwrap(), None, "q = {q:?}");
     }
@@ -140,7 +136,7 @@ fn overrides_that_share_the_same_formulas_agree_to_the_last_bit() {
 
 #[test]
 fn a_wrong_gap_in_evaluate_is_named_with_its_contact() {
-    let rod = Rod::new(Bug::Gap);
+    let rod = SharedRod::new(Bug::Gap);
     let (q, u) = states()[3];
     let found = check_evaluate(&rod, &q, &u, 0.0, 1e-12).unwrap().expect("gap 1 differs");
     assert_eq!((found.what, found.index), ("g_N", 1));
@@ -151,19 +147,19 @@ fn a_wrong_gap_in_evaluate_is_named_with_its_contact() {
 
 #[test]
 fn a_misread_memo_in_midpoint_contacts_is_named_with_its_contact_and_entry() {
-    let rod = Rod::new(Bug::MemoLayout);
+    let rod = SharedRod::new(Bug::MemoLayout);
     let (q, u) = states()[5];
     let found = check_evaluate(&rod, &q, &u, 0.0, 1e-12).unwrap().expect("w_N differs");
-    // w_N of end 0 = (0, 1, −l cos θ): entry 2 is the first that reads the memo.
+    // w_N of end 0 = (0, 1, −s cos φ): entry 2 is the first that reads the memo.
     assert_eq!((found.what, found.index), ("w_N", 2));
-    let expected = -rod.l * q[2].cos();
+    let expected = -rod.rod.s * q[2].cos();
     assert_eq!(found.separate, expected);
-    assert_eq!(found.combined, -rod.l * q[2].sin());
+    assert_eq!(found.combined, -rod.rod.s * q[2].sin());
 }
 
 #[test]
 fn bad_states_are_refused_with_typed_errors() {
-    let rod = Rod::new(Bug::None);
+    let rod = SharedRod::new(Bug::None);
     let short = check_evaluate(&rod, &[0.0, 1.0], &[0.0; 3], 0.0, 0.0);
     assert!(matches!(short, Err(StepError::Dimension { what: "q", expected: 3, found: 2 })));
     let nan_u = check_evaluate(&rod, &[0.0; 3], &[0.0, f64::NAN, 0.0], 0.0, 0.0);
