@@ -8,6 +8,11 @@
 //! Each case cycles over 16 problems; the solver and the solution are reused outside the
 //! timed part, so the times are those of allocation-free solves. The mean pivot or
 //! iteration count of each case is printed before it runs.
+//!
+//! `lemke_pivots/friction_9/k` stops Lemke's method after at most k pivots (status
+//! `IterationLimit` for the problems that need more): the differences between k = 1, 4
+//! and 7 are the cost of a pivot, and k = 1 that of the set-up, one pivot and the
+//! residual of the candidate.
 #![allow(missing_docs)]
 
 #[path = "../tests/common/mod.rs"]
@@ -17,7 +22,7 @@ use std::hint::black_box;
 
 use common::{BENCH_SETS, bench_set};
 use criterion::{Criterion, criterion_group, criterion_main};
-use moreau_lcp::{Auto, Enumeration, Lcp, Lemke, Pgs, Solution, Solver};
+use moreau_lcp::{Auto, Enumeration, Lcp, Lemke, LemkeOptions, Pgs, Solution, Solver};
 
 fn run(c: &mut Criterion, group: &str, name: &str, solver: &mut dyn Solver, problems: &[Lcp]) {
     let mut out = Solution::new();
@@ -54,6 +59,21 @@ fn benches(c: &mut Criterion) {
         ("spd_90", &spd_90),
     ] {
         run(c, "lemke", name, &mut lemke, set);
+    }
+    for k in [1, 4, 7] {
+        let options = LemkeOptions { max_pivots: k, ..LemkeOptions::default() };
+        let mut capped = Lemke::new(options).expect("valid options");
+        let mut out = Solution::new();
+        let mut i = 0;
+        c.bench_function(&format!("lemke_pivots/friction_9/{k}"), |b| {
+            b.iter(|| {
+                i = (i + 1) % friction_9.len();
+                capped
+                    .solve_into(black_box(friction_9[i].view()), None, &mut out)
+                    .expect("valid problem");
+                black_box(out.z[0])
+            })
+        });
     }
     let mut pgs = Pgs::default();
     for (name, set) in
