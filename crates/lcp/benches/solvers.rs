@@ -33,8 +33,14 @@ fn run(c: &mut Criterion, group: &str, name: &str, solver: &mut dyn Solver, prob
         iterations += out.iterations;
     }
     eprintln!("{group}/{name}: mean iterations {:.1}", iterations as f64 / problems.len() as f64);
+    time_solves(c, &format!("{group}/{name}"), solver, problems);
+}
+
+/// Times one solve, cycling over the problems.
+fn time_solves(c: &mut Criterion, id: &str, solver: &mut dyn Solver, problems: &[Lcp]) {
+    let mut out = Solution::new();
     let mut k = 0;
-    c.bench_function(&format!("{group}/{name}"), |b| {
+    c.bench_function(id, |b| {
         b.iter(|| {
             k = (k + 1) % problems.len();
             solver
@@ -63,17 +69,7 @@ fn benches(c: &mut Criterion) {
     for k in [1, 4, 7] {
         let options = LemkeOptions { max_pivots: k, ..LemkeOptions::default() };
         let mut capped = Lemke::new(options).expect("valid options");
-        let mut out = Solution::new();
-        let mut i = 0;
-        c.bench_function(&format!("lemke_pivots/friction_9/{k}"), |b| {
-            b.iter(|| {
-                i = (i + 1) % friction_9.len();
-                capped
-                    .solve_into(black_box(friction_9[i].view()), None, &mut out)
-                    .expect("valid problem");
-                black_box(out.z[0])
-            })
-        });
+        time_solves(c, &format!("lemke_pivots/friction_9/{k}"), &mut capped, &friction_9);
     }
     let mut pgs = Pgs::default();
     for (name, set) in
