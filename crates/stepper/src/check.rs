@@ -7,6 +7,7 @@
 
 use moreau_kinematics::ContactPoint;
 
+use crate::stepper::check_state;
 use crate::{Mechanism, StepError};
 
 /// Where an override of [`Mechanism::evaluate`] or [`Mechanism::midpoint_contacts`] differs
@@ -95,15 +96,9 @@ pub fn check_evaluate<M: Mechanism + ?Sized>(
     tol: f64,
 ) -> Result<Option<EvaluateMismatch>, StepError> {
     let (f, n) = (mech.num_coordinates(), mech.num_contacts());
-    for (what, len) in [("q", q.len()), ("u", u.len())] {
-        if len != f {
-            return Err(StepError::Dimension { what, expected: f, found: len });
-        }
-    }
-    for (what, values) in [("q", q), ("u", u), ("t", &[t][..]), ("tol", &[tol][..])] {
-        if let Some(index) = values.iter().position(|v| !v.is_finite()) {
-            return Err(StepError::NonFinite { what, index, t });
-        }
+    check_state(f, t, q, u)?;
+    if !tol.is_finite() {
+        return Err(StepError::NonFinite { what: "tol", index: 0, t });
     }
     let compare = |what: &'static str, combined: &[f64], separate: &[f64]| {
         combined.iter().zip(separate).enumerate().find_map(|(index, (&a, &b))| {

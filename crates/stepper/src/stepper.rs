@@ -274,6 +274,21 @@ fn check_finite(what: &'static str, v: &[f64], t: f64) -> Result<(), StepError> 
     Err(StepError::NonFinite { what, index, t })
 }
 
+/// (t, q, u) as a state of a mechanism of f coordinates: q and u of f entries each (else
+/// [`StepError::Dimension`]), t, q and u finite (else [`StepError::NonFinite`], t first).
+pub(crate) fn check_state(f: usize, t: f64, q: &[f64], u: &[f64]) -> Result<(), StepError> {
+    for (what, len) in [("q", q.len()), ("u", u.len())] {
+        if len != f {
+            return Err(StepError::Dimension { what, expected: f, found: len });
+        }
+    }
+    if !t.is_finite() {
+        return Err(StepError::NonFinite { what: "t", index: 0, t });
+    }
+    check_finite("q", q, t)?;
+    check_finite("u", u, t)
+}
+
 /// A contact's force directions w_N and w_T must be finite; the error names the first entry
 /// that is not (w_N's entries first, then w_T's).
 #[inline(always)]
@@ -423,17 +438,7 @@ impl<M: Mechanism> Stepper<M> {
     /// # Errors
     /// [`StepError::Dimension`] or [`StepError::NonFinite`] for a bad state.
     pub fn set_state(&mut self, t: f64, q: &[f64], u: &[f64]) -> Result<(), StepError> {
-        let f = self.core.q.len();
-        for (what, len) in [("q", q.len()), ("u", u.len())] {
-            if len != f {
-                return Err(StepError::Dimension { what, expected: f, found: len });
-            }
-        }
-        if !t.is_finite() {
-            return Err(StepError::NonFinite { what: "t", index: 0, t });
-        }
-        check_finite("q", q, t)?;
-        check_finite("u", u, t)?;
+        check_state(self.core.q.len(), t, q, u)?;
         self.core.q.copy_from_slice(q);
         self.core.u.copy_from_slice(u);
         self.core.t0 = t;
