@@ -80,17 +80,17 @@ impl RunResult {
 
     /// Column `j` of the coordinates q over all rows.
     pub fn q(&self, j: usize) -> Vec<f64> {
-        self.sim.record.q.iter().map(|q| q[j]).collect()
+        self.sim.record.q.column(j).collect()
     }
 
     /// Column `j` of the velocities u over all rows.
     pub fn u(&self, j: usize) -> Vec<f64> {
-        self.sim.record.u.iter().map(|u| u[j]).collect()
+        self.sim.record.u.column(j).collect()
     }
 
     /// Normal impulses P_N of contact `i` over all rows.
     pub fn p_n(&self, i: usize) -> Vec<f64> {
-        self.sim.record.p_n.iter().map(|p| p[i]).collect()
+        self.sim.record.p_n.column(i).collect()
     }
 
     /// Contact phases per row.
