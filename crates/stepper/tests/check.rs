@@ -28,21 +28,6 @@ impl SharedRod {
     fn new(bug: Bug) -> Self {
         Self { rod: Rod::new(0.5, 0.3), bug }
     }
-
-    /// End i's kinematics (as `Rod::contact`) from sin φ and cos φ.
-    fn end(
-        &self,
-        i: usize,
-        q: &[f64],
-        (s, c): (f64, f64),
-        w_n: &mut [f64],
-        w_t: &mut [f64],
-    ) -> ContactPoint {
-        let k = if i == 0 { -self.rod.s } else { self.rod.s };
-        w_n.copy_from_slice(&[0.0, 1.0, k * c]);
-        w_t.copy_from_slice(&[1.0, 0.0, -k * s]);
-        ContactPoint { g_n: q[1] + k * s, g_t: q[0] + k * c, w_n_hat: 0.0, w_t_hat: 0.0 }
-    }
 }
 
 impl ContactKinematics for SharedRod {
@@ -93,8 +78,8 @@ impl Mechanism for SharedRod {
             self.mass_matrix(q, t, m);
         }
         self.forces(q, u, t, h);
-        gaps[0] = q[1] + -self.rod.s * s;
-        gaps[1] = if self.bug == Bug::Gap { gaps[0] } else { q[1] + self.rod.s * s };
+        gaps[0] = self.rod.gap(0, q, s);
+        gaps[1] = if self.bug == Bug::Gap { gaps[0] } else { self.rod.gap(1, q, s) };
     }
     fn memo_len(&self) -> usize {
         2
@@ -111,7 +96,7 @@ impl Mechanism for SharedRod {
     ) {
         let sc = if self.bug == Bug::MemoLayout { (memo[1], memo[0]) } else { (memo[0], memo[1]) };
         for (k, &i) in which.iter().enumerate() {
-            points[k] = self.end(i, q, sc, &mut w_n[3 * k..][..3], &mut w_t[3 * k..][..3]);
+            points[k] = self.rod.end(i, q, sc, &mut w_n[3 * k..][..3], &mut w_t[3 * k..][..3]);
         }
     }
 }

@@ -159,6 +159,24 @@ impl Rod {
     fn side(i: usize) -> f64 {
         if i == 0 { -1.0 } else { 1.0 }
     }
+    /// The gap of end i from `sn` = sin φ.
+    pub fn gap(&self, i: usize, q: &[f64], sn: f64) -> f64 {
+        q[1] + Self::side(i) * self.s * sn
+    }
+    /// End i's kinematics from `(sn, cs)` = (sin φ, cos φ).
+    pub fn end(
+        &self,
+        i: usize,
+        q: &[f64],
+        (sn, cs): (f64, f64),
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) -> ContactPoint {
+        let k = Self::side(i) * self.s;
+        w_n.copy_from_slice(&[0.0, 1.0, k * cs]);
+        w_t.copy_from_slice(&[1.0, 0.0, -k * sn]);
+        ContactPoint { g_n: self.gap(i, q, sn), g_t: q[0] + k * cs, w_n_hat: 0.0, w_t_hat: 0.0 }
+    }
 }
 
 impl ContactKinematics for Rod {
@@ -169,26 +187,17 @@ impl ContactKinematics for Rod {
         2
     }
     fn normal_gap(&self, i: usize, q: &[f64], _t: f64) -> f64 {
-        q[1] + Self::side(i) * self.s * q[2].sin()
+        self.gap(i, q, q[2].sin())
     }
     fn contact(
         &self,
         i: usize,
         q: &[f64],
-        t: f64,
+        _t: f64,
         w_n: &mut [f64],
         w_t: &mut [f64],
     ) -> ContactPoint {
-        let k = Self::side(i) * self.s;
-        let (sn, cs) = q[2].sin_cos();
-        w_n.copy_from_slice(&[0.0, 1.0, k * cs]);
-        w_t.copy_from_slice(&[1.0, 0.0, -k * sn]);
-        ContactPoint {
-            g_n: self.normal_gap(i, q, t),
-            g_t: q[0] + k * cs,
-            w_n_hat: 0.0,
-            w_t_hat: 0.0,
-        }
+        self.end(i, q, q[2].sin_cos(), w_n, w_t)
     }
 }
 
