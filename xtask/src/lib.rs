@@ -1,24 +1,23 @@
 //! Moreau's task runner: reproduces every figure and table of the reference report from the
-//! project's own simulations, runs one model to CSV, and runs parameter sweeps.
+//! project's own simulations, and runs the speed/accuracy study.
 //!
-//! **For**: `cargo xtask reproduce`, `simulate`, `sweep`, `merge` and `tradeoff` (see
-//! `main.rs`), the analysis of recorded runs ([`analysis`]) and the speed/accuracy study
-//! ([`tradeoff`]). **Not for**: use as a library by other crates;
-//! the package is not published.
+//! **For**: `cargo xtask reproduce` and `tradeoff` (see `main.rs`), and `cargo xtask
+//! simulate|sweep|merge`, which run the `moreau` command's code from the `moreau-cli` crate.
+//! **Not for**: use as a library by other crates; the package is not published. Users who
+//! simulate install the `moreau` command instead (`cargo install --path crates/cli`).
 //!
 //! Principal pieces: [`plot::Figure`] (multi-panel SVG/PNG/CSV figures), [`frames::Strip`]
-//! (frame strips and animated SVGs), [`table::Table`] (CSV and Markdown tables),
-//! [`analysis`] (impacts, rest time, limit cycles, contact events), [`grid`] (sweep grids,
-//! shards and merging).
+//! (frame strips and animated SVGs), [`report`] (the HTML and Markdown report), [`reproduce`]
+//! and [`tradeoff`]. The runs, key numbers, analysis, grids and tables are those of the
+//! `moreau-cli` crate, re-exported here under their module names.
 //!
 //! # Example
 //! ```
-//! use xtask::grid::{Axis, product};
-//! # fn main() -> anyhow::Result<()> {
-//! let members = product(&[Axis::parse("eps_n=0.1,0.4")?, Axis::parse("dt=1e-3,1e-4")?]);
-//! assert_eq!(members.len(), 4);
-//! # Ok(())
-//! # }
+//! use xtask::table::Table;
+//!
+//! let mut t = Table::default();
+//! t.push_column("dt", vec![1e-3, 1e-4]);
+//! assert_eq!(t.to_markdown(|_, x| format!("{x:e}")), "| dt |\n|---:|\n| 1e-3 |\n| 1e-4 |\n");
 //! ```
 //!
 //! # References
@@ -27,15 +26,10 @@
 //!   Universidade do Minho.
 #![deny(missing_docs)]
 
-pub mod analysis;
+pub use moreau_cli::{analysis, grid, keys, runs, simulate, sweep, table};
+
 pub mod frames;
-pub mod grid;
-pub mod keys;
 pub mod plot;
 pub mod report;
 pub mod reproduce;
-pub mod runs;
-pub mod simulate;
-pub mod sweep;
-pub mod table;
 pub mod tradeoff;

@@ -11,28 +11,7 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 use serde_json::Value;
 
-/// One simulation run as the report lists it.
-#[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct RunInfo {
-    /// Name of the run inside the reproduction (e.g. `ball_e0.9_dt1e-3`).
-    pub name: String,
-    /// Model name (`ball`, `woodpecker`, ...).
-    pub model: String,
-    /// Time step Δt (s).
-    pub dt: f64,
-    /// End time (s).
-    pub t_end: f64,
-    /// LCP solver name.
-    pub solver: String,
-    /// Every model parameter as (dotted key, value).
-    pub parameters: Vec<(String, String)>,
-    /// Wall-clock time of the run (s).
-    pub wall_seconds: f64,
-    /// Steps taken.
-    pub steps: u64,
-    /// Steps that needed an LCP solver.
-    pub lcp_solves: u64,
-}
+pub use crate::runs::RunInfo;
 
 /// One figure or table as the report shows it.
 #[derive(Clone, Debug, Serialize, PartialEq)]

@@ -39,7 +39,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 use serde_json::{Value, json};
 
-use crate::analysis::{self, BallClosedForm, ContactEvent, EventKind, Phase};
+use crate::analysis::{self, BallClosedForm, ContactEvent, ContactStateExt, EventKind};
 use crate::plot::{Figure, LegendAt, Mark, Panel, Series};
 
 /// Options of `cargo xtask tradeoff`.
@@ -64,8 +64,6 @@ pub struct Summary {
     pub simulation_seconds: f64,
 }
 
-/// Standard gravity used for the impact threshold 5 g Δt (m/s²).
-const G: f64 = 9.81;
 /// Number of impacts, apexes or impact instants compared.
 const EVENTS_COMPARED: usize = 5;
 /// Errors at or below this are round-off, not discretisation error.
@@ -364,9 +362,9 @@ pub struct Transition {
     /// Contact index, from 0.
     pub contact: usize,
     /// State before the step.
-    pub from: Phase,
+    pub from: ContactState,
     /// State after the step.
-    pub to: Phase,
+    pub to: ContactState,
     /// Normal relative velocity γ_N⁻ = w_Nᵀ u_A + ŵ_N at the start of the step (m/s); only
     /// computed when the contact closes, zero otherwise.
     pub gamma_pre: f64,
@@ -377,6 +375,8 @@ pub struct Transition {
 pub struct Observation {
     /// Step Δt (s).
     pub dt: f64,
+    /// The scene's gravitational acceleration g (m/s²), for the impact threshold 5 g Δt.
+    pub g: f64,
     /// Time reached (s).
     pub t_end: f64,
     /// Whether the scene's stop rule ended the run before its end time.
@@ -404,15 +404,7 @@ impl Observation {
         self.transitions
             .iter()
             .filter_map(|tr| {
-                let kind = match (tr.from, tr.to) {
-                    (Phase::Open, Phase::Open) => return None,
-                    (Phase::Open, _) if tr.gamma_pre < -impact_speed => EventKind::Impact,
-                    (Phase::Open, _) => EventKind::Close,
-                    (_, Phase::Open) => EventKind::Open,
-                    (Phase::Slip, Phase::Stick) => EventKind::Stick,
-                    (Phase::Stick, Phase::Slip) => EventKind::Slip,
-                    _ => return None,
-                };
+                let kind = analysis::classify(tr.from, tr.to, tr.gamma_pre, impact_speed)?;
                 Some(ContactEvent {
                     row: tr.row,
                     t: tr.t,
@@ -432,9 +424,8 @@ impl Observation {
             .iter()
             .filter(|tr| {
                 contacts.contains(&tr.contact)
-                    && !tr.from.is_closed()
-                    && tr.to.is_closed()
-                    && tr.gamma_pre < -impact_speed
+                    && analysis::classify(tr.from, tr.to, tr.gamma_pre, impact_speed)
+                        == Some(EventKind::Impact)
             })
             .map(|tr| (tr.row, tr.t - 0.5 * self.dt))
             .collect();
@@ -468,7 +459,7 @@ struct Probe {
     prev_t: f64,
     prev_q: Vec<f64>,
     prev_u: Vec<f64>,
-    prev_phase: Vec<Phase>,
+    prev_phase: Vec<ContactState>,
     w_n: Vec<f64>,
     w_t: Vec<f64>,
     flight_top: Option<f64>,
@@ -489,13 +480,13 @@ impl Probe {
             dt,
             sample_times: sample_times.to_vec(),
             track_apexes: scene.kind() == ModelKind::Ball,
-            obs: Observation { dt, ..Observation::default() },
+            obs: Observation { dt, g: crate::runs::gravity(scene), ..Observation::default() },
             steps: 0,
             lcp_solves: 0,
             prev_t: 0.0,
             prev_q: q,
             prev_u: u,
-            prev_phase: vec![Phase::Open; model.num_contacts()],
+            prev_phase: vec![ContactState::Open; model.num_contacts()],
             w_n: vec![0.0; f],
             w_t: vec![0.0; f],
             flight_top: None,
@@ -544,11 +535,7 @@ impl Observer<AnyModel> for Probe {
             self.obs.samples.push(sample);
         }
         for (i, c) in r.contacts.iter().enumerate() {
-            let phase = match c.state {
-                ContactState::Open => Phase::Open,
-                ContactState::Stick => Phase::Stick,
-                ContactState::Slip => Phase::Slip,
-            };
+            let phase = c.state;
             let before = self.prev_phase[i];
             if phase == before {
                 continue;
@@ -762,7 +749,7 @@ fn ball_errors(params: &ModelParams, obs: &Observation) -> Vec<Result<f64, Strin
         return vec![Err("the closed form needs a drop from rest".to_owned()); 4];
     }
     let cf = BallClosedForm::new(p.init.y0, p.r, p.g, p.eps_n);
-    let impacts = obs.impact_instants(&[0], 5.0 * G * obs.dt);
+    let impacts = obs.impact_instants(&[0], 5.0 * p.g * obs.dt);
     let times = nearest_error(&impacts, &cf.impact_times(EVENTS_COMPARED), EVENTS_COMPARED);
     let apexes =
         paired_error(&obs.apexes, &ball_apexes(&cf, p.r, EVENTS_COMPARED), EVENTS_COMPARED);
@@ -788,7 +775,7 @@ fn reference_errors(
     obs: &Observation,
     r: &Observation,
 ) -> Vec<Result<f64, String>> {
-    let speed = |o: &Observation| 5.0 * G * o.dt;
+    let speed = |o: &Observation| 5.0 * o.g.abs() * o.dt;
     let stop_time = |o: &Observation, what: &str| {
         o.crossing.ok_or_else(|| format!("{what} by the end of the run"))
     };
@@ -1858,8 +1845,8 @@ mod tests {
                 row: k * 10 + 1,
                 t: t + 0.5 * dt + if k == 2 { 4e-4 } else { 0.0 },
                 contact: 0,
-                from: Phase::Open,
-                to: Phase::Stick,
+                from: ContactState::Open,
+                to: ContactState::Stick,
                 gamma_pre: -1.0,
             });
         }

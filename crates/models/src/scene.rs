@@ -325,6 +325,33 @@ impl Scene {
         out
     }
 
+    /// The full dotted paths of the entries that [`Self::set`] with `key` changes: `solver`
+    /// for `solver`, `params.init.y0` for `init.y0` or `y0`, and on the woodpecker
+    /// `params.beak.mu`, `params.lower.mu` and `params.upper.mu` for `mu`. Two keys set the
+    /// same entry exactly when their targets share a path.
+    ///
+    /// # Errors
+    /// [`ModelError::UnknownKey`] listing the accepted keys.
+    pub fn targets(&self, key: &str) -> Result<Vec<String>, ModelError> {
+        if key == "solver" {
+            return Ok(vec!["solver".to_owned()]);
+        }
+        let leaves = self.leaves();
+        let short = key.strip_prefix("params.").unwrap_or(key);
+        let exact: Vec<&String> =
+            leaves.iter().filter(|(d, full)| d == short || full == key).map(|(_, f)| f).collect();
+        let targets: Vec<&String> = if exact.is_empty() {
+            let suffix = format!(".{short}");
+            leaves.iter().filter(|(d, _)| d.ends_with(&suffix)).map(|(_, f)| f).collect()
+        } else {
+            exact
+        };
+        if targets.is_empty() || key.is_empty() {
+            return Err(ModelError::UnknownKey { key: key.to_owned(), accepted: self.keys() });
+        }
+        Ok(targets.into_iter().cloned().collect())
+    }
+
     /// Sets one value, as given on a command line by `--set key=value`.
     ///
     /// `key` is one of [`Self::keys`] (with or without the `params.` prefix) or a last part
@@ -346,21 +373,9 @@ impl Scene {
             self.solver = SolverChoice::parse(value.trim()).map_err(|e| bad(e.to_string()))?;
             return Ok(());
         }
-        let leaves = self.leaves();
-        let short = key.strip_prefix("params.").unwrap_or(key);
-        let exact: Vec<&String> =
-            leaves.iter().filter(|(d, full)| d == short || full == key).map(|(_, f)| f).collect();
-        let targets: Vec<&String> = if exact.is_empty() {
-            let suffix = format!(".{short}");
-            leaves.iter().filter(|(d, _)| d.ends_with(&suffix)).map(|(_, f)| f).collect()
-        } else {
-            exact
-        };
-        if targets.is_empty() || key.is_empty() {
-            return Err(ModelError::UnknownKey { key: key.to_owned(), accepted: self.keys() });
-        }
+        let targets = self.targets(key)?;
         let mut doc = toml::Value::try_from(&*self).map_err(|e| bad(e.to_string()))?;
-        for path in targets {
+        for path in &targets {
             let slot =
                 leaf_mut(&mut doc, path).ok_or_else(|| bad(format!("no value at `{path}`")))?;
             *slot = parse_like(slot, value).map_err(bad)?;

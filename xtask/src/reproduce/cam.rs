@@ -5,6 +5,8 @@ use moreau_models::{AnyModel, CamParams, ModelKind, Role};
 use serde_json::json;
 
 use super::{Ctx, Entry, Output, focus, motion, names, shapes};
+use crate::analysis::{self, EventKind};
+use crate::analysis::ContactStateExt;
 use crate::frames::{Frame, Strip};
 use crate::keys;
 use crate::plot::{Figure, LegendAt, Mark, Panel, Series};
@@ -82,14 +84,15 @@ fn fig8_22(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
     let p = cam_params(run)?;
     let r = run.record();
     let period = p.lobe_period();
-    let phase: Vec<_> = run.phases().iter().map(|ph| ph[0]).collect();
+    let phase: Vec<_> = run.states().iter().map(|ph| ph[0]).collect();
     let gap: Vec<f64> = run.gaps().iter().map(|g| g[0]).collect();
     let gamma: Vec<f64> = run.gamma_pre().iter().map(|g| g[0]).collect();
     let lobe_rows = r.t.iter().take_while(|&&t| t < period).count().max(2);
     // Impacts, rebound apexes and the start of permanent contact in the first lobe.
     let hits: Vec<usize> = (1..lobe_rows)
         .filter(|&k| {
-            phase[k].is_closed() && !phase[k - 1].is_closed() && gamma[k] < -run.impact_speed()
+            analysis::classify(phase[k - 1], phase[k], gamma[k], run.impact_speed())
+                == Some(EventKind::Impact)
         })
         .collect();
     let mut picks: Vec<(usize, String)> = vec![(0, "drop: free fall".to_owned())];

@@ -5,7 +5,8 @@ use moreau_models::{AnyModel, ModelKind, Role};
 use serde_json::json;
 
 use super::{Ctx, Entry, Output, focus, follow, motion_rows, names, shapes};
-use crate::analysis::Phase;
+use crate::analysis::ContactStateExt;
+use moreau_stepper::ContactState;
 use crate::frames::{Frame, Strip};
 use crate::keys;
 use crate::plot::{Figure, Panel, Series};
@@ -152,7 +153,7 @@ fn lower_edge(model: &AnyModel) -> Option<usize> {
     }
 }
 
-fn state_line(phase: &[Phase]) -> String {
+fn state_line(phase: &[ContactState]) -> String {
     phase
         .iter()
         .enumerate()
@@ -166,7 +167,7 @@ fn fig8_10(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
     let k = keys::woodpecker(run);
     let cycle = k.cycle.as_ref().context("no limit cycle found in the woodpecker run")?;
     let r = run.record();
-    let phases = run.phases();
+    let phases = run.states();
     let model = run.model();
     let lower = lower_edge(model);
     let closed = |k: usize| -> Vec<bool> { phases[k].iter().map(|p| p.is_closed()).collect() };

@@ -8,32 +8,29 @@
 //! - Flores, P. (2010). Application of the non-smooth dynamics approach to model and analyze
 //!   contact-impact events in rigid multibody systems using the LCP formulation.
 
+use moreau_stepper::ContactState;
 use serde::Serialize;
 
-/// Open, sticking or slipping: the state of one contact after a step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Phase {
-    /// No normal impulse (P_N = 0).
-    Open,
-    /// P_N > 0 and γ_T = 0 after the step.
-    Stick,
-    /// P_N > 0 and γ_T ≠ 0 after the step.
-    Slip,
+/// What the analysis asks of the stepper's [`ContactState`]: whether the contact carries a
+/// normal impulse, and its lower-case name. The stepper's state is the one classification of
+/// a contact after a step; the events below are built on it alone.
+pub trait ContactStateExt {
+    /// Whether the contact carries a normal impulse (stick or slip).
+    fn is_closed(self) -> bool;
+    /// Lower-case name: `open`, `stick` or `slip`.
+    fn name(self) -> &'static str;
 }
 
-impl Phase {
-    /// Whether the contact carries a normal impulse.
-    pub fn is_closed(self) -> bool {
-        self != Self::Open
+impl ContactStateExt for ContactState {
+    fn is_closed(self) -> bool {
+        self != ContactState::Open
     }
 
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
+    fn name(self) -> &'static str {
         match self {
-            Self::Open => "open",
-            Self::Stick => "stick",
-            Self::Slip => "slip",
+            ContactState::Open => "open",
+            ContactState::Stick => "stick",
+            ContactState::Slip => "slip",
         }
     }
 }
@@ -79,35 +76,49 @@ pub struct ContactEvent {
     /// What happens.
     pub kind: EventKind,
     /// The contact's state after the step.
-    pub after: Phase,
+    pub after: ContactState,
+}
+
+/// The event, if any, at a contact whose state goes from `before` to `after` in one step
+/// that it approached with normal relative velocity γ_N⁻ = `gamma_pre`: an impact when it
+/// closes with γ_N⁻ < −`impact_speed`, a soft closing otherwise; opening; stick after slip;
+/// slip after stick. This is the one classification of contact events; every analysis uses it.
+pub fn classify(
+    before: ContactState,
+    after: ContactState,
+    gamma_pre: f64,
+    impact_speed: f64,
+) -> Option<EventKind> {
+    use ContactState::{Open, Slip, Stick};
+    match (before, after) {
+        (Open, Open) => None,
+        (Open, _) if gamma_pre < -impact_speed => Some(EventKind::Impact),
+        (Open, _) => Some(EventKind::Close),
+        (_, Open) => Some(EventKind::Open),
+        (Slip, Stick) => Some(EventKind::Stick),
+        (Stick, Slip) => Some(EventKind::Slip),
+        _ => None,
+    }
 }
 
 /// The contact events of a record.
 ///
-/// `phase[k][i]` is contact i's state at row k; `gamma_pre[k][i]` is its normal relative
+/// `state[k][i]` is contact i's state at row k; `gamma_pre[k][i]` is its normal relative
 /// velocity γ_N⁻ at the start of the step that ends at row k (used to tell an impact from a
-/// soft closing: impact when γ_N⁻ < −`impact_speed`).
+/// soft closing, see [`classify`]).
 pub fn contact_events(
     t: &[f64],
-    phase: &[Vec<Phase>],
+    state: &[Vec<ContactState>],
     gamma_pre: &[Vec<f64>],
     impact_speed: f64,
 ) -> Vec<ContactEvent> {
     let mut events = Vec::new();
-    for k in 1..t.len().min(phase.len()) {
-        for (i, (&prev, &cur)) in phase[k - 1].iter().zip(&phase[k]).enumerate() {
-            let kind = match (prev, cur) {
-                (Phase::Open, Phase::Open) => continue,
-                (Phase::Open, _) => {
-                    let g = gamma_pre.get(k).and_then(|g| g.get(i)).copied().unwrap_or(0.0);
-                    if g < -impact_speed { EventKind::Impact } else { EventKind::Close }
-                }
-                (_, Phase::Open) => EventKind::Open,
-                (Phase::Slip, Phase::Stick) => EventKind::Stick,
-                (Phase::Stick, Phase::Slip) => EventKind::Slip,
-                _ => continue,
-            };
-            events.push(ContactEvent { row: k, t: t[k], contact: i + 1, kind, after: cur });
+    for k in 1..t.len().min(state.len()) {
+        for (i, (&prev, &cur)) in state[k - 1].iter().zip(&state[k]).enumerate() {
+            let g = gamma_pre.get(k).and_then(|g| g.get(i)).copied().unwrap_or(0.0);
+            if let Some(kind) = classify(prev, cur, g, impact_speed) {
+                events.push(ContactEvent { row: k, t: t[k], contact: i + 1, kind, after: cur });
+            }
         }
     }
     events
@@ -161,7 +172,7 @@ pub fn rest_time(t: &[f64], p_n: &[f64], min_steps: usize) -> Option<f64> {
     Some(0.5 * (t[k - 1] + t[k]))
 }
 
-/// The closed-form bouncing ball (EQUATIONS.md 7.1): impacts at y = R of a ball dropped from
+/// The closed-form bouncing ball (docs/theory.md, section 7.1): impacts at y = R of a ball dropped from
 /// y0 at rest, with restitution ε_N.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct BallClosedForm {
@@ -310,26 +321,29 @@ pub fn mean_rate(t: &[f64], y: &[f64], k0: usize, k1: usize) -> Option<f64> {
 /// Rows k (at least 1) in which contact `i` (0-based) is hit: it was open before the step,
 /// carries an impulse in it, and approached with γ_N⁻ < −`impact_speed`.
 pub fn impact_rows(
-    phase: &[Vec<Phase>],
+    state: &[Vec<ContactState>],
     gamma_pre: &[Vec<f64>],
     i: usize,
     impact_speed: f64,
 ) -> Vec<usize> {
-    (1..phase.len())
+    (1..state.len())
         .filter(|&k| {
-            !phase[k - 1][i].is_closed()
-                && phase[k][i].is_closed()
-                && gamma_pre.get(k).and_then(|g| g.get(i)).is_some_and(|&g| g < -impact_speed)
+            let g = gamma_pre.get(k).and_then(|g| g.get(i)).copied().unwrap_or(0.0);
+            classify(state[k - 1][i], state[k][i], g, impact_speed) == Some(EventKind::Impact)
         })
         .collect()
 }
 
 /// Impacts of the slider on the guide counted per step: a step in which one or more corners
 /// are hit counts once (corners of one face hit together when the slider is parallel).
-pub fn impact_steps(phase: &[Vec<Phase>], gamma_pre: &[Vec<f64>], impact_speed: f64) -> Vec<usize> {
-    let contacts = phase.first().map_or(0, Vec::len);
+pub fn impact_steps(
+    state: &[Vec<ContactState>],
+    gamma_pre: &[Vec<f64>],
+    impact_speed: f64,
+) -> Vec<usize> {
+    let contacts = state.first().map_or(0, Vec::len);
     let mut rows: Vec<usize> =
-        (0..contacts).flat_map(|i| impact_rows(phase, gamma_pre, i, impact_speed)).collect();
+        (0..contacts).flat_map(|i| impact_rows(state, gamma_pre, i, impact_speed)).collect();
     rows.sort_unstable();
     rows.dedup();
     rows
@@ -368,7 +382,7 @@ pub struct LobeReport {
 pub fn cam_lobes(
     t: &[f64],
     gap: &[f64],
-    phase: &[Phase],
+    phase: &[ContactState],
     gamma_pre: &[f64],
     period: f64,
     impact_speed: f64,
@@ -390,7 +404,8 @@ pub fn cam_lobes(
             .iter()
             .copied()
             .filter(|&k| {
-                phase[k].is_closed() && !phase[k - 1].is_closed() && gamma_pre[k] < -impact_speed
+                classify(phase[k - 1], phase[k], gamma_pre[k], impact_speed)
+                    == Some(EventKind::Impact)
             })
             .collect();
         let mut rebound_heights = Vec::new();
@@ -503,7 +518,7 @@ mod tests {
         assert!(BallClosedForm::new(1.0, 0.1, 9.81, 1.0).t_inf.is_infinite());
     }
 
-    use Phase::{Open as O, Slip as L, Stick as S};
+    use ContactState::{Open as O, Slip as L, Stick as S};
 
     #[test]
     fn events_classify_impacts_and_transitions() {
@@ -541,7 +556,7 @@ mod tests {
         let mut row = 0;
         let mut push = |t: f64, contact: usize, kind: EventKind, ev: &mut Vec<ContactEvent>| {
             row += 1;
-            ev.push(ContactEvent { row, t, contact, kind, after: Phase::Slip });
+            ev.push(ContactEvent { row, t, contact, kind, after: ContactState::Slip });
         };
         push(0.05, 1, EventKind::Impact, &mut ev);
         push(0.07, 3, EventKind::Impact, &mut ev);

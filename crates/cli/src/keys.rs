@@ -2,10 +2,11 @@
 //! as a fixed list of columns for sweep CSVs.
 
 use moreau_models::{ModelKind, ModelParams};
+use moreau_stepper::ContactState;
 use serde::Serialize;
 use serde_json::{Value, json};
 
-use crate::analysis::{self, BallClosedForm, ContactEvent, Cycle, LobeReport};
+use crate::analysis::{self, BallClosedForm, ContactEvent, ContactStateExt, Cycle, LobeReport};
 use crate::runs::{RunResult, parameters};
 
 /// Key numbers of a bouncing-ball run, with the closed form for comparison.
@@ -93,7 +94,7 @@ pub struct WoodpeckerKeys {
 
 /// The contact events of a run (all rows).
 pub fn events(run: &RunResult) -> Vec<ContactEvent> {
-    analysis::contact_events(&run.record().t, &run.phases(), &run.gamma_pre(), run.impact_speed())
+    analysis::contact_events(&run.record().t, &run.states(), &run.gamma_pre(), run.impact_speed())
 }
 
 /// Key numbers of the woodpecker: period from the beak (contact 1) impacts, descent speed,
@@ -163,7 +164,7 @@ pub fn slider(run: &RunResult) -> SliderKeys {
     let th1 = run.q(0);
     let revolutions = (th1.last().copied().unwrap_or(0.0) - th1.first().copied().unwrap_or(0.0))
         / std::f64::consts::TAU;
-    let impacts = analysis::impact_steps(&run.phases(), &run.gamma_pre(), run.impact_speed()).len();
+    let impacts = analysis::impact_steps(&run.states(), &run.gamma_pre(), run.impact_speed()).len();
     let min_gap = run.gaps().iter().flatten().copied().fold(f64::INFINITY, f64::min);
     let (lo, hi) = analysis::range(run.u(0)).unwrap_or((f64::NAN, f64::NAN));
     SliderKeys {
@@ -224,7 +225,7 @@ pub fn cam(run: &RunResult) -> CamKeys {
     };
     let r = run.record();
     let gap: Vec<f64> = run.gaps().iter().map(|g| g[0]).collect();
-    let phase: Vec<_> = run.phases().iter().map(|p| p[0]).collect();
+    let phase: Vec<_> = run.states().iter().map(|p| p[0]).collect();
     let gamma: Vec<f64> = run.gamma_pre().iter().map(|g| g[0]).collect();
     let lobes = analysis::cam_lobes(&r.t, &gap, &phase, &gamma, period, run.impact_speed());
     let impacts_per_lobe = if lobes.is_empty() {
@@ -254,9 +255,9 @@ pub struct PainleveKeys {
 /// Key numbers of the Painlevé rod.
 pub fn painleve(run: &RunResult) -> PainleveKeys {
     let r = run.record();
-    let phases = run.phases();
+    let phases = run.states();
     let first_stick_time =
-        phases.iter().position(|p| p[0] == analysis::Phase::Stick).map(|k| r.t[k]);
+        phases.iter().position(|p| p[0] == ContactState::Stick).map(|k| r.t[k]);
     let lift_off_time = (1..phases.len())
         .find(|&k| phases[k - 1][0].is_closed() && !phases[k][0].is_closed())
         .map(|k| r.t[k]);

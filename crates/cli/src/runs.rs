@@ -6,8 +6,32 @@ use moreau_kinematics::ContactKinematics;
 use moreau_models::{AnyModel, ModelKind, Scene, Simulation};
 use moreau_stepper::{ContactState, Record};
 
-use crate::analysis::Phase;
-use crate::report::RunInfo;
+use serde::Serialize;
+
+use crate::analysis::ContactStateExt;
+
+/// One simulation run as a report lists it.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct RunInfo {
+    /// Name of the run (e.g. `ball_e0.9_dt1e-3`).
+    pub name: String,
+    /// Model name (`ball`, `woodpecker`, ...).
+    pub model: String,
+    /// Time step Δt (s).
+    pub dt: f64,
+    /// End time (s).
+    pub t_end: f64,
+    /// LCP solver name.
+    pub solver: String,
+    /// Every model parameter as (dotted key, value).
+    pub parameters: Vec<(String, String)>,
+    /// Wall-clock time of the run (s).
+    pub wall_seconds: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Steps that needed an LCP solver.
+    pub lcp_solves: u64,
+}
 
 /// A named simulation: a model's report scene with `key=value` overrides.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,13 +66,15 @@ impl RunSpec {
         Ok(scene)
     }
 
-    /// Builds the scene and runs it.
+    /// Builds the scene and runs it under the guards (see [`crate::guard`]) with the default
+    /// step limit.
     ///
     /// # Errors
-    /// When the scene is invalid or the run fails.
+    /// When the scene is invalid, its step plan is refused, or the run fails or diverges.
     pub fn execute(&self) -> Result<RunResult> {
         let scene = self.scene()?;
-        let sim = scene.run().with_context(|| format!("run {}", self.name))?;
+        let sim = crate::simulate::run_scene(&scene, crate::guard::DEFAULT_MAX_STEPS)
+            .with_context(|| format!("run {}", self.name))?;
         let info = run_info(&self.name, &scene, &sim);
         Ok(RunResult { spec: self.clone(), scene, sim, info })
     }
@@ -93,9 +119,9 @@ impl RunResult {
         self.sim.record.p_n.column(i).collect()
     }
 
-    /// Contact phases per row.
-    pub fn phases(&self) -> Vec<Vec<Phase>> {
-        phases(&self.sim.record)
+    /// Contact states per row.
+    pub fn states(&self) -> Vec<Vec<ContactState>> {
+        self.sim.record.state.iter().map(<[ContactState]>::to_vec).collect()
     }
 
     /// Approach velocities γ_N⁻ per row (see [`gamma_pre`]).
@@ -109,15 +135,15 @@ impl RunResult {
     }
 
     /// Threshold on γ_N⁻ that tells an impact from a soft closing: five times the velocity
-    /// gravity adds in one step, 5 g Δt. For the slider-crank, whose contacts chatter (close
-    /// and reopen every few steps at a few mm/s while the slider is pressed against a surface),
-    /// at least 2 % of the largest approach speed of the run.
+    /// gravity adds in one step, 5 g Δt, with the scene's own g. For the slider-crank, whose
+    /// contacts chatter (close and reopen every few steps at a few mm/s while the slider is
+    /// pressed against a surface), at least 2 % of the largest approach speed of the run.
     pub fn impact_speed(&self) -> f64 {
-        let base = 5.0 * 9.81 * self.scene.dt;
+        let base = 5.0 * gravity(&self.scene).abs() * self.scene.dt;
         if self.spec.kind != ModelKind::SliderCrank {
             return base;
         }
-        let phases = self.phases();
+        let phases = self.states();
         let gamma = self.gamma_pre();
         let mut largest: f64 = 0.0;
         for k in 1..phases.len() {
@@ -129,23 +155,6 @@ impl RunResult {
         }
         base.max(0.02 * largest)
     }
-}
-
-/// Contact phases from the stepper's contact states.
-pub fn phases(record: &Record) -> Vec<Vec<Phase>> {
-    record
-        .state
-        .iter()
-        .map(|row| {
-            row.iter()
-                .map(|s| match s {
-                    ContactState::Open => Phase::Open,
-                    ContactState::Stick => Phase::Stick,
-                    ContactState::Slip => Phase::Slip,
-                })
-                .collect()
-        })
-        .collect()
 }
 
 /// Normal relative velocity γ_N⁻ = w_Nᵀ u + ŵ_N of each contact at the start of the step that
@@ -175,6 +184,16 @@ pub fn gaps(model: &AnyModel, record: &Record) -> Vec<Vec<f64>> {
         .zip(&record.t)
         .map(|(q, &t)| (0..n).map(|i| model.normal_gap(i, q, t)).collect())
         .collect()
+}
+
+/// The scene's gravitational acceleration g (m/s²): its parameter `g`, which every model
+/// has; 0 for a model without one.
+pub fn gravity(scene: &Scene) -> f64 {
+    parameters(scene)
+        .into_iter()
+        .find(|(k, _)| k == "g")
+        .and_then(|(_, v)| v.parse().ok())
+        .unwrap_or(0.0)
 }
 
 /// Every leaf of a TOML value as (dotted key, text).

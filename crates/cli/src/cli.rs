@@ -1,0 +1,169 @@
+//! The command-line interface: the `simulate`, `sweep` and `merge` subcommands with their
+//! arguments, shared by the `moreau` binary and the repository's `cargo xtask`.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand};
+
+use crate::grid::{Axis, Shard};
+use crate::{parts, simulate, sweep};
+
+/// Arguments of `simulate`.
+#[derive(Args, Clone, Debug)]
+pub struct SimulateArgs {
+    /// Model: ball, woodpecker, slider-crank, slider-crank-ideal, cam, painleve.
+    pub model: String,
+    /// Scene file (TOML) to start from instead of the report's scene.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Override a scene key: --set key=value (repeatable; each entry once).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// Time step Δt (s).
+    #[arg(long)]
+    pub dt: Option<f64>,
+    /// End time (s); a whole number of steps.
+    #[arg(long)]
+    pub tf: Option<f64>,
+    /// LCP solver: auto, lemke, pgs or enum.
+    #[arg(long)]
+    pub solver: Option<String>,
+    /// Largest number of steps (default 10 000 000).
+    #[arg(long, value_name = "N")]
+    pub max_steps: Option<u64>,
+    /// Output CSV file (written as <out>.partial until the run succeeds).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Arguments of `sweep`.
+#[derive(Args, Clone, Debug)]
+pub struct SweepArgs {
+    /// Model: ball, woodpecker, slider-crank, slider-crank-ideal, cam, painleve.
+    pub model: String,
+    /// Swept key and its values: --set key=v1,v2,... (repeatable; each entry once).
+    #[arg(long = "set", value_name = "KEY=V1,V2,...")]
+    pub sets: Vec<String>,
+    /// Scene file (TOML) to start from instead of the report's scene.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Run only part K of N (members i with i mod N = K − 1).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Largest number of steps of a member (default 10 000 000).
+    #[arg(long, value_name = "N")]
+    pub max_steps: Option<u64>,
+    /// Continue the unfinished run <out>.partial without rerunning its finished members.
+    #[arg(long)]
+    pub resume: bool,
+    /// Output CSV file.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Arguments of `merge`.
+#[derive(Args, Clone, Debug)]
+pub struct MergeArgs {
+    /// Output CSV file.
+    pub out: PathBuf,
+    /// The parts.
+    #[arg(required = true)]
+    pub parts: Vec<PathBuf>,
+}
+
+/// The subcommands.
+#[derive(Subcommand, Clone, Debug)]
+pub enum Command {
+    /// Run one model and write its record as CSV.
+    Simulate(SimulateArgs),
+    /// Run the Cartesian product of parameter values in parallel; one CSV row per member.
+    Sweep(SweepArgs),
+    /// Join the CSV parts of a sharded sweep, sorted by member.
+    Merge(MergeArgs),
+}
+
+impl Command {
+    /// Runs the subcommand, printing what it did on stdout and warnings on stderr.
+    ///
+    /// # Errors
+    /// Every refusal and failure of the subcommand.
+    pub fn run(self) -> Result<()> {
+        match self {
+            Self::Simulate(a) => a.run(),
+            Self::Sweep(a) => a.run(),
+            Self::Merge(a) => a.run(),
+        }
+    }
+}
+
+impl SimulateArgs {
+    /// Runs `simulate`.
+    ///
+    /// # Errors
+    /// As [`simulate::run_to_csv`].
+    pub fn run(self) -> Result<()> {
+        let options = simulate::SimulateOptions {
+            model: self.model,
+            scene: self.scene,
+            sets: self.sets,
+            dt: self.dt,
+            tf: self.tf,
+            solver: self.solver,
+            max_steps: self.max_steps,
+        };
+        let done =
+            simulate::run_to_csv(&options, &self.out, &mut |w| eprintln!("warning: {w}"))?;
+        println!(
+            "{}: {} steps, {} LCP solves, {:.3} s; wrote {} rows to {}",
+            done.scene.kind(),
+            done.steps,
+            done.lcp_solves,
+            done.wall_seconds,
+            done.rows,
+            self.out.display()
+        );
+        Ok(())
+    }
+}
+
+impl SweepArgs {
+    /// Runs `sweep`.
+    ///
+    /// # Errors
+    /// As [`sweep::run`].
+    pub fn run(self) -> Result<()> {
+        let axes = self.sets.iter().map(|s| Axis::parse(s)).collect::<Result<Vec<_>>>()?;
+        let shard = self.shard.as_deref().map(Shard::parse).transpose()?;
+        let options = sweep::SweepOptions {
+            model: self.model,
+            scene: self.scene,
+            axes,
+            shard,
+            max_steps: self.max_steps,
+            resume: self.resume,
+        };
+        let s = sweep::run(&options, &self.out).context("sweep")?;
+        println!(
+            "wrote {} members to {} ({} run now, {} diverged, {} failed)",
+            s.rows,
+            self.out.display(),
+            s.ran,
+            s.diverged,
+            s.failed
+        );
+        Ok(())
+    }
+}
+
+impl MergeArgs {
+    /// Runs `merge`.
+    ///
+    /// # Errors
+    /// As [`parts::merge`].
+    pub fn run(self) -> Result<()> {
+        let rows = parts::merge(&self.out, &self.parts)?;
+        println!("merged {rows} members into {}", self.out.display());
+        Ok(())
+    }
+}

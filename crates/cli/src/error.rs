@@ -1,0 +1,156 @@
+//! The command's error type: every refusal and every stopped run, each saying what is wrong.
+
+use std::path::PathBuf;
+
+/// Why the divergence guard stopped a run.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Divergence {
+    /// The total energy T + V of a mechanism without drives grew beyond its bound.
+    EnergyGrowth {
+        /// Total energy at the start (J).
+        initial: f64,
+        /// Total energy at the step (J).
+        reached: f64,
+        /// The largest energy the guard accepts (J).
+        bound: f64,
+    },
+    /// An entry of q or u grew beyond the guard's magnitude bound.
+    StateMagnitude {
+        /// `q` or `u`.
+        what: &'static str,
+        /// Name of the coordinate or velocity.
+        name: String,
+        /// Its value.
+        value: f64,
+        /// The bound it passed.
+        bound: f64,
+    },
+    /// The time step exceeds the stability limit 2/ω_max of the smooth dynamics.
+    StepAboveStability {
+        /// The scene's time step Δt (s).
+        dt: f64,
+        /// The stability limit 2/ω_max (s).
+        limit: f64,
+        /// The largest natural angular frequency ω_max at the initial state (rad/s).
+        omega_max: f64,
+    },
+    /// The stepper met a non-finite number.
+    NonFinite {
+        /// The stepper's message.
+        message: String,
+    },
+}
+
+impl std::fmt::Display for Divergence {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::EnergyGrowth { initial, reached, bound } => write!(
+                f,
+                "energy grew from {initial:.6e} J to {reached:.6e} J, beyond the bound \
+                 {bound:.6e} J of a mechanism without drives"
+            ),
+            Self::StateMagnitude { what, name, value, bound } => {
+                write!(f, "{what} entry {name} = {value:.6e} exceeds the bound {bound:.3e}")
+            }
+            Self::StepAboveStability { dt, limit, omega_max } => write!(
+                f,
+                "time step dt = {dt} s exceeds the stability limit 2/ω_max = {limit:.6e} s of \
+                 the stiffest mode (ω_max = {omega_max:.6e} rad/s at the initial state)"
+            ),
+            Self::NonFinite { message } => write!(f, "{message}"),
+        }
+    }
+}
+
+/// Everything the `moreau` command refuses or stops on.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CliError {
+    /// A run diverged: the cause and the step at which the guard saw it.
+    #[error("the run diverged at step {step} (t = {t} s): {cause}")]
+    Diverged {
+        /// What the guard saw.
+        cause: Divergence,
+        /// Index of the step (0 for the first; 0 too for a refusal before the first step).
+        step: u64,
+        /// Time of the step's end (s).
+        t: f64,
+    },
+    /// The time step is longer than the run.
+    #[error("time step dt = {dt} s is longer than the run (t_end = {t_end} s)")]
+    StepLongerThanRun {
+        /// Time step (s).
+        dt: f64,
+        /// End time (s).
+        t_end: f64,
+    },
+    /// t_end is not a whole number of steps.
+    #[error(
+        "t_end = {t_end} s is not a whole number of steps of dt = {dt} s (t_end/dt = {ratio}); \
+         choose t_end = n dt so that the last row lies at t_end"
+    )]
+    NotWholeSteps {
+        /// End time (s).
+        t_end: f64,
+        /// Time step (s).
+        dt: f64,
+        /// t_end / dt.
+        ratio: f64,
+    },
+    /// More steps than the limit.
+    #[error(
+        "the run needs {steps:.4e} steps, more than the limit of {limit}; raise it with \
+         --max-steps if that is meant"
+    )]
+    TooManySteps {
+        /// Steps the run needs.
+        steps: f64,
+        /// The limit.
+        limit: u64,
+    },
+    /// The same scene entry set twice (directly or through an alias).
+    #[error("'{second}' sets {entry}, which '{first}' already sets; give each key once")]
+    RepeatedKey {
+        /// The first key.
+        first: String,
+        /// The key that repeats it.
+        second: String,
+        /// The scene entry both set.
+        entry: String,
+    },
+    /// An output path that cannot be written, or would overwrite data.
+    #[error("output {path}: {reason}")]
+    Output {
+        /// The path.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A sweep part that does not belong with the others.
+    #[error("{part}: {reason}")]
+    MixedParts {
+        /// The part.
+        part: PathBuf,
+        /// How it differs.
+        reason: String,
+    },
+    /// A sweep part that lacks members of its shard, or a set of parts that lacks members.
+    #[error("{part}: members missing: {members}")]
+    MissingMembers {
+        /// The part (or the set of parts).
+        part: PathBuf,
+        /// The missing member indices (a list, shortened when long).
+        members: String,
+    },
+    /// A damaged sweep part: a cut-off or altered row.
+    #[error("{part}: line {line} is damaged ({reason})")]
+    DamagedPart {
+        /// The part.
+        part: PathBuf,
+        /// 1-based line number.
+        line: u64,
+        /// What is wrong.
+        reason: String,
+    },
+}

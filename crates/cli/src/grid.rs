@@ -1,0 +1,226 @@
+//! Parameter grids for sweeps: `--set key=v1,v2` options, their Cartesian product enumerated
+//! lazily, shards, and the progress display of a batch of runs.
+
+use std::io::IsTerminal;
+use std::sync::Mutex;
+
+use anyhow::{Context, Result, bail, ensure};
+
+/// One swept parameter: a scene key and the values it takes (as written on the command line).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Axis {
+    /// Scene key, e.g. `eps_n`.
+    pub key: String,
+    /// Values, e.g. `["0.1", "0.4"]`.
+    pub values: Vec<String>,
+}
+
+impl Axis {
+    /// Parses `key=v1,v2,...`.
+    ///
+    /// # Errors
+    /// When there is no `=`, the key is empty or a value is empty.
+    pub fn parse(text: &str) -> Result<Self> {
+        let Some((key, values)) = text.split_once('=') else {
+            bail!("expected key=value[,value...], got '{text}'");
+        };
+        let key = key.trim();
+        ensure!(!key.is_empty(), "empty key in '{text}'");
+        let values: Vec<String> = values.split(',').map(|v| v.trim().to_owned()).collect();
+        ensure!(values.iter().all(|v| !v.is_empty()), "empty value in '{text}'");
+        Ok(Self { key: key.to_owned(), values })
+    }
+}
+
+/// A sweep's members: the Cartesian product of its axes, first axis outermost, enumerated
+/// lazily (member i → one value per axis by mixed radix), so that no list of members is ever
+/// built.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Grid {
+    axes: Vec<Axis>,
+    len: u64,
+}
+
+impl Grid {
+    /// The grid of `axes`.
+    ///
+    /// # Errors
+    /// When the number of members does not fit in 64 bits.
+    pub fn new(axes: Vec<Axis>) -> Result<Self> {
+        let mut len: u64 = 1;
+        for a in &axes {
+            len = len
+                .checked_mul(a.values.len() as u64)
+                .with_context(|| format!("the sweep has more than {} members", u64::MAX))?;
+        }
+        Ok(Self { axes, len })
+    }
+
+    /// The axes.
+    pub fn axes(&self) -> &[Axis] {
+        &self.axes
+    }
+
+    /// Number of members (the product of the axes' lengths).
+    pub fn len(&self) -> u64 {
+        self.len
+    }
+
+    /// Whether the grid has no member (an axis without values).
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Member `i` (< [`Self::len`]): one `(key, value)` per axis.
+    pub fn member(&self, i: u64) -> Vec<(String, String)> {
+        let mut out = Vec::with_capacity(self.axes.len());
+        let mut rest = i;
+        for a in self.axes.iter().rev() {
+            let n = a.values.len() as u64;
+            out.push((a.key.clone(), a.values[(rest % n) as usize].clone()));
+            rest /= n;
+        }
+        out.reverse();
+        out
+    }
+}
+
+/// Part K of N of a sharded sweep (K is 1-based).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// Which part, 1..=N.
+    pub k: usize,
+    /// Number of parts.
+    pub n: usize,
+}
+
+impl Shard {
+    /// Parses `K/N` with 1 ≤ K ≤ N.
+    ///
+    /// # Errors
+    /// When the text is not of that form.
+    pub fn parse(text: &str) -> Result<Self> {
+        let (k, n) = text.split_once('/').with_context(|| format!("expected K/N, got '{text}'"))?;
+        let k: usize = k.trim().parse().with_context(|| format!("shard K in '{text}'"))?;
+        let n: usize = n.trim().parse().with_context(|| format!("shard N in '{text}'"))?;
+        ensure!(n >= 1 && (1..=n).contains(&k), "shard '{text}' needs 1 <= K <= N");
+        Ok(Self { k, n })
+    }
+
+    /// Whether member `i` belongs to this part (interleaved: i mod N = K − 1).
+    pub fn contains(&self, i: u64) -> bool {
+        i % self.n as u64 == self.k as u64 - 1
+    }
+
+    /// The members of this part out of `total`, in order, without building a list.
+    pub fn members(&self, total: u64) -> impl Iterator<Item = u64> + use<> {
+        (self.k as u64 - 1..total).step_by(self.n)
+    }
+
+    /// The number of members of this part out of `total`.
+    pub fn count(&self, total: u64) -> u64 {
+        let first = self.k as u64 - 1;
+        if total <= first { 0 } else { (total - first).div_ceil(self.n as u64) }
+    }
+
+    /// The whole sweep as one part.
+    pub fn all() -> Self {
+        Self { k: 1, n: 1 }
+    }
+}
+
+/// Progress of a batch of runs: a bar on a terminal, plain lines otherwise.
+pub struct Progress {
+    bar: Option<indicatif::ProgressBar>,
+    done: Mutex<usize>,
+    total: usize,
+    what: String,
+}
+
+impl Progress {
+    /// Progress over `total` items described as `what`.
+    pub fn new(total: usize, what: &str) -> Self {
+        let bar = std::io::stderr().is_terminal().then(|| {
+            let bar = indicatif::ProgressBar::new(total as u64);
+            if let Ok(style) = indicatif::ProgressStyle::with_template(
+                "{msg} [{bar:40}] {pos}/{len} ({elapsed}, eta {eta})",
+            ) {
+                bar.set_style(style.progress_chars("=> "));
+            }
+            bar.set_message(what.to_owned());
+            bar
+        });
+        Self { bar, done: Mutex::new(0), total, what: what.to_owned() }
+    }
+
+    /// Marks one item done, with a short note.
+    pub fn tick(&self, note: &str) {
+        let mut done = self.done.lock().unwrap_or_else(|e| e.into_inner());
+        *done += 1;
+        match &self.bar {
+            Some(bar) => bar.inc(1),
+            None => eprintln!("{}: {}/{} done ({note})", self.what, *done, self.total),
+        }
+    }
+
+    /// Ends the progress display.
+    pub fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_and_product() -> Result<()> {
+        let a = Axis::parse("eps_n=0.1, 0.4")?;
+        assert_eq!(a.values, vec!["0.1", "0.4"]);
+        let b = Axis::parse("dt=1e-3,1e-4,1e-5")?;
+        let p = Grid::new(vec![a, b])?;
+        assert_eq!(p.len(), 6);
+        assert_eq!(p.member(0), vec![("eps_n".into(), "0.1".into()), ("dt".into(), "1e-3".into())]);
+        assert_eq!(p.member(4), vec![("eps_n".into(), "0.4".into()), ("dt".into(), "1e-4".into())]);
+        assert_eq!(p.member(5), vec![("eps_n".into(), "0.4".into()), ("dt".into(), "1e-5".into())]);
+        assert!(Axis::parse("eps_n").is_err());
+        assert!(Axis::parse("=1").is_err());
+        assert!(Axis::parse("x=1,,2").is_err());
+        assert_eq!(Grid::new(Vec::new())?.len(), 1);
+        // 40 axes of 3 values: 3^40 ≈ 1.2e19 members, never listed; member i by mixed radix.
+        let big = Grid::new((0..40).map(|k| Axis::parse(&format!("k{k}=0,1,2"))).collect::<Result<_>>()?)?;
+        assert_eq!(big.len(), 3u64.pow(40));
+        let last = big.member(big.len() - 1);
+        assert!(last.iter().all(|(_, v)| v == "2"));
+        let m = big.member(5); // 5 = 1·3 + 2 in the last two axes
+        assert_eq!((m[38].1.as_str(), m[39].1.as_str()), ("1", "2"));
+        assert!(Grid::new((0..41).map(|k| Axis::parse(&format!("k{k}=0,1,2"))).collect::<Result<_>>()?).is_err());
+        Ok(())
+    }
+
+    #[test]
+    fn shards_partition_the_members() -> Result<()> {
+        let shards: Vec<Shard> =
+            (1..=3).map(|k| Shard::parse(&format!("{k}/3"))).collect::<Result<_>>()?;
+        for i in 0..20 {
+            assert_eq!(shards.iter().filter(|s| s.contains(i)).count(), 1);
+        }
+        for total in 0..8 {
+            for s in &shards {
+                let m: Vec<u64> = s.members(total).collect();
+                assert_eq!(m.len() as u64, s.count(total));
+                assert!(m.iter().all(|&i| s.contains(i) && i < total));
+            }
+        }
+        // A shard of a huge sweep is enumerated lazily.
+        let s = Shard::parse("7/1000000")?;
+        assert_eq!(s.members(1_600_000_000).nth(2), Some(2_000_006));
+        assert_eq!(s.count(1_600_000_000), 1600);
+        assert!(Shard::parse("0/3").is_err());
+        assert!(Shard::parse("4/3").is_err());
+        assert!(Shard::parse("1-3").is_err());
+        Ok(())
+    }
+}

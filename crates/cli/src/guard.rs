@@ -1,0 +1,391 @@
+//! Guards that keep a run from passing off a meaningless result: the step plan (Δt ≤ t_end,
+//! t_end a whole number of steps, a bound on the number of steps), warnings about the initial
+//! gaps, and the divergence guard (stability limit, energy growth, state magnitude).
+//!
+//! # The step plan
+//! A run takes n = t_end/Δt steps and its last row lies at t_end. A t_end that is not a whole
+//! number of steps (up to [`WHOLE_STEPS_TOLERANCE`] of a step) is refused rather than reached
+//! with a shortened last step: Moreau's scheme evaluates the contacts at the midpoint of each
+//! step and its impact law acts per step, so a last step of another length would be a
+//! different discretisation from the rest of the run. A scene with a stop rule may end earlier,
+//! at the step that reaches the rule's value. Runs of more than [`DEFAULT_MAX_STEPS`] steps are
+//! refused unless a larger limit is given (`--max-steps`).
+//!
+//! # Initial gaps
+//! A contact whose gap g_N at the start is below −[`GAP_TOLERANCE`] penetrates; one within
+//! ±[`GAP_TOLERANCE`] touches, and round-off then decides whether it is in the first step's
+//! active set (g_N ≤ 0). Both are reported as warnings before the run.
+//!
+//! # The divergence guard
+//! Before the first step, Δt is compared with the stability limit 2/ω_max of the smooth
+//! dynamics: the midpoint scheme is the leapfrog scheme for the smooth part, stable for
+//! ω Δt < 2, with ω_max² the largest eigenvalue of M⁻¹K, K = −sym(∂h/∂q) taken by central
+//! differences at the initial state. After every step, a mechanism without drives (every model
+//! but the cam) must not gain energy: the run stops when T + V exceeds its initial value by
+//! more than [`ENERGY_GROWTH`] times max(T₀ + |V₀|, [`ENERGY_FLOOR`]). And every entry of q and
+//! u must stay below [`MAGNITUDE_FACTOR`] (1 + max |q₀, u₀|).
+
+use std::ops::ControlFlow;
+
+use moreau_kinematics::ContactKinematics;
+use moreau_models::{AnyModel, ModelError, ModelKind, Scene};
+use moreau_stepper::{Mechanism, Observer, RunSummary, StepError, StepReport};
+
+use crate::error::{CliError, Divergence};
+
+/// The largest number of steps a run takes unless a larger limit is given.
+pub const DEFAULT_MAX_STEPS: u64 = 10_000_000;
+
+/// How far t_end/Δt may lie from a whole number (in steps): the stepper's own rounding of
+/// its step count, so that it takes exactly the planned steps.
+pub const WHOLE_STEPS_TOLERANCE: f64 = 1e-6;
+
+/// Gaps within ± this (m) at the start count as touching; below −this as penetrating.
+pub const GAP_TOLERANCE: f64 = 1e-9;
+
+/// Relative energy growth beyond which a mechanism without drives counts as diverged.
+pub const ENERGY_GROWTH: f64 = 1.0;
+
+/// The smallest energy scale of the energy test (J), for a mechanism that starts at rest with
+/// zero potential.
+pub const ENERGY_FLOOR: f64 = 1e-6;
+
+/// Factor of the state magnitude bound.
+pub const MAGNITUDE_FACTOR: f64 = 1e8;
+
+/// The number of steps of a scene's run after checking Δt ≤ t_end, that t_end is a whole
+/// number of steps and that there are at most `max_steps` of them.
+///
+/// # Errors
+/// [`CliError::StepLongerThanRun`], [`CliError::NotWholeSteps`] or [`CliError::TooManySteps`].
+pub fn plan_steps(scene: &Scene, max_steps: u64) -> Result<u64, CliError> {
+    let (dt, t_end) = (scene.dt, scene.t_end);
+    if !(dt <= t_end) {
+        return Err(CliError::StepLongerThanRun { dt, t_end });
+    }
+    let ratio = t_end / dt;
+    if !(ratio <= max_steps as f64 + 0.5) {
+        return Err(CliError::TooManySteps { steps: ratio, limit: max_steps });
+    }
+    let n = ratio.round();
+    if !((ratio - n).abs() <= WHOLE_STEPS_TOLERANCE) {
+        return Err(CliError::NotWholeSteps { t_end, dt, ratio });
+    }
+    Ok(n as u64)
+}
+
+/// Warnings about the initial gaps: contacts that penetrate or touch within
+/// [`GAP_TOLERANCE`], named with their gaps.
+pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
+    let (q0, _) = model.initial_state();
+    let names = model.contact_names();
+    let mut out = Vec::new();
+    for (i, name) in names.iter().enumerate() {
+        let g = model.normal_gap(i, &q0, 0.0);
+        if g < -GAP_TOLERANCE {
+            out.push(format!(
+                "contact {} ({name}) starts penetrating: g_N = {g:.6e} m; the first impact \
+                 pushes it out",
+                i + 1
+            ));
+        } else if g.abs() <= GAP_TOLERANCE {
+            out.push(format!(
+                "contact {} ({name}) starts touching: g_N = {g:.3e} m is within ±{GAP_TOLERANCE:e} \
+                 m, so round-off decides whether it is active in the first step",
+                i + 1
+            ));
+        }
+    }
+    out
+}
+
+/// Whether the mechanism has no drive, so that its energy T + V cannot grow: every model
+/// but the cam, whose rotating cam does work on the follower.
+pub fn energy_cannot_grow(kind: ModelKind) -> bool {
+    kind != ModelKind::Cam
+}
+
+/// The largest natural angular frequency ω_max (rad/s) of the smooth dynamics at the
+/// model's initial state (see the module's documentation); 0 without stiffness.
+pub fn omega_max(model: &AnyModel) -> f64 {
+    let (q0, u0) = model.initial_state();
+    let f = q0.len();
+    let mut m = vec![0.0; f * f];
+    model.mass_matrix(&q0, 0.0, &mut m);
+    // K = −∂h/∂q by central differences, column j from a shift of q_j.
+    let mut k = vec![0.0; f * f];
+    let (mut hp, mut hm) = (vec![0.0; f], vec![0.0; f]);
+    let mut q = q0.clone();
+    for j in 0..f {
+        let d = 1e-6 * (1.0 + q0[j].abs());
+        q[j] = q0[j] + d;
+        model.forces(&q, &u0, 0.0, &mut hp);
+        q[j] = q0[j] - d;
+        model.forces(&q, &u0, 0.0, &mut hm);
+        q[j] = q0[j];
+        for i in 0..f {
+            k[i + f * j] = -(hp[i] - hm[i]) / (2.0 * d);
+        }
+    }
+    let Some(l) = cholesky(&m, f) else { return 0.0 };
+    // A = L⁻¹ sym(K) L⁻ᵀ has the eigenvalues of M⁻¹K for a symmetric K.
+    let mut a = vec![0.0; f * f];
+    for i in 0..f {
+        for j in 0..f {
+            a[i + f * j] = 0.5 * (k[i + f * j] + k[j + f * i]);
+        }
+    }
+    for j in 0..f {
+        forward(&l, f, &mut a[f * j..f * (j + 1)]);
+    }
+    transpose(&mut a, f);
+    for j in 0..f {
+        forward(&l, f, &mut a[f * j..f * (j + 1)]);
+    }
+    symmetric_eigenvalues(&mut a, f).into_iter().fold(0.0, f64::max).sqrt()
+}
+
+/// Lower Cholesky factor of the column-major SPD matrix `m`; `None` when not SPD.
+fn cholesky(m: &[f64], f: usize) -> Option<Vec<f64>> {
+    let mut l = vec![0.0; f * f];
+    for j in 0..f {
+        let d = m[j + f * j] - (0..j).map(|p| l[j + f * p] * l[j + f * p]).sum::<f64>();
+        if !(d > 0.0) {
+            return None;
+        }
+        let d = d.sqrt();
+        l[j + f * j] = d;
+        for i in j + 1..f {
+            let s = m[i + f * j] - (0..j).map(|p| l[i + f * p] * l[j + f * p]).sum::<f64>();
+            l[i + f * j] = s / d;
+        }
+    }
+    Some(l)
+}
+
+/// Solves L x = b in place (L lower, column-major).
+fn forward(l: &[f64], f: usize, b: &mut [f64]) {
+    for i in 0..f {
+        let s = b[i] - (0..i).map(|p| l[i + f * p] * b[p]).sum::<f64>();
+        b[i] = s / l[i + f * i];
+    }
+}
+
+fn transpose(a: &mut [f64], f: usize) {
+    for i in 0..f {
+        for j in i + 1..f {
+            a.swap(i + f * j, j + f * i);
+        }
+    }
+}
+
+/// Eigenvalues of a small symmetric matrix by cyclic Jacobi rotations (at most 50 sweeps).
+fn symmetric_eigenvalues(a: &mut [f64], f: usize) -> Vec<f64> {
+    for _ in 0..50 {
+        let off: f64 = (0..f).flat_map(|i| (0..f).map(move |j| (i, j))).filter(|(i, j)| i != j)
+            .map(|(i, j)| a[i + f * j] * a[i + f * j])
+            .sum();
+        let diag: f64 = (0..f).map(|i| a[i + f * i] * a[i + f * i]).sum();
+        if off <= 1e-30 * diag.max(f64::MIN_POSITIVE) {
+            break;
+        }
+        for p in 0..f {
+            for q in p + 1..f {
+                let apq = a[p + f * q];
+                if apq == 0.0 {
+                    continue;
+                }
+                let theta = (a[q + f * q] - a[p + f * p]) / (2.0 * apq);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for k in 0..f {
+                    let (akp, akq) = (a[k + f * p], a[k + f * q]);
+                    a[k + f * p] = c * akp - s * akq;
+                    a[k + f * q] = s * akp + c * akq;
+                }
+                for k in 0..f {
+                    let (apk, aqk) = (a[p + f * k], a[q + f * k]);
+                    a[p + f * k] = c * apk - s * aqk;
+                    a[q + f * k] = s * apk + c * aqk;
+                }
+            }
+        }
+    }
+    (0..f).map(|i| a[i + f * i]).collect()
+}
+
+/// The checks of the divergence guard after each step, wrapped around another observer.
+pub struct Guarded<'a, O> {
+    inner: &'a mut O,
+    energy_bound: Option<(f64, f64)>,
+    magnitude: f64,
+    mass: Vec<f64>,
+    /// The divergence seen, if any.
+    pub diverged: Option<CliError>,
+}
+
+impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
+    /// The guard of `model` at its initial state, passing every step on to `inner`.
+    pub fn new(model: &AnyModel, inner: &'a mut O) -> Self {
+        let (q0, u0) = model.initial_state();
+        let f = q0.len();
+        let mut mass = vec![0.0; f * f];
+        let energy_bound = energy_cannot_grow(model.kind())
+            .then(|| {
+                let v0 = model.potential_energy(&q0, 0.0)?;
+                let t0 = kinetic(model, &q0, &u0, 0.0, &mut mass);
+                let e0 = t0 + v0;
+                Some((e0, e0 + ENERGY_GROWTH * (t0 + v0.abs()).max(ENERGY_FLOOR)))
+            })
+            .flatten();
+        let largest = q0.iter().chain(&u0).fold(0.0f64, |m, x| m.max(x.abs()));
+        Self { inner, energy_bound, magnitude: MAGNITUDE_FACTOR * (1.0 + largest), mass, diverged: None }
+    }
+
+    fn check(&mut self, model: &AnyModel, r: &StepReport<'_>) -> Option<Divergence> {
+        for (what, values, names) in
+            [("q", r.q, model.coordinate_names()), ("u", r.u, model.velocity_names())]
+        {
+            if let Some(j) = values.iter().position(|x| !(x.abs() <= self.magnitude)) {
+                return Some(Divergence::StateMagnitude {
+                    what,
+                    name: names.get(j).map_or_else(|| j.to_string(), |s| (*s).to_owned()),
+                    value: values[j],
+                    bound: self.magnitude,
+                });
+            }
+        }
+        if let Some((initial, bound)) = self.energy_bound {
+            let v = model.potential_energy(r.q, r.t).unwrap_or(0.0);
+            let reached = kinetic(model, r.q, r.u, r.t, &mut self.mass) + v;
+            if !(reached <= bound) {
+                return Some(Divergence::EnergyGrowth { initial, reached, bound });
+            }
+        }
+        None
+    }
+}
+
+fn kinetic(model: &AnyModel, q: &[f64], u: &[f64], t: f64, mass: &mut [f64]) -> f64 {
+    let f = q.len();
+    model.mass_matrix(q, t, mass);
+    let mut s = 0.0;
+    for j in 0..f {
+        for i in 0..f {
+            s += u[i] * mass[i + f * j] * u[j];
+        }
+    }
+    0.5 * s
+}
+
+impl<O: Observer<AnyModel>> Observer<AnyModel> for Guarded<'_, O> {
+    fn observe(&mut self, model: &AnyModel, report: &StepReport<'_>) -> ControlFlow<()> {
+        if let Some(cause) = self.check(model, report) {
+            self.diverged = Some(CliError::Diverged { cause, step: report.step, t: report.t });
+            return ControlFlow::Break(());
+        }
+        self.inner.observe(model, report)
+    }
+}
+
+/// What a guarded run did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GuardedRun {
+    /// The stepper's summary.
+    pub summary: RunSummary,
+    /// The steps planned (n = t_end/Δt).
+    pub planned: u64,
+    /// Whether the scene's stop rule ended the run before t_end.
+    pub stopped_by_rule: bool,
+}
+
+/// Runs `scene` under every guard, streaming each step to `observer`: plans the steps, checks
+/// the stability limit, stops on divergence and checks that the run reached t_end (or its stop
+/// rule). `model` is the scene's built model.
+///
+/// # Errors
+/// The errors of [`plan_steps`]; [`CliError::Diverged`] for a step above the stability limit,
+/// energy growth, a state beyond the magnitude bound or a non-finite state (with the step);
+/// the scene's and the stepper's other errors.
+pub fn run_guarded<O: Observer<AnyModel>>(
+    scene: &Scene,
+    model: &AnyModel,
+    max_steps: u64,
+    observer: &mut O,
+) -> anyhow::Result<GuardedRun> {
+    let planned = plan_steps(scene, max_steps)?;
+    let omega = omega_max(model);
+    if omega * scene.dt >= 2.0 {
+        let cause =
+            Divergence::StepAboveStability { dt: scene.dt, limit: 2.0 / omega, omega_max: omega };
+        return Err(CliError::Diverged { cause, step: 0, t: 0.0 }.into());
+    }
+    let mut guarded = Guarded::new(model, observer);
+    let summary = match scene.run_with(&mut guarded) {
+        Ok(s) => s,
+        Err(ModelError::Step(StepError::NonFinite { what, index, t })) => {
+            let message = format!("non-finite {what} at index {index}");
+            let cause = Divergence::NonFinite { message };
+            let step = (t / scene.dt).round().max(0.0) as u64;
+            return Err(CliError::Diverged { cause, step, t }.into());
+        }
+        Err(e) => return Err(e.into()),
+    };
+    if let Some(e) = guarded.diverged {
+        return Err(e.into());
+    }
+    let stopped_by_rule = summary.stopped_early;
+    anyhow::ensure!(
+        stopped_by_rule || summary.steps == planned,
+        "the run took {} steps where {planned} were planned",
+        summary.steps
+    );
+    Ok(GuardedRun { summary, planned, stopped_by_rule })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn step_plan_refuses_what_cannot_end_at_t_end() {
+        let mut s = Scene::report(ModelKind::Ball);
+        assert_eq!(plan_steps(&s, DEFAULT_MAX_STEPS).ok(), Some(10_000));
+        s.dt = 1e6;
+        assert!(matches!(plan_steps(&s, 10), Err(CliError::StepLongerThanRun { .. })));
+        s.dt = 1e300;
+        assert!(matches!(plan_steps(&s, 10), Err(CliError::StepLongerThanRun { .. })));
+        s.dt = 3e-3;
+        assert!(matches!(plan_steps(&s, DEFAULT_MAX_STEPS), Err(CliError::NotWholeSteps { .. })));
+        s.dt = 1e-300;
+        assert!(matches!(plan_steps(&s, DEFAULT_MAX_STEPS), Err(CliError::TooManySteps { .. })));
+        s.dt = 1e-3;
+        s.t_end = 1e300;
+        assert!(matches!(plan_steps(&s, DEFAULT_MAX_STEPS), Err(CliError::TooManySteps { .. })));
+        s.t_end = 0.15;
+        s.dt = 1e-4;
+        assert_eq!(plan_steps(&s, DEFAULT_MAX_STEPS).ok(), Some(1500));
+        assert!(matches!(plan_steps(&s, 1499), Err(CliError::TooManySteps { .. })));
+    }
+
+    #[test]
+    fn eigenvalues_of_a_planted_matrix() {
+        // Q diag(1, 4, 9) Qᵀ with Q a rotation by 0.3 in the (0, 2) plane.
+        let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+        let d = [1.0, 4.0, 9.0];
+        let q = [c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c];
+        let mut a = vec![0.0; 9];
+        for i in 0..3 {
+            for j in 0..3 {
+                a[i + 3 * j] = (0..3).map(|k| q[i + 3 * k] * d[k] * q[j + 3 * k]).sum();
+            }
+        }
+        let mut e = symmetric_eigenvalues(&mut a, 3);
+        e.sort_by(f64::total_cmp);
+        for (x, y) in e.iter().zip(d) {
+            assert!((x - y).abs() < 1e-12, "{e:?}");
+        }
+    }
+}

@@ -1,0 +1,53 @@
+//! The `moreau` command: run one model of the reference report to CSV, run parameter sweeps
+//! in parallel (sharded over machines if need be) and merge their parts, with guards that
+//! keep a run from passing off a meaningless result or losing data.
+//!
+//! **For**: users who simulate the models and scenes of `moreau-models` from the command line
+//! or a job script (`cargo install --path crates/cli`, then `moreau simulate|sweep|merge`),
+//! and programs that want the same runs, key numbers and sweep files as a library
+//! ([`simulate`], [`sweep`], [`parts`], [`keys`], [`analysis`]). **Not for**: figures and the
+//! reproduction report (the repository's `cargo xtask reproduce`), or mechanisms other than
+//! the models' (use `moreau-stepper` directly).
+//!
+//! What a run guarantees ([`guard`]): Δt ≤ t_end, t_end a whole number of steps and the last
+//! row at t_end, at most [`guard::DEFAULT_MAX_STEPS`] steps unless asked for, a stop with a
+//! typed [`CliError::Diverged`] naming the cause and the step when Δt exceeds the stability
+//! limit, the energy of a mechanism without drives grows, or the state explodes; warnings
+//! about penetrating or touching initial gaps. Records stream to disk in batches; sweep rows
+//! are written as members finish, each sweep part names its sweep, and [`parts::merge`]
+//! refuses mixed, incomplete or damaged sets.
+//!
+//! # Example
+//! ```
+//! use moreau_cli::grid::{Axis, Grid};
+//! use moreau_cli::simulate::{SimulateOptions, run};
+//! # fn main() -> anyhow::Result<()> {
+//! let grid = Grid::new(vec![Axis::parse("eps_n=0.1,0.4")?, Axis::parse("dt=1e-3,1e-4")?])?;
+//! assert_eq!(grid.len(), 4);
+//! assert_eq!(grid.member(1), [("eps_n".into(), "0.1".into()), ("dt".into(), "1e-4".into())]);
+//!
+//! // A ball dropped from 1 m for 0.5 s: the last row lies at t_end.
+//! let options = SimulateOptions { model: "ball".into(), tf: Some(0.5), ..Default::default() };
+//! let result = run(&options)?;
+//! assert_eq!(result.record().t.last(), Some(&0.5));
+//! // A time step longer than the run is refused.
+//! let bad = SimulateOptions { dt: Some(1.0), ..options };
+//! assert!(run(&bad).is_err());
+//! # Ok(())
+//! # }
+//! ```
+#![deny(missing_docs)]
+
+pub mod analysis;
+pub mod cli;
+mod error;
+pub mod grid;
+pub mod guard;
+pub mod keys;
+pub mod parts;
+pub mod runs;
+pub mod simulate;
+pub mod sweep;
+pub mod table;
+
+pub use error::{CliError, Divergence};

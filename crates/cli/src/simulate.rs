@@ -1,0 +1,409 @@
+//! `moreau simulate`: run one model under the guards and stream its record to CSV.
+
+use std::fs::File;
+use std::io::{BufWriter, IsTerminal, Write};
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use moreau_models::{AnyModel, ModelKind, Scene, Simulation};
+use moreau_stepper::{Observer, Record, Recorder, StepReport};
+
+use crate::error::CliError;
+use crate::guard::{self, DEFAULT_MAX_STEPS};
+use crate::runs::{RunResult, RunSpec, run_info};
+
+/// What to simulate.
+#[derive(Clone, Debug, Default)]
+pub struct SimulateOptions {
+    /// Model name (`ball`, `woodpecker`, `slider-crank`, `slider-crank-ideal`, `cam`,
+    /// `painleve`).
+    pub model: String,
+    /// A scene file to start from instead of the model's report scene.
+    pub scene: Option<PathBuf>,
+    /// `key=value` overrides; each scene entry may be set once.
+    pub sets: Vec<String>,
+    /// Time step Δt (s), overriding the scene's.
+    pub dt: Option<f64>,
+    /// End time (s), overriding the scene's.
+    pub tf: Option<f64>,
+    /// Solver name (`auto`, `lemke`, `pgs`, `enum`).
+    pub solver: Option<String>,
+    /// The largest number of steps allowed; [`DEFAULT_MAX_STEPS`] when `None`.
+    pub max_steps: Option<u64>,
+}
+
+impl SimulateOptions {
+    /// The step limit in force.
+    pub fn step_limit(&self) -> u64 {
+        self.max_steps.unwrap_or(DEFAULT_MAX_STEPS)
+    }
+}
+
+/// Parses `key=value`.
+///
+/// # Errors
+/// When there is no `=` or the key is empty.
+pub fn parse_set(text: &str) -> Result<(String, String)> {
+    match text.split_once('=') {
+        Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_owned(), v.trim().to_owned())),
+        _ => bail!("expected key=value, got '{text}'"),
+    }
+}
+
+/// The model named `name`.
+///
+/// # Errors
+/// An unknown name, with the accepted names.
+pub fn parse_model(name: &str) -> Result<ModelKind> {
+    Ok(name.parse::<ModelKind>()?)
+}
+
+/// The scene of a model: the scene file or the model's report scene.
+///
+/// # Errors
+/// Unknown model, unreadable scene or a scene of another model.
+pub fn base_scene(model: &str, scene: Option<&Path>) -> Result<Scene> {
+    let kind = parse_model(model)?;
+    let scene = match scene {
+        Some(path) => Scene::from_path(path)?,
+        None => Scene::report(kind),
+    };
+    if scene.kind() != kind {
+        bail!("the scene file describes model '{}', not '{}'", scene.kind(), kind);
+    }
+    Ok(scene)
+}
+
+/// Checks that no two keys set the same scene entry, aliases included (`y0` and `init.y0`;
+/// `mu` and `beak.mu` on the woodpecker).
+///
+/// # Errors
+/// [`CliError::RepeatedKey`] naming both keys and the entry; an unknown key.
+pub fn check_distinct_keys<'a>(
+    scene: &Scene,
+    keys: impl IntoIterator<Item = &'a str>,
+) -> Result<()> {
+    let mut seen: Vec<(&str, Vec<String>)> = Vec::new();
+    for key in keys {
+        let targets = scene.targets(key)?;
+        for (first, earlier) in &seen {
+            let clash = targets.iter().find(|t| {
+                earlier.iter().any(|e| {
+                    e == *t || t.starts_with(&format!("{e}.")) || e.starts_with(&format!("{t}."))
+                })
+            });
+            if let Some(entry) = clash {
+                return Err(CliError::RepeatedKey {
+                    first: (*first).to_owned(),
+                    second: key.to_owned(),
+                    entry: entry.clone(),
+                }
+                .into());
+            }
+        }
+        seen.push((key, targets));
+    }
+    Ok(())
+}
+
+/// Applies `key=value` overrides to a scene after checking that each entry is set once.
+///
+/// # Errors
+/// A repeated key, an unknown key or a bad value (naming the override).
+pub fn apply_sets(scene: &mut Scene, sets: &[(String, String)]) -> Result<()> {
+    check_distinct_keys(scene, sets.iter().map(|(k, _)| k.as_str()))?;
+    for (k, v) in sets {
+        scene.set(k, v).with_context(|| format!("--set {k}={v}"))?;
+    }
+    Ok(())
+}
+
+/// The scene of the options: the scene file or the model's report scene, with overrides.
+///
+/// # Errors
+/// Unknown model, unreadable scene, a scene of another model, a key given twice, unknown keys
+/// or bad values.
+pub fn scene(options: &SimulateOptions) -> Result<Scene> {
+    let mut scene = base_scene(&options.model, options.scene.as_deref())?;
+    let mut sets: Vec<(String, String)> = Vec::new();
+    if let Some(dt) = options.dt {
+        sets.push(("dt".into(), dt.to_string()));
+    }
+    if let Some(tf) = options.tf {
+        sets.push(("t_end".into(), tf.to_string()));
+    }
+    if let Some(solver) = &options.solver {
+        sets.push(("solver".into(), solver.clone()));
+    }
+    for s in &options.sets {
+        sets.push(parse_set(s)?);
+    }
+    apply_sets(&mut scene, &sets)?;
+    Ok(scene)
+}
+
+/// Checks that thinning the record keeps the last step: `record_every` must divide the
+/// planned steps unless a stop rule may end the run earlier.
+///
+/// # Errors
+/// When it does not divide them.
+pub fn check_record_every(scene: &Scene, steps: u64) -> Result<()> {
+    let every = scene.record_every.max(1) as u64;
+    if scene.stop_at.is_none() && steps % every != 0 {
+        bail!(
+            "record_every = {every} does not divide the {steps} steps: the last row would not \
+             lie at t_end = {}",
+            scene.t_end
+        );
+    }
+    Ok(())
+}
+
+/// Sets the last row's time to t_end after the last planned step (step index `planned − 1`):
+/// the stepper's n Δt differs from t_end by round-off only, since t_end is a whole number of
+/// steps.
+fn end_at_t_end(record: &mut Record, step: u64, planned: u64, scene: &Scene) {
+    if step + 1 == planned
+        && let Some(t) = record.t.last_mut()
+        && (*t - scene.t_end).abs() <= 1e-6 * scene.dt
+    {
+        *t = scene.t_end;
+    }
+}
+
+/// Runs a scene under the guards (see [`guard::run_guarded`]) and keeps its record in memory.
+///
+/// # Errors
+/// The errors of [`guard::run_guarded`] and [`check_record_every`].
+pub fn run_scene(scene: &Scene, max_steps: u64) -> Result<Simulation> {
+    let start = Instant::now();
+    let model = scene.build()?;
+    let planned = guard::plan_steps(scene, max_steps)?;
+    check_record_every(scene, planned)?;
+    let mut recorder = Recorder::every(scene.record_every);
+    let (q0, u0) = model.initial_state();
+    recorder.push_initial(&model, 0.0, &q0, &u0);
+    recorder.record.reserve((planned / scene.record_every.max(1) as u64).min(1 << 20) as usize);
+    let run = guard::run_guarded(scene, &model, max_steps, &mut recorder)?;
+    let mut record = recorder.record;
+    end_at_t_end(&mut record, run.summary.steps.saturating_sub(1), planned, scene);
+    Ok(Simulation {
+        record,
+        wall_seconds: start.elapsed().as_secs_f64(),
+        steps: run.summary.steps,
+        lcp_solves: run.summary.lcp_solves,
+        model,
+    })
+}
+
+/// Runs the options' scene under the guards and keeps the record in memory.
+///
+/// # Errors
+/// As [`scene`] and [`run_scene`].
+pub fn run(options: &SimulateOptions) -> Result<RunResult> {
+    let scene = scene(options)?;
+    let sim = run_scene(&scene, options.step_limit())?;
+    let spec = RunSpec { name: "simulate".into(), kind: scene.kind(), sets: Vec::new() };
+    let info = run_info(&spec.name, &scene, &sim);
+    Ok(RunResult { spec, scene, sim, info })
+}
+
+/// The CSV header of a record of `model`: `t`, the coordinate and velocity names,
+/// `PN1, PT1, ...` and `A1, ...`.
+pub fn header(model: &AnyModel) -> Vec<String> {
+    let n = model.contact_names().len();
+    let mut h = vec!["t".to_owned()];
+    h.extend(model.coordinate_names().iter().map(|s| (*s).to_owned()));
+    h.extend(model.velocity_names().iter().map(|s| (*s).to_owned()));
+    for i in 1..=n {
+        h.push(format!("PN{i}"));
+        h.push(format!("PT{i}"));
+    }
+    h.extend((1..=n).map(|i| format!("A{i}")));
+    h
+}
+
+/// Writes rows `rows` of a record as CSV lines (numbers in shortest round-trip form).
+fn write_rows(w: &mut impl Write, r: &Record, rows: std::ops::Range<usize>) -> Result<()> {
+    for k in rows {
+        write!(w, "{}", r.t[k])?;
+        let (q, u) = (r.q.get(k).unwrap_or(&[]), r.u.get(k).unwrap_or(&[]));
+        for x in q.iter().chain(u) {
+            write!(w, ",{x}")?;
+        }
+        let (p_n, p_t) = (r.p_n.get(k).unwrap_or(&[]), r.p_t.get(k).unwrap_or(&[]));
+        for (a, b) in p_n.iter().zip(p_t) {
+            write!(w, ",{a},{b}")?;
+        }
+        for &a in r.active.get(k).unwrap_or(&[]) {
+            write!(w, ",{}", u8::from(a))?;
+        }
+        writeln!(w)?;
+    }
+    Ok(())
+}
+
+/// Writes the record of `run` as CSV.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn write_record(run: &RunResult, path: &Path) -> Result<()> {
+    let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    let mut w = BufWriter::new(file);
+    writeln!(w, "{}", header(run.model()).join(","))?;
+    write_rows(&mut w, run.record(), 0..run.record().len())?;
+    w.flush()?;
+    Ok(())
+}
+
+/// Rows kept in memory before they are written.
+const BATCH: usize = 4096;
+
+/// An observer that thins steps with the stepper's [`Recorder`] and writes its rows to a
+/// CSV file in batches, so that memory stays bounded whatever the length of the run.
+struct Streamer<W: Write> {
+    recorder: Recorder,
+    planned: u64,
+    scene: Scene,
+    out: W,
+    rows: u64,
+    error: Option<anyhow::Error>,
+    bar: Option<indicatif::ProgressBar>,
+}
+
+impl<W: Write> Streamer<W> {
+    fn drain(&mut self) -> Result<()> {
+        let r = &self.recorder.record;
+        write_rows(&mut self.out, r, 0..r.len())?;
+        self.rows += r.len() as u64;
+        // The recorder takes the widths of its tables from its next row again.
+        self.recorder.record = Record::default();
+        Ok(())
+    }
+}
+
+impl<W: Write> Observer<AnyModel> for Streamer<W> {
+    fn observe(&mut self, model: &AnyModel, report: &StepReport<'_>) -> ControlFlow<()> {
+        let _ = self.recorder.observe(model, report);
+        end_at_t_end(&mut self.recorder.record, report.step, self.planned, &self.scene);
+        if let Some(bar) = &self.bar
+            && report.step % 4096 == 0
+        {
+            bar.set_position(report.step);
+        }
+        if self.recorder.record.len() >= BATCH
+            && let Err(e) = self.drain()
+        {
+            self.error = Some(e);
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+/// What [`run_to_csv`] did.
+#[derive(Clone, Debug)]
+pub struct Simulated {
+    /// The scene that was run.
+    pub scene: Scene,
+    /// Steps taken.
+    pub steps: u64,
+    /// Steps whose LCP needed a solver.
+    pub lcp_solves: u64,
+    /// Rows written (row 0 is the initial state).
+    pub rows: u64,
+    /// Wall-clock time (s).
+    pub wall_seconds: f64,
+    /// Warnings about the initial gaps (see [`guard::gap_warnings`]).
+    pub warnings: Vec<String>,
+}
+
+/// The file a run writes to until it succeeds: `<out>.partial`.
+pub fn partial_path(out: &Path) -> PathBuf {
+    let mut s = out.as_os_str().to_owned();
+    s.push(".partial");
+    PathBuf::from(s)
+}
+
+/// Runs the options' scene under the guards and streams its record to `out` as CSV.
+///
+/// The scene and its step plan are checked, and `<out>.partial` is created, before the first
+/// step; the rows go there in batches of a few thousand, and the file is renamed to `out`
+/// once the run has ended at t_end (or its stop rule). A run that fails or diverges leaves
+/// `<out>.partial` for inspection and no `out`. `warn` receives the warnings about the
+/// initial gaps before the run.
+///
+/// # Errors
+/// As [`scene`] and [`guard::run_guarded`]; an unwritable output.
+pub fn run_to_csv(
+    options: &SimulateOptions,
+    out: &Path,
+    warn: &mut dyn FnMut(&str),
+) -> Result<Simulated> {
+    let start = Instant::now();
+    let scene = scene(options)?;
+    let model = scene.build()?;
+    let planned = guard::plan_steps(&scene, options.step_limit())?;
+    check_record_every(&scene, planned)?;
+    if out.is_dir() {
+        return Err(CliError::Output { path: out.to_owned(), reason: "is a folder".into() }.into());
+    }
+    let partial = partial_path(out);
+    let file = File::create(&partial).map_err(|e| CliError::Output {
+        path: partial.clone(),
+        reason: format!("cannot be created: {e}"),
+    })?;
+    let warnings = guard::gap_warnings(&model);
+    for w in &warnings {
+        warn(w);
+    }
+    let mut out_w = BufWriter::new(file);
+    writeln!(out_w, "{}", header(&model).join(","))?;
+    let mut recorder = Recorder::every(scene.record_every);
+    let (q0, u0) = model.initial_state();
+    recorder.push_initial(&model, 0.0, &q0, &u0);
+    let bar = (std::io::stderr().is_terminal() && planned >= 100_000).then(|| {
+        let bar = indicatif::ProgressBar::new(planned);
+        if let Ok(style) = indicatif::ProgressStyle::with_template(
+            "{msg} [{bar:40}] {pos}/{len} steps ({elapsed}, eta {eta})",
+        ) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar.set_message(format!("simulate {}", scene.kind()));
+        bar
+    });
+    let mut streamer = Streamer {
+        recorder,
+        planned,
+        scene: scene.clone(),
+        out: out_w,
+        rows: 0,
+        error: None,
+        bar,
+    };
+    let run = guard::run_guarded(&scene, &model, options.step_limit(), &mut streamer);
+    if let Some(bar) = &streamer.bar {
+        bar.finish_and_clear();
+    }
+    if let Some(e) = streamer.error.take() {
+        return Err(e.context(format!("writing {}", partial.display())));
+    }
+    let run = run.with_context(|| format!("the rows so far are in {}", partial.display()))?;
+    streamer.drain()?;
+    streamer.out.flush()?;
+    drop(streamer.out);
+    std::fs::rename(&partial, out).map_err(|e| CliError::Output {
+        path: out.to_owned(),
+        reason: format!("cannot be written: {e}"),
+    })?;
+    Ok(Simulated {
+        scene,
+        steps: run.summary.steps,
+        lcp_solves: run.summary.lcp_solves,
+        rows: streamer.rows,
+        wall_seconds: start.elapsed().as_secs_f64(),
+        warnings,
+    })
+}

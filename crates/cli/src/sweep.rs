@@ -1,0 +1,288 @@
+//! `moreau sweep`: the Cartesian product of parameter values, run in parallel under the
+//! guards, one CSV row of key numbers per member, written as each member finishes.
+
+use std::collections::{BTreeSet, HashSet};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use moreau_models::{ModelKind, Scene};
+use rayon::prelude::*;
+
+use crate::error::CliError;
+use crate::grid::{Axis, Grid, Progress, Shard};
+use crate::guard::{self, DEFAULT_MAX_STEPS};
+use crate::keys;
+use crate::parts::{self, PartHeader, fnv64, row_check};
+use crate::runs::{RunResult, RunSpec, run_info};
+use crate::simulate::{base_scene, check_distinct_keys, check_record_every, partial_path, run_scene};
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct SweepOptions {
+    /// Model name.
+    pub model: String,
+    /// A scene file to start from instead of the model's report scene.
+    pub scene: Option<PathBuf>,
+    /// The swept parameters (`key=v1,v2,...`), each scene entry at most once.
+    pub axes: Vec<Axis>,
+    /// Run only this part of the members.
+    pub shard: Option<Shard>,
+    /// The largest number of steps of a member; [`DEFAULT_MAX_STEPS`] when `None`.
+    pub max_steps: Option<u64>,
+    /// Continue the unfinished run `<out>.partial` of the same sweep instead of starting anew.
+    pub resume: bool,
+}
+
+impl SweepOptions {
+    /// A sweep of `model` over `axes`, all members, default limits, not resumed.
+    pub fn new(model: &str, axes: Vec<Axis>) -> Self {
+        Self {
+            model: model.to_owned(),
+            scene: None,
+            axes,
+            shard: None,
+            max_steps: None,
+            resume: false,
+        }
+    }
+}
+
+/// The CSV columns of a sweep: `member`, `members`, the swept keys, the model's key numbers,
+/// `steps`, `lcp_solves`, `wall_seconds`, `status`, `error` and the row's `check`.
+pub fn header(kind: ModelKind, axes: &[Axis]) -> Vec<String> {
+    let mut h = vec!["member".to_owned(), "members".to_owned()];
+    h.extend(axes.iter().map(|a| a.key.clone()));
+    h.extend(keys::columns(kind).iter().map(|s| (*s).to_owned()));
+    h.extend(["steps", "lcp_solves", "wall_seconds", "status", "error", "check"].map(str::to_owned));
+    h
+}
+
+fn cell(x: Option<f64>) -> String {
+    match x {
+        Some(v) if v.is_finite() => v.to_string(),
+        _ => String::new(),
+    }
+}
+
+/// The id of a sweep: a hash of the model, the base scene, the axes, the step limit and the
+/// program's version (see [`parts`]).
+pub fn sweep_id(base: &Scene, axes: &[Axis], max_steps: u64) -> String {
+    let mut text = format!(
+        "format {}\nmoreau {}\nmodel {}\nmax_steps {max_steps}\n{}\n",
+        parts::FORMAT,
+        env!("CARGO_PKG_VERSION"),
+        base.kind(),
+        base.to_toml_string()
+    );
+    for a in axes {
+        text.push_str(&format!("axis {}={}\n", a.key, a.values.join(",")));
+    }
+    format!("{:016x}", fnv64(text.as_bytes()))
+}
+
+/// What a sweep did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SweepSummary {
+    /// Rows in the output (members of the shard).
+    pub rows: u64,
+    /// Members run now (the others were finished by an earlier run and kept).
+    pub ran: u64,
+    /// Members the divergence guard stopped.
+    pub diverged: u64,
+    /// Members whose run failed otherwise.
+    pub failed: u64,
+}
+
+/// Builds member `i`'s scene and checks its step plan.
+fn member_scene(base: &Scene, grid: &Grid, i: u64, max_steps: u64) -> Result<Scene> {
+    let mut scene = base.clone();
+    for (k, v) in grid.member(i) {
+        scene.set(&k, &v).with_context(|| format!("member {i}: --set {k}={v}"))?;
+    }
+    let steps = guard::plan_steps(&scene, max_steps).with_context(|| format!("member {i}"))?;
+    check_record_every(&scene, steps).with_context(|| format!("member {i}"))?;
+    Ok(scene)
+}
+
+/// Runs one member and returns its row (without the check).
+fn member_row(scene: &Scene, grid: &Grid, i: u64, max_steps: u64) -> (Vec<String>, &'static str) {
+    let kind = scene.kind();
+    let mut row = vec![i.to_string(), grid.len().to_string()];
+    row.extend(grid.member(i).into_iter().map(|(_, v)| v));
+    let start = Instant::now();
+    let empty = |row: &mut Vec<String>| row.extend(keys::columns(kind).iter().map(|_| String::new()));
+    let status = match run_scene(scene, max_steps) {
+        Ok(sim) => {
+            let spec = RunSpec { name: format!("member {i}"), kind, sets: grid.member(i) };
+            let info = run_info(&spec.name, scene, &sim);
+            let result = RunResult { spec, scene: scene.clone(), sim, info };
+            row.extend(keys::row(&result).into_iter().map(cell));
+            row.push(result.sim.steps.to_string());
+            row.push(result.sim.lcp_solves.to_string());
+            row.push(format!("{:.6}", result.sim.wall_seconds));
+            row.extend(["ok".to_owned(), String::new()]);
+            "ok"
+        }
+        Err(e) => {
+            let status = match e.downcast_ref::<CliError>() {
+                Some(CliError::Diverged { .. }) => "diverged",
+                _ => "failed",
+            };
+            empty(&mut row);
+            row.extend([String::new(), String::new()]);
+            row.push(format!("{:.6}", start.elapsed().as_secs_f64()));
+            row.extend([status.to_owned(), format!("{e:#}")]);
+            status
+        }
+    };
+    (row, status)
+}
+
+/// Runs the sweep (or its shard) and writes the CSV part to `out`.
+///
+/// Before any run: the keys must be distinct (aliases included), every selected member's
+/// scene must build and plan its steps, and `<out>.partial` must be writable. Members then
+/// run in parallel, each row appended to `<out>.partial` and flushed as its member finishes,
+/// so that an interrupted sweep keeps its finished members; with `resume` such a file of the
+/// same sweep is continued without running its members again (a row cut off by the
+/// interruption is run again). At the end the rows are written to `out` sorted by member and
+/// `<out>.partial` is removed. A member whose run diverges or fails keeps its row, with its
+/// status and error and empty numbers. The members are enumerated lazily, never listed.
+///
+/// # Errors
+/// Unknown model, bad scene, a key given twice, unknown keys or bad values, a member whose
+/// step plan is refused, an unfinished run at `<out>.partial` without `resume` (or of another
+/// sweep), an unwritable output.
+pub fn run(options: &SweepOptions, out: &Path) -> Result<SweepSummary> {
+    run_with_warnings(options, out, &mut |w| eprintln!("warning: {w}"))
+}
+
+/// [`run`] with the warnings about the members' initial gaps passed to `warn` (each distinct
+/// warning once, with the first member that has it).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_with_warnings(
+    options: &SweepOptions,
+    out: &Path,
+    warn: &mut dyn FnMut(&str),
+) -> Result<SweepSummary> {
+    let base = base_scene(&options.model, options.scene.as_deref())?;
+    let kind = base.kind();
+    let max_steps = options.max_steps.unwrap_or(DEFAULT_MAX_STEPS);
+    check_distinct_keys(&base, options.axes.iter().map(|a| a.key.as_str()))?;
+    let grid = Grid::new(options.axes.clone())?;
+    let shard = options.shard.unwrap_or(Shard::all());
+    // Every value of every axis on the base scene first, for a quick answer to a bad key.
+    for a in grid.axes() {
+        for v in &a.values {
+            base.clone().set(&a.key, v).with_context(|| format!("--set {}={v}", a.key))?;
+        }
+    }
+    let mut warned = BTreeSet::new();
+    for i in shard.members(grid.len()) {
+        let scene = member_scene(&base, &grid, i, max_steps)?;
+        for w in guard::gap_warnings(&scene.build()?) {
+            if warned.len() < 20 && warned.insert(w.clone()) {
+                warn(&format!("member {i}: {w}"));
+            }
+        }
+    }
+    let identity = PartHeader {
+        id: sweep_id(&base, grid.axes(), max_steps),
+        model: kind.name().to_owned(),
+        members: grid.len(),
+        shard,
+        version: env!("CARGO_PKG_VERSION").to_owned(),
+    };
+    let columns = header(kind, grid.axes());
+    if out.is_dir() {
+        return Err(CliError::Output { path: out.to_owned(), reason: "is a folder".into() }.into());
+    }
+    let partial = partial_path(out);
+    let mut kept: Vec<Vec<String>> = Vec::new();
+    if partial.exists() {
+        if !options.resume {
+            return Err(CliError::Output {
+                path: partial,
+                reason: "holds an unfinished run; pass --resume to continue it, or remove it"
+                    .into(),
+            }
+            .into());
+        }
+        let part = parts::read_part(&partial, true)?;
+        if part.header != identity || part.columns != columns {
+            return Err(CliError::MixedParts {
+                part: partial,
+                reason: format!(
+                    "is an unfinished run of another sweep or shard ({}), not of this one ({})",
+                    part.header.line(),
+                    identity.line()
+                ),
+            }
+            .into());
+        }
+        kept = part.rows.into_iter().map(|(_, r)| r).collect();
+    }
+    let done: HashSet<u64> = kept.iter().filter_map(|r| r[0].parse().ok()).collect();
+    parts::write_part(&partial, &identity, &columns, &kept)?;
+    let file = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&partial)
+        .with_context(|| format!("opening {}", partial.display()))?;
+    let writer = Mutex::new(csv::Writer::from_writer(file));
+    let todo = shard.count(grid.len()) - done.len() as u64;
+    faer::set_global_parallelism(faer::Par::Seq);
+    let progress = Progress::new(todo as usize, &format!("sweep {kind}"));
+    let counts = Mutex::new(SweepSummary::default());
+    let failure: Mutex<Option<anyhow::Error>> = Mutex::new(None);
+    (0..shard.count(grid.len())).into_par_iter().for_each(|j| {
+        let i = shard.k as u64 - 1 + j * shard.n as u64;
+        if done.contains(&i) {
+            return;
+        }
+        let row = member_scene(&base, &grid, i, max_steps).map(|scene| {
+            let (mut row, status) = member_row(&scene, &grid, i, max_steps);
+            row.push(row_check(&row));
+            (row, status)
+        });
+        let written = row.and_then(|(row, status)| {
+            let mut w = writer.lock().unwrap_or_else(|e| e.into_inner());
+            w.write_record(&row)?;
+            w.flush()?;
+            let mut c = counts.lock().unwrap_or_else(|e| e.into_inner());
+            c.ran += 1;
+            c.diverged += u64::from(status == "diverged");
+            c.failed += u64::from(status == "failed");
+            Ok(())
+        });
+        if let Err(e) = written {
+            failure.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
+        }
+        progress.tick(&format!("member {i}"));
+    });
+    progress.finish();
+    drop(writer);
+    if let Some(e) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        return Err(e.context(format!("the finished members are in {}", partial.display())));
+    }
+    // The finished part, sorted by member, replaces the unfinished one.
+    let part = parts::read_part(&partial, false)?;
+    let mut rows = part.rows;
+    rows.sort_by_key(|(i, _)| *i);
+    let rows: Vec<Vec<String>> = rows.into_iter().map(|(_, r)| r).collect();
+    anyhow::ensure!(
+        rows.len() as u64 == shard.count(grid.len()),
+        "{} holds {} rows where the shard has {} members",
+        partial.display(),
+        rows.len(),
+        shard.count(grid.len())
+    );
+    parts::write_part(out, &identity, &columns, &rows)?;
+    std::fs::remove_file(&partial).with_context(|| format!("removing {}", partial.display()))?;
+    let mut summary = counts.into_inner().unwrap_or_else(|p| p.into_inner());
+    summary.rows = rows.len() as u64;
+    Ok(summary)
+}
