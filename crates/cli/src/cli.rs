@@ -112,8 +112,7 @@ impl SimulateArgs {
             solver: self.solver,
             max_steps: self.max_steps,
         };
-        let done =
-            simulate::run_to_csv(&options, &self.out, &mut |w| eprintln!("warning: {w}"))?;
+        let done = simulate::run_to_csv(&options, &self.out, &mut |w| eprintln!("warning: {w}"))?;
         println!(
             "{}: {} steps, {} LCP solves, {:.3} s; wrote {} rows to {}",
             done.scene.kind(),

@@ -55,7 +55,7 @@ impl std::fmt::Display for Divergence {
             }
             Self::StepAboveStability { dt, limit, omega_max } => write!(
                 f,
-                "time step dt = {dt} s exceeds the stability limit 2/ω_max = {limit:.6e} s of \
+                "time step dt = {dt:e} s exceeds the stability limit 2/ω_max = {limit:.6e} s of \
                  the stiffest mode (ω_max = {omega_max:.6e} rad/s at the initial state)"
             ),
             Self::NonFinite { message } => write!(f, "{message}"),
@@ -68,7 +68,7 @@ impl std::fmt::Display for Divergence {
 #[non_exhaustive]
 pub enum CliError {
     /// A run diverged: the cause and the step at which the guard saw it.
-    #[error("the run diverged at step {step} (t = {t} s): {cause}")]
+    #[error("the run diverged at step {step} (t = {t:e} s): {cause}")]
     Diverged {
         /// What the guard saw.
         cause: Divergence,
@@ -78,7 +78,7 @@ pub enum CliError {
         t: f64,
     },
     /// The time step is longer than the run.
-    #[error("time step dt = {dt} s is longer than the run (t_end = {t_end} s)")]
+    #[error("time step dt = {dt:e} s is longer than the run (t_end = {t_end:e} s)")]
     StepLongerThanRun {
         /// Time step (s).
         dt: f64,
@@ -87,7 +87,7 @@ pub enum CliError {
     },
     /// t_end is not a whole number of steps.
     #[error(
-        "t_end = {t_end} s is not a whole number of steps of dt = {dt} s (t_end/dt = {ratio}); \
+        "t_end = {t_end:e} s is not a whole number of steps of dt = {dt:e} s (t_end/dt = {ratio}); \
          choose t_end = n dt so that the last row lies at t_end"
     )]
     NotWholeSteps {

@@ -190,13 +190,18 @@ mod tests {
         assert!(Axis::parse("x=1,,2").is_err());
         assert_eq!(Grid::new(Vec::new())?.len(), 1);
         // 40 axes of 3 values: 3^40 ≈ 1.2e19 members, never listed; member i by mixed radix.
-        let big = Grid::new((0..40).map(|k| Axis::parse(&format!("k{k}=0,1,2"))).collect::<Result<_>>()?)?;
+        let big = Grid::new(
+            (0..40).map(|k| Axis::parse(&format!("k{k}=0,1,2"))).collect::<Result<_>>()?,
+        )?;
         assert_eq!(big.len(), 3u64.pow(40));
         let last = big.member(big.len() - 1);
         assert!(last.iter().all(|(_, v)| v == "2"));
         let m = big.member(5); // 5 = 1·3 + 2 in the last two axes
         assert_eq!((m[38].1.as_str(), m[39].1.as_str()), ("1", "2"));
-        assert!(Grid::new((0..41).map(|k| Axis::parse(&format!("k{k}=0,1,2"))).collect::<Result<_>>()?).is_err());
+        assert!(
+            Grid::new((0..41).map(|k| Axis::parse(&format!("k{k}=0,1,2"))).collect::<Result<_>>()?)
+                .is_err()
+        );
         Ok(())
     }
 

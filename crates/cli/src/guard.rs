@@ -84,8 +84,8 @@ pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
         let g = model.normal_gap(i, &q0, 0.0);
         if g < -GAP_TOLERANCE {
             out.push(format!(
-                "contact {} ({name}) starts penetrating: g_N = {g:.6e} m; the first impact \
-                 pushes it out",
+                "contact {} ({name}) starts penetrating: g_N = {g:.6e} m (the scheme acts on \
+                 velocities and leaves a penetration in place)",
                 i + 1
             ));
         } else if g.abs() <= GAP_TOLERANCE {
@@ -182,7 +182,9 @@ fn transpose(a: &mut [f64], f: usize) {
 /// Eigenvalues of a small symmetric matrix by cyclic Jacobi rotations (at most 50 sweeps).
 fn symmetric_eigenvalues(a: &mut [f64], f: usize) -> Vec<f64> {
     for _ in 0..50 {
-        let off: f64 = (0..f).flat_map(|i| (0..f).map(move |j| (i, j))).filter(|(i, j)| i != j)
+        let off: f64 = (0..f)
+            .flat_map(|i| (0..f).map(move |j| (i, j)))
+            .filter(|(i, j)| i != j)
             .map(|(i, j)| a[i + f * j] * a[i + f * j])
             .sum();
         let diag: f64 = (0..f).map(|i| a[i + f * i] * a[i + f * i]).sum();
@@ -241,7 +243,13 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
             })
             .flatten();
         let largest = q0.iter().chain(&u0).fold(0.0f64, |m, x| m.max(x.abs()));
-        Self { inner, energy_bound, magnitude: MAGNITUDE_FACTOR * (1.0 + largest), mass, diverged: None }
+        Self {
+            inner,
+            energy_bound,
+            magnitude: MAGNITUDE_FACTOR * (1.0 + largest),
+            mass,
+            diverged: None,
+        }
     }
 
     fn check(&mut self, model: &AnyModel, r: &StepReport<'_>) -> Option<Divergence> {

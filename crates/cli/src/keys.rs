@@ -256,8 +256,7 @@ pub struct PainleveKeys {
 pub fn painleve(run: &RunResult) -> PainleveKeys {
     let r = run.record();
     let phases = run.states();
-    let first_stick_time =
-        phases.iter().position(|p| p[0] == ContactState::Stick).map(|k| r.t[k]);
+    let first_stick_time = phases.iter().position(|p| p[0] == ContactState::Stick).map(|k| r.t[k]);
     let lift_off_time = (1..phases.len())
         .find(|&k| phases[k - 1][0].is_closed() && !phases[k][0].is_closed())
         .map(|k| r.t[k]);

@@ -6,7 +6,11 @@ use clap::Parser;
 use moreau_cli::cli::Command;
 
 #[derive(Parser)]
-#[command(name = "moreau", about = "Non-smooth rigid multibody simulations: runs and sweeps", version)]
+#[command(
+    name = "moreau",
+    about = "Non-smooth rigid multibody simulations: runs and sweeps",
+    version
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

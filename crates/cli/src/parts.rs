@@ -34,7 +34,9 @@ pub const STATUSES: [&str; 3] = ["ok", "diverged", "failed"];
 
 /// 64-bit FNV-1a hash.
 pub fn fnv64(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3))
+    bytes
+        .iter()
+        .fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3))
 }
 
 /// The check of a row: 32 bits of the hash of its cells, as 8 hex digits.
@@ -76,9 +78,9 @@ impl PartHeader {
     /// # Errors
     /// When it is not one.
     pub fn parse(line: &str) -> Result<Self, String> {
-        let rest = line
-            .strip_prefix(&format!("# moreau sweep {FORMAT}; "))
-            .ok_or("its first line does not name a sweep (is it a part written by `moreau sweep`?)")?;
+        let rest = line.strip_prefix(&format!("# moreau sweep {FORMAT}; ")).ok_or(
+            "its first line does not name a sweep (is it a part written by `moreau sweep`?)",
+        )?;
         let mut fields = std::collections::BTreeMap::new();
         for f in rest.split("; ") {
             let (k, v) = f.split_once(' ').ok_or_else(|| format!("bad identity field '{f}'"))?;
@@ -154,7 +156,9 @@ pub fn read_part(path: &Path, drop_damaged_tail: bool) -> Result<Part> {
                 let i: u64 = cells[0].parse().unwrap_or(u64::MAX);
                 if !seen.insert(i) {
                     let reason = format!("member {i} appears twice");
-                    return Err(CliError::DamagedPart { part: path.to_owned(), line, reason }.into());
+                    return Err(
+                        CliError::DamagedPart { part: path.to_owned(), line, reason }.into()
+                    );
                 }
                 rows.push((i, cells));
             }
@@ -278,12 +282,8 @@ pub fn merge(out: &Path, parts: &[impl AsRef<Path>]) -> Result<u64> {
             }
         }
         let have: BTreeSet<u64> = part.rows.iter().map(|(i, _)| *i).collect();
-        let missing: Vec<u64> = part
-            .header
-            .shard
-            .members(part.header.members)
-            .filter(|i| !have.contains(i))
-            .collect();
+        let missing: Vec<u64> =
+            part.header.shard.members(part.header.members).filter(|i| !have.contains(i)).collect();
         if !missing.is_empty() {
             let members = format!(
                 "{} of its shard {}/{} (an unfinished run: continue it with `moreau sweep \

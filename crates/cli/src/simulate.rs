@@ -76,46 +76,30 @@ pub fn base_scene(model: &str, scene: Option<&Path>) -> Result<Scene> {
     Ok(scene)
 }
 
-/// Checks that no two keys set the same scene entry, aliases included (`y0` and `init.y0`;
-/// `mu` and `beak.mu` on the woodpecker).
+/// Applies `key=value` overrides to a scene in order, refusing a key that sets an entry an
+/// earlier key set, aliases included (`y0` and `init.y0`; `mu` and `beak.mu` on the
+/// woodpecker). Each key is resolved on the scene as the earlier overrides left it, so that
+/// `solver=pgs` followed by `solver.tolerance=1e-8` works.
 ///
 /// # Errors
-/// [`CliError::RepeatedKey`] naming both keys and the entry; an unknown key.
-pub fn check_distinct_keys<'a>(
-    scene: &Scene,
-    keys: impl IntoIterator<Item = &'a str>,
-) -> Result<()> {
+/// [`CliError::RepeatedKey`] naming both keys and the entry; an unknown key or a bad value
+/// (naming the override).
+pub fn apply_sets(scene: &mut Scene, sets: &[(String, String)]) -> Result<()> {
     let mut seen: Vec<(&str, Vec<String>)> = Vec::new();
-    for key in keys {
-        let targets = scene.targets(key)?;
+    for (key, value) in sets {
+        let targets = scene.targets(key).with_context(|| format!("--set {key}={value}"))?;
         for (first, earlier) in &seen {
-            let clash = targets.iter().find(|t| {
-                earlier.iter().any(|e| {
-                    e == *t || t.starts_with(&format!("{e}.")) || e.starts_with(&format!("{t}."))
-                })
-            });
-            if let Some(entry) = clash {
+            if let Some(entry) = targets.iter().find(|t| earlier.contains(t)) {
                 return Err(CliError::RepeatedKey {
                     first: (*first).to_owned(),
-                    second: key.to_owned(),
+                    second: key.clone(),
                     entry: entry.clone(),
                 }
                 .into());
             }
         }
+        scene.set(key, value).with_context(|| format!("--set {key}={value}"))?;
         seen.push((key, targets));
-    }
-    Ok(())
-}
-
-/// Applies `key=value` overrides to a scene after checking that each entry is set once.
-///
-/// # Errors
-/// A repeated key, an unknown key or a bad value (naming the override).
-pub fn apply_sets(scene: &mut Scene, sets: &[(String, String)]) -> Result<()> {
-    check_distinct_keys(scene, sets.iter().map(|(k, _)| k.as_str()))?;
-    for (k, v) in sets {
-        scene.set(k, v).with_context(|| format!("--set {k}={v}"))?;
     }
     Ok(())
 }
@@ -374,15 +358,8 @@ pub fn run_to_csv(
         bar.set_message(format!("simulate {}", scene.kind()));
         bar
     });
-    let mut streamer = Streamer {
-        recorder,
-        planned,
-        scene: scene.clone(),
-        out: out_w,
-        rows: 0,
-        error: None,
-        bar,
-    };
+    let mut streamer =
+        Streamer { recorder, planned, scene: scene.clone(), out: out_w, rows: 0, error: None, bar };
     let run = guard::run_guarded(&scene, &model, options.step_limit(), &mut streamer);
     if let Some(bar) = &streamer.bar {
         bar.finish_and_clear();

@@ -16,7 +16,7 @@ use crate::guard::{self, DEFAULT_MAX_STEPS};
 use crate::keys;
 use crate::parts::{self, PartHeader, fnv64, row_check};
 use crate::runs::{RunResult, RunSpec, run_info};
-use crate::simulate::{base_scene, check_distinct_keys, check_record_every, partial_path, run_scene};
+use crate::simulate::{apply_sets, base_scene, check_record_every, partial_path, run_scene};
 
 /// What to sweep.
 #[derive(Clone, Debug)]
@@ -55,7 +55,9 @@ pub fn header(kind: ModelKind, axes: &[Axis]) -> Vec<String> {
     let mut h = vec!["member".to_owned(), "members".to_owned()];
     h.extend(axes.iter().map(|a| a.key.clone()));
     h.extend(keys::columns(kind).iter().map(|s| (*s).to_owned()));
-    h.extend(["steps", "lcp_solves", "wall_seconds", "status", "error", "check"].map(str::to_owned));
+    h.extend(
+        ["steps", "lcp_solves", "wall_seconds", "status", "error", "check"].map(str::to_owned),
+    );
     h
 }
 
@@ -98,9 +100,7 @@ pub struct SweepSummary {
 /// Builds member `i`'s scene and checks its step plan.
 fn member_scene(base: &Scene, grid: &Grid, i: u64, max_steps: u64) -> Result<Scene> {
     let mut scene = base.clone();
-    for (k, v) in grid.member(i) {
-        scene.set(&k, &v).with_context(|| format!("member {i}: --set {k}={v}"))?;
-    }
+    apply_sets(&mut scene, &grid.member(i)).with_context(|| format!("member {i}"))?;
     let steps = guard::plan_steps(&scene, max_steps).with_context(|| format!("member {i}"))?;
     check_record_every(&scene, steps).with_context(|| format!("member {i}"))?;
     Ok(scene)
@@ -112,7 +112,8 @@ fn member_row(scene: &Scene, grid: &Grid, i: u64, max_steps: u64) -> (Vec<String
     let mut row = vec![i.to_string(), grid.len().to_string()];
     row.extend(grid.member(i).into_iter().map(|(_, v)| v));
     let start = Instant::now();
-    let empty = |row: &mut Vec<String>| row.extend(keys::columns(kind).iter().map(|_| String::new()));
+    let empty =
+        |row: &mut Vec<String>| row.extend(keys::columns(kind).iter().map(|_| String::new()));
     let status = match run_scene(scene, max_steps) {
         Ok(sim) => {
             let spec = RunSpec { name: format!("member {i}"), kind, sets: grid.member(i) };
@@ -172,14 +173,11 @@ pub fn run_with_warnings(
     let base = base_scene(&options.model, options.scene.as_deref())?;
     let kind = base.kind();
     let max_steps = options.max_steps.unwrap_or(DEFAULT_MAX_STEPS);
-    check_distinct_keys(&base, options.axes.iter().map(|a| a.key.as_str()))?;
     let grid = Grid::new(options.axes.clone())?;
     let shard = options.shard.unwrap_or(Shard::all());
-    // Every value of every axis on the base scene first, for a quick answer to a bad key.
-    for a in grid.axes() {
-        for v in &a.values {
-            base.clone().set(&a.key, v).with_context(|| format!("--set {}={v}", a.key))?;
-        }
+    // Member 0 first, so that a repeated or unknown key is refused whatever the shard.
+    if !grid.is_empty() {
+        member_scene(&base, &grid, 0, max_steps)?;
     }
     let mut warned = BTreeSet::new();
     for i in shard.members(grid.len()) {

@@ -8,8 +8,13 @@ use crate::StepError;
 ///
 /// Whatever the choice, a step whose LCP solution fails the residual test stops the run with
 /// [`StepError::LcpFailed`]; the choice trades robustness for speed, never correctness.
+///
+/// Read from a table such as `{ kind = "pgs", tolerance = 1e-10, omega = 1.0,
+/// max_iterations = 10000 }`: a field the kind does not have is refused for every kind, and
+/// PGS' settings must lie in their ranges (tolerance in (0, 1), ω in (0, 2), at least one
+/// sweep).
 #[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(try_from = "SolverTable", into = "SolverTable")]
 pub enum SolverChoice {
     /// The default: a single active contact in closed form (stick or slip either way, taken
     /// when the LCP's residual passes), otherwise the robust strategy of `moreau_lcp::Auto`:
@@ -31,6 +36,54 @@ pub enum SolverChoice {
     },
     /// Enumeration of all complementary bases (for tiny problems only).
     Enumeration,
+}
+
+/// The table form of [`SolverChoice`]. Its unit-like kinds are empty struct variants because
+/// serde ignores unknown fields next to the tag of a unit variant.
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum SolverTable {
+    Auto {},
+    Lemke {},
+    Pgs { tolerance: f64, omega: f64, max_iterations: usize },
+    Enumeration {},
+}
+
+impl TryFrom<SolverTable> for SolverChoice {
+    type Error = String;
+
+    fn try_from(t: SolverTable) -> Result<Self, String> {
+        Ok(match t {
+            SolverTable::Auto {} => Self::Auto,
+            SolverTable::Lemke {} => Self::Lemke,
+            SolverTable::Enumeration {} => Self::Enumeration,
+            SolverTable::Pgs { tolerance, omega, max_iterations } => {
+                if !(tolerance > 0.0 && tolerance < 1.0) {
+                    return Err(format!("solver.tolerance = {tolerance} must lie in (0, 1)"));
+                }
+                if !(omega > 0.0 && omega < 2.0) {
+                    return Err(format!("solver.omega = {omega} must lie in (0, 2)"));
+                }
+                if max_iterations == 0 {
+                    return Err("solver.max_iterations must be at least 1".to_owned());
+                }
+                Self::Pgs { tolerance, omega, max_iterations }
+            }
+        })
+    }
+}
+
+impl From<SolverChoice> for SolverTable {
+    fn from(c: SolverChoice) -> Self {
+        match c {
+            SolverChoice::Auto => Self::Auto {},
+            SolverChoice::Lemke => Self::Lemke {},
+            SolverChoice::Enumeration => Self::Enumeration {},
+            SolverChoice::Pgs { tolerance, omega, max_iterations } => {
+                Self::Pgs { tolerance, omega, max_iterations }
+            }
+        }
+    }
 }
 
 impl SolverChoice {
@@ -119,5 +172,50 @@ impl StepperOptions {
     pub fn with_solver(mut self, solver: SolverChoice) -> Self {
         self.solver = solver;
         self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Result<SolverChoice, String> {
+        #[derive(Deserialize)]
+        struct S {
+            solver: SolverChoice,
+        }
+        serde_json::from_str::<S>(text).map(|s| s.solver).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn solver_tables_are_read_strictly() {
+        assert_eq!(read(r#"{"solver": {"kind": "lemke"}}"#), Ok(SolverChoice::Lemke));
+        for kind in ["auto", "lemke", "enumeration"] {
+            let e = read(&format!(r#"{{"solver": {{"kind": "{kind}", "max_pivots": 0}}}}"#))
+                .expect_err(kind);
+            assert!(e.contains("max_pivots"), "{e}");
+        }
+        let pgs = |t: f64, w: f64, n: usize| {
+            read(&format!(
+                r#"{{"solver": {{"kind": "pgs", "tolerance": {t}, "omega": {w}, "max_iterations": {n}}}}}"#
+            ))
+        };
+        assert_eq!(
+            pgs(1e-8, 1.2, 50),
+            Ok(SolverChoice::Pgs { tolerance: 1e-8, omega: 1.2, max_iterations: 50 })
+        );
+        for (t, w, n, field) in [
+            (1.0, 1.0, 10, "tolerance"),
+            (0.0, 1.0, 10, "tolerance"),
+            (1e-8, 2.0, 10, "omega"),
+            (1e-8, 0.0, 10, "omega"),
+            (1e-8, 1.0, 0, "max_iterations"),
+        ] {
+            let e = pgs(t, w, n).expect_err(field);
+            assert!(e.contains(field), "{e}");
+        }
+        let e = read(r#"{"solver": {"kind": "pgs", "tolerance": 1e-8, "omega": 1, "max_iterations": 5, "x": 1}}"#)
+            .expect_err("unknown field");
+        assert!(e.contains('x'), "{e}");
     }
 }

@@ -5,8 +5,8 @@ use moreau_models::{AnyModel, CamParams, ModelKind, Role};
 use serde_json::json;
 
 use super::{Ctx, Entry, Output, focus, motion, names, shapes};
-use crate::analysis::{self, EventKind};
 use crate::analysis::ContactStateExt;
+use crate::analysis::{self, EventKind};
 use crate::frames::{Frame, Strip};
 use crate::keys;
 use crate::plot::{Figure, LegendAt, Mark, Panel, Series};

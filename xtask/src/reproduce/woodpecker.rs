@@ -6,11 +6,11 @@ use serde_json::json;
 
 use super::{Ctx, Entry, Output, focus, follow, motion_rows, names, shapes};
 use crate::analysis::ContactStateExt;
-use moreau_stepper::ContactState;
 use crate::frames::{Frame, Strip};
 use crate::keys;
 use crate::plot::{Figure, Panel, Series};
 use crate::runs::{RunResult, RunSpec};
+use moreau_stepper::ContactState;
 
 /// The woodpecker run (Tab 8.3, Δt = 1e-4 s, 0–1 s).
 pub(super) const MAIN: &str = "woodpecker";
