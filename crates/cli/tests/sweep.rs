@@ -3,34 +3,34 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, ensure};
-use xtask::grid::{Axis, Shard, merge};
-use xtask::simulate::{SimulateOptions, write_record};
-use xtask::sweep::{SweepOptions, run};
+use moreau_cli::grid::{Axis, Shard};
+use moreau_cli::parts::merge;
+use moreau_cli::simulate::{SimulateOptions, write_record};
+use moreau_cli::sweep::{SweepOptions, run};
 
 fn options(shard: Option<Shard>) -> Result<SweepOptions> {
-    Ok(SweepOptions {
-        model: "ball".into(),
-        scene: None,
-        axes: vec![
-            Axis::parse("eps_n=0.5,0.7,0.9")?,
-            Axis::parse("dt=0.001,0.002")?,
-            Axis::parse("t_end=2")?,
-        ],
-        shard,
-    })
+    let axes = vec![
+        Axis::parse("eps_n=0.5,0.7,0.9")?,
+        Axis::parse("dt=0.001,0.002")?,
+        Axis::parse("t_end=2")?,
+    ];
+    Ok(SweepOptions { shard, ..SweepOptions::new("ball", axes) })
 }
 
 /// The CSV without the measured wall time.
 fn without_wall_time(path: &Path) -> Result<Vec<Vec<String>>> {
-    let mut r = csv::Reader::from_path(path)?;
+    let mut r = csv::ReaderBuilder::new().comment(Some(b'#')).from_path(path)?;
     let h: Vec<String> = r.headers()?.iter().map(str::to_owned).collect();
     let wall = h.iter().position(|c| c == "wall_seconds").context("wall_seconds column")?;
+    // The check covers the wall time too.
+    let check = h.len() - 1;
+    let keep = |i: &usize| *i != wall && *i != check;
     let mut rows =
-        vec![h.iter().enumerate().filter(|(i, _)| *i != wall).map(|(_, c)| c.clone()).collect()];
+        vec![h.iter().enumerate().filter(|(i, _)| keep(i)).map(|(_, c)| c.clone()).collect()];
     for rec in r.records() {
         let rec = rec?;
         rows.push(
-            rec.iter().enumerate().filter(|(i, _)| *i != wall).map(|(_, c)| c.to_owned()).collect(),
+            rec.iter().enumerate().filter(|(i, _)| keep(i)).map(|(_, c)| c.to_owned()).collect(),
         );
     }
     Ok(rows)
@@ -40,7 +40,7 @@ fn without_wall_time(path: &Path) -> Result<Vec<Vec<String>>> {
 fn sharded_sweep_merges_to_the_unsharded_one() -> Result<()> {
     let dir = tempfile::tempdir()?;
     let all = dir.path().join("all.csv");
-    assert_eq!(run(&options(None)?, &all)?, 6);
+    assert_eq!(run(&options(None)?, &all)?.rows, 6);
     let mut parts = Vec::new();
     for k in 1..=4 {
         let p = dir.path().join(format!("part{k}.csv"));
@@ -64,7 +64,15 @@ fn sharded_sweep_merges_to_the_unsharded_one() -> Result<()> {
     }
     // Leaving a part out is caught.
     let e = merge(&merged, &parts[..3]).unwrap_err().to_string();
-    assert!(e.contains("missing"), "{e}");
+    assert!(e.contains("missing") && e.contains('3'), "{e}");
+    // The merged file names the sweep of its parts; the status of every member is ok.
+    let text = std::fs::read_to_string(&merged)?;
+    let first = std::fs::read_to_string(&parts[0])?;
+    let id = |t: &str| t.lines().next().map(|l| l.split("; ").nth(1).map(str::to_owned));
+    assert_eq!(id(&text), id(&first));
+    assert!(text.lines().next().is_some_and(|l| l.contains("shard 1/1")));
+    let status = a[0].iter().position(|c| c == "status").context("status")?;
+    assert!(a[1..].iter().all(|r| r[status] == "ok"));
     Ok(())
 }
 
@@ -87,7 +95,7 @@ fn simulate_writes_named_columns() -> Result<()> {
         sets: vec!["beak.eps_n=0.4".into()],
         ..SimulateOptions::default()
     };
-    let result = xtask::simulate::run(&o)?;
+    let result = moreau_cli::simulate::run(&o)?;
     let path = dir.path().join("w.csv");
     write_record(&result, &path)?;
     let mut r = csv::Reader::from_path(&path)?;
@@ -103,6 +111,7 @@ fn simulate_writes_named_columns() -> Result<()> {
     // Row 0 and one row per step of 1e-4 s.
     assert_eq!(rows.len(), 101);
     assert_eq!(&rows[0][0], "0");
+    assert_eq!(&rows[100][0], "0.01");
     // Contact 2 is closed at t = 0 (g_N2 < 0) and carries an impulse in the first step.
     assert_eq!(&rows[1][14], "1");
     assert!(rows[1][9].parse::<f64>()? > 0.0);
@@ -112,27 +121,27 @@ fn simulate_writes_named_columns() -> Result<()> {
 #[test]
 fn simulate_errors_list_what_is_accepted() {
     let bad_model = SimulateOptions { model: "pendulum".into(), ..SimulateOptions::default() };
-    let e = format!("{:#}", xtask::simulate::run(&bad_model).unwrap_err());
+    let e = format!("{:#}", moreau_cli::simulate::run(&bad_model).unwrap_err());
     assert!(e.contains("slider-crank") && e.contains("woodpecker"), "{e}");
     let bad_key = SimulateOptions {
         model: "ball".into(),
         sets: vec!["mass=2".into()],
         ..SimulateOptions::default()
     };
-    let e = format!("{:#}", xtask::simulate::run(&bad_key).unwrap_err());
+    let e = format!("{:#}", moreau_cli::simulate::run(&bad_key).unwrap_err());
     assert!(e.contains("mass") && e.contains("eps_n") && e.contains("init.y0"), "{e}");
     let bad_value = SimulateOptions {
         model: "ball".into(),
         sets: vec!["eps_n=1.5".into()],
         ..SimulateOptions::default()
     };
-    let e = format!("{:#}", xtask::simulate::run(&bad_value).unwrap_err());
+    let e = format!("{:#}", moreau_cli::simulate::run(&bad_value).unwrap_err());
     assert!(e.contains("eps_n"), "{e}");
     let bad_solver = SimulateOptions {
         model: "ball".into(),
         solver: Some("newton".into()),
         ..SimulateOptions::default()
     };
-    let e = format!("{:#}", xtask::simulate::run(&bad_solver).unwrap_err());
+    let e = format!("{:#}", moreau_cli::simulate::run(&bad_solver).unwrap_err());
     assert!(e.contains("lemke") && e.contains("pgs"), "{e}");
 }

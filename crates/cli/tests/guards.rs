@@ -1,0 +1,219 @@
+//! The guards of a run: keys given twice, solver tables, divergence, the step plan, streaming
+//! and the warnings about initial gaps.
+
+use anyhow::{Context, Result, ensure};
+use moreau_cli::grid::Axis;
+use moreau_cli::guard::{self, DEFAULT_MAX_STEPS};
+use moreau_cli::simulate::{SimulateOptions, run, run_to_csv, scene, write_record};
+use moreau_cli::sweep::{SweepOptions, run as sweep};
+use moreau_cli::{CliError, Divergence};
+
+fn ball(sets: &[&str]) -> SimulateOptions {
+    SimulateOptions {
+        model: "ball".into(),
+        sets: sets.iter().map(|s| (*s).to_owned()).collect(),
+        ..SimulateOptions::default()
+    }
+}
+
+fn cli_error(e: &anyhow::Error) -> Option<&CliError> {
+    e.chain().find_map(|c| c.downcast_ref::<CliError>())
+}
+
+#[test]
+fn a_key_given_twice_is_refused_aliases_included() -> Result<()> {
+    for sets in [
+        &["init.y0=1", "y0=3"][..],
+        &["eps_n=0.1", "eps_n=0.3"],
+        &["params.eps_n=0.1", "eps_n=0.3"],
+        &["solver=pgs", "solver=lemke"],
+    ] {
+        let e = scene(&ball(sets)).expect_err("refused");
+        ensure!(
+            matches!(cli_error(&e), Some(CliError::RepeatedKey { .. })),
+            "{sets:?}: {e:#}"
+        );
+    }
+    // --dt and --set dt= set the same entry.
+    let e = scene(&SimulateOptions { dt: Some(1e-3), ..ball(&["dt=2e-3"]) }).expect_err("dt");
+    ensure!(matches!(cli_error(&e), Some(CliError::RepeatedKey { .. })), "{e:#}");
+    // On the woodpecker, `mu` sets all three contacts' μ, so `beak.mu` after it repeats one.
+    let wood = SimulateOptions {
+        model: "woodpecker".into(),
+        sets: vec!["mu=0.2".into(), "beak.mu=0.3".into()],
+        ..SimulateOptions::default()
+    };
+    let e = scene(&wood).expect_err("mu");
+    ensure!(format!("{e:#}").contains("params.beak.mu"), "{e:#}");
+    // A solver and then its tolerance are two entries.
+    let s = scene(&ball(&["solver=pgs", "solver.tolerance=1e-8"]))?;
+    ensure!(s.solver.name() == "pgs");
+    // In a sweep the same holds, and no member runs.
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("s.csv");
+    let o = SweepOptions::new(
+        "ball",
+        vec![Axis::parse("init.y0=1,2")?, Axis::parse("y0=3")?],
+    );
+    let e = sweep(&o, &out).expect_err("sweep");
+    ensure!(matches!(cli_error(&e), Some(CliError::RepeatedKey { .. })), "{e:#}");
+    ensure!(!out.exists());
+    Ok(())
+}
+
+#[test]
+fn solver_tables_are_validated() -> Result<()> {
+    for (sets, field) in [
+        (&["solver=pgs", "solver.tolerance=1"][..], "tolerance"),
+        (&["solver=pgs", "solver.tolerance=0"], "tolerance"),
+        (&["solver=pgs", "solver.omega=2"], "omega"),
+        (&["solver=pgs", "solver.max_iterations=0"], "max_iterations"),
+    ] {
+        let e = format!("{:#}", scene(&ball(sets)).expect_err(field));
+        ensure!(e.contains(field), "{e}");
+    }
+    let dir = tempfile::tempdir()?;
+    for kind in ["auto", "lemke", "enumeration"] {
+        let path = dir.path().join(format!("{kind}.toml"));
+        std::fs::write(
+            &path,
+            format!(
+                "dt = 0.001\nt_end = 1.0\nsolver = {{ kind = \"{kind}\", max_pivots = 0 }}\n\
+                 [params]\nmodel = \"ball\"\nm = 1.0\nr = 0.1\ng = 9.81\neps_n = 0.9\n"
+            ),
+        )?;
+        let o = SimulateOptions { scene: Some(path), ..ball(&[]) };
+        let e = format!("{:#}", scene(&o).expect_err(kind));
+        ensure!(e.contains("max_pivots"), "{e}");
+    }
+    Ok(())
+}
+
+#[test]
+fn divergence_stops_the_run_naming_cause_and_step() -> Result<()> {
+    // The woodpecker's torsion spring: ω_max ≈ 458 rad/s, so Δt = 1e-2 s is above 2/ω_max.
+    let wood = SimulateOptions {
+        model: "woodpecker".into(),
+        dt: Some(1e-2),
+        ..SimulateOptions::default()
+    };
+    let e = run(&wood).expect_err("unstable");
+    match cli_error(&e) {
+        Some(CliError::Diverged { cause: Divergence::StepAboveStability { limit, .. }, step, .. }) => {
+            ensure!(*step == 0 && (4e-3..5e-3).contains(limit), "{e:#}")
+        }
+        _ => anyhow::bail!("{e:#}"),
+    }
+    // At the report's Δt = 1e-4 s it runs, and its energy never grows.
+    let ok = run(&SimulateOptions { dt: Some(1e-4), tf: Some(0.05), ..wood })?;
+    let e_total = ok.record().total_energy();
+    ensure!(e_total.iter().all(|&e| e <= e_total[0] + 1e-9), "energy grew");
+    // The ideal slider-crank with an absurd rod inertia gains energy: stopped with the step.
+    let ideal = SimulateOptions {
+        model: "slider-crank-ideal".into(),
+        sets: vec!["j2=1e30".into()],
+        ..SimulateOptions::default()
+    };
+    let e = run(&ideal).expect_err("energy");
+    match cli_error(&e) {
+        Some(CliError::Diverged {
+            cause: Divergence::EnergyGrowth { initial, reached, bound },
+            step,
+            ..
+        }) => ensure!(*step > 0 && reached > bound && bound > initial, "{e:#}"),
+        _ => anyhow::bail!("{e:#}"),
+    }
+    // In a sweep, a diverging member keeps its row, marked diverged with the cause.
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("s.csv");
+    let mut o = SweepOptions::new("woodpecker", vec![Axis::parse("dt=1e-4,1e-2")?]);
+    o.axes.push(Axis::parse("t_end=0.02")?);
+    let s = sweep(&o, &out)?;
+    ensure!(s.rows == 2 && s.diverged == 1, "{s:?}");
+    let text = std::fs::read_to_string(&out)?;
+    let rows: Vec<&str> = text.lines().skip(2).collect();
+    ensure!(rows[0].contains(",ok,"), "{}", rows[0]);
+    ensure!(rows[1].starts_with("1,2,1e-2,") && rows[1].contains(",diverged,"), "{}", rows[1]);
+    ensure!(rows[1].contains("stability limit"), "{}", rows[1]);
+    Ok(())
+}
+
+#[test]
+fn the_step_plan_ends_at_t_end_or_refuses() -> Result<()> {
+    for (dt, tf, what) in [
+        (1e6, 10.0, "longer than the run"),
+        (1e300, 10.0, "longer than the run"),
+        (3e-3, 10.0, "not a whole number"),
+        (1e-300, 10.0, "--max-steps"),
+        (1e-3, 1e300, "--max-steps"),
+    ] {
+        let o = SimulateOptions { dt: Some(dt), tf: Some(tf), ..ball(&[]) };
+        let e = format!("{:#}", run(&o).expect_err(what));
+        ensure!(e.contains(what), "dt {dt}, t_end {tf}: {e}");
+    }
+    // A t_end that Δt divides only up to round-off still ends exactly at t_end.
+    for (dt, tf) in [(1e-4, 0.15), (0.1, 0.3), (7e-4, 0.7)] {
+        let r = run(&SimulateOptions { dt: Some(dt), tf: Some(tf), ..ball(&[]) })?;
+        ensure!(r.record().t.last() == Some(&tf), "{dt} {tf}: {:?}", r.record().t.last());
+    }
+    // The limit can be raised.
+    let o = SimulateOptions { tf: Some(1.0), max_steps: Some(999), ..ball(&[]) };
+    ensure!(run(&o).is_err());
+    ensure!(run(&SimulateOptions { max_steps: Some(1000), ..o })?.sim.steps == 1000);
+    ensure!(DEFAULT_MAX_STEPS == 10_000_000);
+    // record_every must keep the last step.
+    let e = format!("{:#}", run(&ball(&["record_every=3", "t_end=1"])).expect_err("thinned"));
+    ensure!(e.contains("record_every"), "{e}");
+    Ok(())
+}
+
+#[test]
+fn streamed_records_equal_the_kept_ones() -> Result<()> {
+    // 12 000 rows: three batches written while running and a last one at the end.
+    let dir = tempfile::tempdir()?;
+    let o = SimulateOptions { tf: Some(12.0), ..ball(&[]) };
+    let streamed = dir.path().join("streamed.csv");
+    let done = run_to_csv(&o, &streamed, &mut |_| {})?;
+    ensure!(done.rows == 12_001 && done.steps == 12_000);
+    let kept = dir.path().join("kept.csv");
+    write_record(&run(&o)?, &kept)?;
+    ensure!(std::fs::read(&streamed)? == std::fs::read(&kept)?, "the files differ");
+    let text = std::fs::read_to_string(&streamed)?;
+    ensure!(text.lines().last().is_some_and(|l| l.starts_with("12,")));
+    ensure!(!moreau_cli::simulate::partial_path(&streamed).exists());
+    // A bad output path is refused before the run; a diverging run leaves only the partial.
+    let e = format!("{:#}", run_to_csv(&o, &dir.path().join("no/such/dir.csv"), &mut |_| {}).expect_err("path"));
+    ensure!(e.contains("no/such"), "{e}");
+    let bad = dir.path().join("bad.csv");
+    let wood = SimulateOptions { model: "woodpecker".into(), dt: Some(1e-2), ..SimulateOptions::default() };
+    ensure!(run_to_csv(&wood, &bad, &mut |_| {}).is_err());
+    ensure!(!bad.exists() && moreau_cli::simulate::partial_path(&bad).exists());
+    Ok(())
+}
+
+#[test]
+fn initial_gaps_near_zero_or_negative_are_warned_about() -> Result<()> {
+    let warnings = |y0: &str| -> Result<Vec<String>> {
+        let s = scene(&ball(&[&format!("init.y0={y0}")]))?;
+        Ok(guard::gap_warnings(&s.build()?))
+    };
+    ensure!(warnings("1")?.is_empty());
+    // r = 0.1: gaps of +2.8e-17 and −1.4e-17 m (round-off) are both reported as touching.
+    for y0 in ["0.10000000000000003", "0.09999999999999999", "0.1"] {
+        let w = warnings(y0)?;
+        ensure!(w.len() == 1 && w[0].contains("touching"), "{y0}: {w:?}");
+    }
+    let w = warnings("-1")?;
+    ensure!(w.len() == 1 && w[0].contains("penetrating") && w[0].contains("-1.1"), "{w:?}");
+    // 1e-6 m above the floor is a gap, not a touch.
+    ensure!(warnings("0.100001")?.is_empty());
+    let mut seen = Vec::new();
+    run_to_csv(
+        &SimulateOptions { tf: Some(0.01), ..ball(&["init.y0=-1"]) },
+        &tempfile::tempdir()?.path().join("p.csv"),
+        &mut |w| seen.push(w.to_owned()),
+    )
+    .context("run")?;
+    ensure!(seen.len() == 1, "{seen:?}");
+    Ok(())
+}
