@@ -1,0 +1,177 @@
+//! Sweep parts name their sweep; merge refuses mixed, incomplete and damaged sets; an
+//! interrupted sweep resumes without running its finished members again; shards of enormous
+//! grids are enumerated lazily.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Result, ensure};
+use moreau_cli::CliError;
+use moreau_cli::grid::{Axis, Shard};
+use moreau_cli::parts::{merge, read_part};
+use moreau_cli::simulate::partial_path;
+use moreau_cli::sweep::{SweepOptions, run};
+
+fn options(eps: &str, shard: Option<&str>) -> Result<SweepOptions> {
+    let axes = vec![Axis::parse(&format!("eps_n={eps}"))?, Axis::parse("t_end=0.5,1")?];
+    let mut o = SweepOptions::new("ball", axes);
+    o.shard = shard.map(Shard::parse).transpose()?;
+    Ok(o)
+}
+
+fn parts(dir: &Path, eps: &str, n: usize, tag: &str) -> Result<Vec<PathBuf>> {
+    (1..=n)
+        .map(|k| {
+            let p = dir.join(format!("{tag}{k}.csv"));
+            run(&options(eps, Some(&format!("{k}/{n}")))?, &p)?;
+            Ok(p)
+        })
+        .collect()
+}
+
+fn cli_error(e: &anyhow::Error) -> Option<&CliError> {
+    e.chain().find_map(|c| c.downcast_ref::<CliError>())
+}
+
+#[test]
+fn merge_refuses_parts_of_other_sweeps() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let a = parts(dir.path(), "0.1,0.3,0.5", 2, "a")?;
+    let b = parts(dir.path(), "0.15,0.3,0.55", 2, "b")?;
+    let out = dir.path().join("m.csv");
+    assert_eq!(merge(&out, &a)?, 6);
+    // Same size, same columns, other values: refused, naming the part.
+    let e = merge(&out, &[&a[0], &b[1]]).expect_err("mixed");
+    ensure!(matches!(cli_error(&e), Some(CliError::MixedParts { part, .. }) if *part == b[1]), "{e:#}");
+    // Another scene (a scene file with another mass) is another sweep too.
+    let scene = dir.path().join("heavy.toml");
+    let mut heavy = moreau_models::Scene::report(moreau_models::ModelKind::Ball);
+    heavy.set("m", "2")?;
+    std::fs::write(&scene, heavy.to_toml_string())?;
+    let mut o = options("0.1,0.3,0.5", Some("2/2"))?;
+    o.scene = Some(scene);
+    let c = dir.path().join("c2.csv");
+    run(&o, &c)?;
+    let e = merge(&out, &[&a[0], &c]).expect_err("other scene");
+    ensure!(matches!(cli_error(&e), Some(CliError::MixedParts { .. })), "{e:#}");
+    // A CSV without the identity line is not a part.
+    let plain = dir.path().join("plain.csv");
+    std::fs::write(&plain, "member,members,x,check\n0,1,a,00000000\n")?;
+    let e = format!("{:#}", merge(&out, &[&plain]).expect_err("plain"));
+    ensure!(e.contains("plain.csv") && e.contains("sweep"), "{e}");
+    Ok(())
+}
+
+#[test]
+fn merge_refuses_incomplete_sets() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let a = parts(dir.path(), "0.1,0.3,0.5", 3, "a")?;
+    let out = dir.path().join("m.csv");
+    let e = merge(&out, &a[..2]).expect_err("missing shard");
+    let text = format!("{e:#}");
+    // Shard 3/3 holds members 2 and 5.
+    ensure!(matches!(cli_error(&e), Some(CliError::MissingMembers { .. })), "{text}");
+    ensure!(text.contains("2, 5"), "{text}");
+    // Only empty shards: 6 members, shards 7/8 and 8/8 hold none; every member is missing.
+    let empty = parts(dir.path(), "0.1,0.3,0.5", 8, "e")?;
+    ensure!(read_part(&empty[7], false)?.rows.is_empty());
+    let e = format!("{:#}", merge(&out, &empty[6..]).expect_err("empty"));
+    ensure!(e.contains("0, 1, 2, 3, 4, 5"), "{e}");
+    // A part that lacks a member of its own shard (a run killed early) is named.
+    let cut = dir.path().join("cut.csv");
+    let text = std::fs::read_to_string(&a[0])?;
+    let lines: Vec<&str> = text.lines().collect();
+    std::fs::write(&cut, format!("{}\n", lines[..lines.len() - 1].join("\n")))?;
+    let e = format!("{:#}", merge(&out, &[&cut, &a[1], &a[2]]).expect_err("short part"));
+    ensure!(e.contains("cut.csv") && e.contains("members missing: 3"), "{e}");
+    Ok(())
+}
+
+#[test]
+fn merge_refuses_damaged_parts() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let a = parts(dir.path(), "0.1,0.3,0.5", 2, "a")?;
+    let out = dir.path().join("m.csv");
+    let text = std::fs::read_to_string(&a[1])?;
+    // The last row cut off at every length: a few cells fewer, or inside a cell.
+    let body = text.trim_end_matches('\n');
+    let last_start = body.rfind('\n').map_or(0, |i| i + 1);
+    for cut in (last_start + 2..body.len()).step_by(7) {
+        std::fs::write(&a[1], &body[..cut])?;
+        let e = merge(&out, &a).expect_err("cut");
+        ensure!(
+            matches!(
+                cli_error(&e),
+                Some(CliError::DamagedPart { part, line: 5, .. }) if *part == a[1]
+            ),
+            "cut at {cut}: {e:#}"
+        );
+    }
+    // An altered number in a middle row.
+    let altered = text.replacen(",ok,", ",ok ,", 1);
+    std::fs::write(&a[1], altered)?;
+    ensure!(merge(&out, &a).is_err());
+    Ok(())
+}
+
+#[test]
+fn an_interrupted_sweep_resumes_without_rerunning_its_members() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let o = options("0.1,0.3,0.5", None)?;
+    let full = dir.path().join("full.csv");
+    assert_eq!(run(&o, &full)?.ran, 6);
+    // An interruption: three rows written, the fourth cut off inside.
+    let out = dir.path().join("out.csv");
+    let text = std::fs::read_to_string(&full)?;
+    let lines: Vec<&str> = text.lines().collect();
+    let partial = format!(
+        "{}\n{}\n",
+        lines[..5].join("\n"),
+        &lines[5][..lines[5].len() / 2]
+    );
+    std::fs::write(partial_path(&out), &partial)?;
+    // Without --resume the unfinished run is not overwritten.
+    let e = format!("{:#}", run(&o, &out).expect_err("no resume"));
+    ensure!(e.contains("--resume"), "{e}");
+    // Another sweep does not resume it.
+    let other = SweepOptions { resume: true, ..options("0.1,0.3,0.6", None)? };
+    ensure!(run(&other, &out).is_err());
+    let s = run(&SweepOptions { resume: true, ..o }, &out)?;
+    ensure!(s.ran == 3 && s.rows == 6, "{s:?}");
+    let strip = |t: &str| -> Vec<String> {
+        // Without wall_seconds and the check, which covers it.
+        t.lines()
+            .map(|l| {
+                let cells: Vec<&str> = l.split(',').collect();
+                if cells.len() < 4 { l.to_owned() } else { cells[..cells.len() - 5].join(",") }
+            })
+            .collect()
+    };
+    ensure!(strip(&std::fs::read_to_string(&out)?) == strip(&text));
+    ensure!(!partial_path(&out).exists());
+    Ok(())
+}
+
+#[test]
+fn a_shard_of_an_enormous_grid_runs_only_its_members() -> Result<()> {
+    // Six axes of 1000 values: 10^18 members, never listed; shard 1/(5·10^17) holds two.
+    let many = |key: &str, v: &str| Axis::parse(&format!("{key}={}", vec![v; 1000].join(",")));
+    let axes = vec![
+        many("eps_n", "0.5")?,
+        many("init.y0", "1")?,
+        many("m", "1")?,
+        many("g", "9.81")?,
+        many("t_end", "0.01")?,
+        many("dt", "0.001")?,
+    ];
+    let mut o = SweepOptions::new("ball", axes);
+    o.shard = Some(Shard { k: 1, n: 500_000_000_000_000_000 });
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("s.csv");
+    let s = run(&o, &out)?;
+    ensure!(s.rows == 2, "{s:?}");
+    let part = read_part(&out, false)?;
+    ensure!(part.header.members == 1_000_000_000_000_000_000);
+    let members: Vec<u64> = part.rows.iter().map(|(i, _)| *i).collect();
+    ensure!(members == [0, 500_000_000_000_000_000], "{members:?}");
+    Ok(())
+}
