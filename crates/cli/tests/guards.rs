@@ -29,10 +29,7 @@ fn a_key_given_twice_is_refused_aliases_included() -> Result<()> {
         &["solver=pgs", "solver=lemke"],
     ] {
         let e = scene(&ball(sets)).expect_err("refused");
-        ensure!(
-            matches!(cli_error(&e), Some(CliError::RepeatedKey { .. })),
-            "{sets:?}: {e:#}"
-        );
+        ensure!(matches!(cli_error(&e), Some(CliError::RepeatedKey { .. })), "{sets:?}: {e:#}");
     }
     // --dt and --set dt= set the same entry.
     let e = scene(&SimulateOptions { dt: Some(1e-3), ..ball(&["dt=2e-3"]) }).expect_err("dt");
@@ -51,10 +48,7 @@ fn a_key_given_twice_is_refused_aliases_included() -> Result<()> {
     // In a sweep the same holds, and no member runs.
     let dir = tempfile::tempdir()?;
     let out = dir.path().join("s.csv");
-    let o = SweepOptions::new(
-        "ball",
-        vec![Axis::parse("init.y0=1,2")?, Axis::parse("y0=3")?],
-    );
+    let o = SweepOptions::new("ball", vec![Axis::parse("init.y0=1,2")?, Axis::parse("y0=3")?]);
     let e = sweep(&o, &out).expect_err("sweep");
     ensure!(matches!(cli_error(&e), Some(CliError::RepeatedKey { .. })), "{e:#}");
     ensure!(!out.exists());
@@ -99,7 +93,11 @@ fn divergence_stops_the_run_naming_cause_and_step() -> Result<()> {
     };
     let e = run(&wood).expect_err("unstable");
     match cli_error(&e) {
-        Some(CliError::Diverged { cause: Divergence::StepAboveStability { limit, .. }, step, .. }) => {
+        Some(CliError::Diverged {
+            cause: Divergence::StepAboveStability { limit, .. },
+            step,
+            ..
+        }) => {
             ensure!(*step == 0 && (4e-3..5e-3).contains(limit), "{e:#}")
         }
         _ => anyhow::bail!("{e:#}"),
@@ -182,10 +180,17 @@ fn streamed_records_equal_the_kept_ones() -> Result<()> {
     ensure!(text.lines().last().is_some_and(|l| l.starts_with("12,")));
     ensure!(!moreau_cli::simulate::partial_path(&streamed).exists());
     // A bad output path is refused before the run; a diverging run leaves only the partial.
-    let e = format!("{:#}", run_to_csv(&o, &dir.path().join("no/such/dir.csv"), &mut |_| {}).expect_err("path"));
+    let e = format!(
+        "{:#}",
+        run_to_csv(&o, &dir.path().join("no/such/dir.csv"), &mut |_| {}).expect_err("path")
+    );
     ensure!(e.contains("no/such"), "{e}");
     let bad = dir.path().join("bad.csv");
-    let wood = SimulateOptions { model: "woodpecker".into(), dt: Some(1e-2), ..SimulateOptions::default() };
+    let wood = SimulateOptions {
+        model: "woodpecker".into(),
+        dt: Some(1e-2),
+        ..SimulateOptions::default()
+    };
     ensure!(run_to_csv(&wood, &bad, &mut |_| {}).is_err());
     ensure!(!bad.exists() && moreau_cli::simulate::partial_path(&bad).exists());
     Ok(())

@@ -41,7 +41,10 @@ fn merge_refuses_parts_of_other_sweeps() -> Result<()> {
     assert_eq!(merge(&out, &a)?, 6);
     // Same size, same columns, other values: refused, naming the part.
     let e = merge(&out, &[&a[0], &b[1]]).expect_err("mixed");
-    ensure!(matches!(cli_error(&e), Some(CliError::MixedParts { part, .. }) if *part == b[1]), "{e:#}");
+    ensure!(
+        matches!(cli_error(&e), Some(CliError::MixedParts { part, .. }) if *part == b[1]),
+        "{e:#}"
+    );
     // Another scene (a scene file with another mass) is another sweep too.
     let scene = dir.path().join("heavy.toml");
     let mut heavy = moreau_models::Scene::report(moreau_models::ModelKind::Ball);
@@ -123,11 +126,7 @@ fn an_interrupted_sweep_resumes_without_rerunning_its_members() -> Result<()> {
     let out = dir.path().join("out.csv");
     let text = std::fs::read_to_string(&full)?;
     let lines: Vec<&str> = text.lines().collect();
-    let partial = format!(
-        "{}\n{}\n",
-        lines[..5].join("\n"),
-        &lines[5][..lines[5].len() / 2]
-    );
+    let partial = format!("{}\n{}\n", lines[..5].join("\n"), &lines[5][..lines[5].len() / 2]);
     std::fs::write(partial_path(&out), &partial)?;
     // Without --resume the unfinished run is not overwritten.
     let e = format!("{:#}", run(&o, &out).expect_err("no resume"));
