@@ -108,7 +108,7 @@ pub enum LegendAt {
 pub struct Panel {
     /// Panel title, e.g. "(a) position".
     pub title: String,
-    /// x-axis label with unit, e.g. "t [s]".
+    /// x-axis label with unit, e.g. `"t [s]"`.
     pub x_label: String,
     /// y-axis label with unit.
     pub y_label: String,

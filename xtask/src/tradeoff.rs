@@ -385,7 +385,7 @@ pub struct Observation {
     pub samples: Vec<Sample>,
     /// Contact state changes.
     pub transitions: Vec<Transition>,
-    /// Largest q[0] in each flight between closings of contact 0 (the ball's apexes).
+    /// Largest `q[0]` in each flight between closings of contact 0 (the ball's apexes).
     pub apexes: Vec<f64>,
     /// Midpoint time of the first step of the final run of steps with P_N > 0 at contact 0,
     /// if that run lasts at least 10 steps to the end (the ball's rest time, s).
@@ -667,7 +667,7 @@ pub fn measure(study: &Study, dt: f64, solver: Solver) -> Measurement {
     Measurement { solver, dt, steps, lcp_solves, wall_seconds, outcome }
 }
 
-/// Largest |values[k] − reference[k]| over the first `count` entries of `reference`.
+/// Largest `|values[k] − reference[k]|` over the first `count` entries of `reference`.
 ///
 /// # Errors
 /// When the reference is empty or `values` has fewer entries than are compared (a missed
@@ -1685,7 +1685,7 @@ fn write_table(results: &[StudyResult], path: &Path) -> Result<()> {
     Ok(())
 }
 
-/// What [`write`] produced.
+/// What [`write()`] produced.
 #[derive(Clone, Debug, Default)]
 pub struct Written {
     /// Files written (names relative to the output folder).

@@ -1,7 +1,7 @@
 //! Key numbers from recorded runs: impacts, rest times, limit-cycle periods, contact events.
 //!
-//! The functions take plain per-row arrays (row k = state at t[k]; the impulses of row k are
-//! those of the step that ends at t[k]; row 0 is the initial state), so they can be checked on
+//! The functions take plain per-row arrays (row k = state at `t[k]`; the impulses of row k are
+//! those of the step that ends at `t[k]`; row 0 is the initial state), so they can be checked on
 //! synthetic records as well as on the stepper's [`moreau_stepper::Record`].
 //!
 //! # References
@@ -16,17 +16,17 @@ use serde::Serialize;
 /// a contact after a step; the events below are built on it alone.
 pub trait ContactStateExt {
     /// Whether the contact carries a normal impulse (stick or slip).
-    fn is_closed(self) -> bool;
+    fn is_closed(&self) -> bool;
     /// Lower-case name: `open`, `stick` or `slip`.
-    fn name(self) -> &'static str;
+    fn name(&self) -> &'static str;
 }
 
 impl ContactStateExt for ContactState {
-    fn is_closed(self) -> bool {
-        self != ContactState::Open
+    fn is_closed(&self) -> bool {
+        *self != ContactState::Open
     }
 
-    fn name(self) -> &'static str {
+    fn name(&self) -> &'static str {
         match self {
             ContactState::Open => "open",
             ContactState::Stick => "stick",
@@ -127,7 +127,7 @@ pub fn contact_events(
 /// One impact of the bouncing ball.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Impact {
-    /// Row k of the impact step (the step from t[k−1] to t[k]).
+    /// Row k of the impact step (the step from `t[k−1]` to `t[k]`).
     pub row: usize,
     /// Midpoint time t_M of the impact step (s).
     pub t: f64,
@@ -312,7 +312,7 @@ pub fn limit_cycle(events: &[ContactEvent], marker: usize) -> Option<Cycle> {
     Some(make(p, periods, false))
 }
 
-/// Mean rate of change (y[k1] − y[k0])/(t[k1] − t[k0]) between two rows.
+/// Mean rate of change `(y[k1] − y[k0])/(t[k1] − t[k0])` between two rows.
 pub fn mean_rate(t: &[f64], y: &[f64], k0: usize, k1: usize) -> Option<f64> {
     let dt = t.get(k1)? - t.get(k0)?;
     (dt != 0.0).then(|| (y[k1] - y[k0]) / dt)

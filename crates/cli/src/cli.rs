@@ -32,7 +32,7 @@ pub struct SimulateArgs {
     /// Largest number of steps (default 10 000 000).
     #[arg(long, value_name = "N")]
     pub max_steps: Option<u64>,
-    /// Output CSV file (written as <out>.partial until the run succeeds).
+    /// Output CSV file (written as OUT.partial until the run succeeds).
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -54,7 +54,7 @@ pub struct SweepArgs {
     /// Largest number of steps of a member (default 10 000 000).
     #[arg(long, value_name = "N")]
     pub max_steps: Option<u64>,
-    /// Continue the unfinished run <out>.partial without rerunning its finished members.
+    /// Continue the unfinished run OUT.partial without rerunning its finished members.
     #[arg(long)]
     pub resume: bool,
     /// Output CSV file.

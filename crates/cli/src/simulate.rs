@@ -135,7 +135,7 @@ pub fn scene(options: &SimulateOptions) -> Result<Scene> {
 /// When it does not divide them.
 pub fn check_record_every(scene: &Scene, steps: u64) -> Result<()> {
     let every = scene.record_every.max(1) as u64;
-    if scene.stop_at.is_none() && steps % every != 0 {
+    if scene.stop_at.is_none() && !steps.is_multiple_of(every) {
         bail!(
             "record_every = {every} does not divide the {steps} steps: the last row would not \
              lie at t_end = {}",
@@ -273,7 +273,7 @@ impl<W: Write> Observer<AnyModel> for Streamer<W> {
         let _ = self.recorder.observe(model, report);
         end_at_t_end(&mut self.recorder.record, report.step, self.planned, &self.scene);
         if let Some(bar) = &self.bar
-            && report.step % 4096 == 0
+            && report.step.is_multiple_of(4096)
         {
             bar.set_position(report.step);
         }
