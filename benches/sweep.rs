@@ -1,5 +1,5 @@
 //! A parameter sweep of 64 woodpecker runs (1 s each at Δt = 1e-4 s, each recorded as
-//! `cargo xtask sweep` records it), on one thread and on two: the speed-up is the ratio of
+//! `moreau sweep` records it), on one thread and on two: the speed-up is the ratio of
 //! the two times.
 //!
 //! `cargo bench --bench sweep`

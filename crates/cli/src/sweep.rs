@@ -148,8 +148,8 @@ fn member_row(scene: &Scene, grid: &Grid, i: u64, max_steps: u64) -> (Vec<String
 /// run in parallel, each row appended to `<out>.partial` and flushed as its member finishes,
 /// so that an interrupted sweep keeps its finished members; with `resume` such a file of the
 /// same sweep is continued without running its members again (a row cut off by the
-/// interruption is run again). At the end the rows are written to `out` sorted by member and
-/// `<out>.partial` is removed. A member whose run diverges or fails keeps its row, with its
+/// interruption is run again), and a finished `out` of the same sweep is left as it is. At the
+/// end the rows are written to `out` sorted by member and `<out>.partial` is removed. A member whose run diverges or fails keeps its row, with its
 /// status and error and empty numbers. The members are enumerated lazily, never listed.
 ///
 /// # Errors
@@ -200,6 +200,16 @@ pub fn run_with_warnings(
         return Err(CliError::Output { path: out.to_owned(), reason: "is a folder".into() }.into());
     }
     let partial = partial_path(out);
+    if options.resume && !partial.exists() && out.exists() {
+        // A finished part of this sweep needs nothing more.
+        let part = parts::read_part(out, false)?;
+        if part.header == identity
+            && part.columns == columns
+            && part.rows.len() as u64 == shard.count(grid.len())
+        {
+            return Ok(SweepSummary { rows: part.rows.len() as u64, ..SweepSummary::default() });
+        }
+    }
     let mut kept: Vec<Vec<String>> = Vec::new();
     if partial.exists() {
         if !options.resume {

@@ -147,6 +147,9 @@ fn an_interrupted_sweep_resumes_without_rerunning_its_members() -> Result<()> {
     };
     ensure!(strip(&std::fs::read_to_string(&out)?) == strip(&text));
     ensure!(!partial_path(&out).exists());
+    // Resuming a finished part runs nothing.
+    let again = run(&SweepOptions { resume: true, ..options("0.1,0.3,0.5", None)? }, &out)?;
+    ensure!(again.ran == 0 && again.rows == 6, "{again:?}");
     Ok(())
 }
 
