@@ -234,6 +234,7 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
         let (q0, u0) = model.initial_state();
         let f = q0.len();
         let mut mass = vec![0.0; f * f];
+        model.mass_matrix(&q0, 0.0, &mut mass);
         let energy_bound = energy_cannot_grow(model.kind())
             .then(|| {
                 let v0 = model.potential_energy(&q0, 0.0)?;
@@ -276,9 +277,12 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
     }
 }
 
+/// ½ uᵀ M u, with M evaluated into `mass` unless the model's M is constant (and already there).
 fn kinetic(model: &AnyModel, q: &[f64], u: &[f64], t: f64, mass: &mut [f64]) -> f64 {
     let f = q.len();
-    model.mass_matrix(q, t, mass);
+    if !model.constant_mass_matrix() {
+        model.mass_matrix(q, t, mass);
+    }
     let mut s = 0.0;
     for j in 0..f {
         for i in 0..f {
