@@ -6,7 +6,9 @@ use moreau_stepper::ContactState;
 use serde::Serialize;
 use serde_json::{Value, json};
 
-use crate::analysis::{self, BallClosedForm, ContactEvent, ContactStateExt, Cycle, LobeReport};
+use crate::analysis::{
+    self, BallClosedForm, ContactEvent, ContactStateExt, Cycle, EventKind, LobeReport,
+};
 use crate::runs::{RunResult, parameters};
 
 /// Key numbers of a bouncing-ball run, with the closed form for comparison.
@@ -258,7 +260,9 @@ pub fn painleve(run: &RunResult) -> PainleveKeys {
     let phases = run.states();
     let first_stick_time = phases.iter().position(|p| p[0] == ContactState::Stick).map(|k| r.t[k]);
     let lift_off_time = (1..phases.len())
-        .find(|&k| phases[k - 1][0].is_closed() && !phases[k][0].is_closed())
+        .find(|&k| {
+            analysis::classify(phases[k - 1][0], phases[k][0], 0.0, 0.0) == Some(EventKind::Open)
+        })
         .map(|k| r.t[k]);
     PainleveKeys {
         x_end: r.q.last().map_or(f64::NAN, |q| q[0]),

@@ -207,6 +207,15 @@ fn hostile_sweeps_and_merges() {
                     let x: f64 = if c.is_empty() { 0.0 } else { c.parse().unwrap_or(f64::NAN) };
                     assert!(x.is_finite(), "{args:?}: {line}");
                 }
+                // The member ran the values on its row: t_end / dt steps, the last key given.
+                let value = |key: &str, default: f64| {
+                    let ran = member_values(&vals, i);
+                    let found = axes.iter().zip(&ran).filter(|((k, _), _)| k == key).last();
+                    found.map_or(default, |(_, v)| v.parse().unwrap_or(f64::NAN))
+                };
+                let steps: f64 = cells[header.len() - 6].parse().unwrap_or(f64::NAN);
+                let expected = (value("t_end", 10.0) / value("dt", 1e-3)).round();
+                assert_eq!(steps, expected, "{args:?}: {line}");
             } else {
                 assert!(["diverged", "failed"].contains(&cells[status]), "{args:?}: {line}");
             }
