@@ -210,7 +210,7 @@ fn hostile_sweeps_and_merges() {
                 // The member ran the values on its row: t_end / dt steps, the last key given.
                 let value = |key: &str, default: f64| {
                     let ran = member_values(&vals, i);
-                    let found = axes.iter().zip(&ran).filter(|((k, _), _)| k == key).next_back();
+                    let found = axes.iter().zip(&ran).rfind(|((k, _), _)| k == key);
                     found.map_or(default, |(_, v)| v.parse().unwrap_or(f64::NAN))
                 };
                 let steps: f64 = cells[header.len() - 6].parse().unwrap_or(f64::NAN);
