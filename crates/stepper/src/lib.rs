@@ -87,7 +87,7 @@ mod stepper;
 pub use check::{EvaluateMismatch, check_evaluate};
 pub use error::StepError;
 pub use mechanism::{ConcreteOp, Mechanism};
-pub use observer::{Observer, Record, Recorder};
+pub use observer::{Impact, Observer, Record, Recorder};
 pub use options::{SolverChoice, StepperOptions};
 pub use rows::{RowIter, Rows};
 pub use stepper::{ContactReport, ContactState, LcpInfo, RunSummary, StepReport, Stepper};
