@@ -43,6 +43,9 @@ pub struct ContactReport {
     /// Normal relative velocity γ_N,A = w_Nᵀ u_A + ŵ_N before the step, the velocity Newton's
     /// law acts on, with w_N and ŵ_N at (q_M, t_M) (only meaningful when active).
     pub gamma_n_a: f64,
+    /// Tangential relative velocity γ_T,A before the step, with w_T and ŵ_T at (q_M, t_M)
+    /// (only meaningful when active).
+    pub gamma_t_a: f64,
     /// Whether the step was an impact at this contact: the contact closed (P_N > 0) after a
     /// step in which it carried no impulse, approaching with γ_N,A < 0. Persistent contact is
     /// not an impact, however γ_N,A rounds; a soft closing (γ_N,A of the order of the speed the
@@ -694,7 +697,7 @@ impl Core {
             let w_t = &ws.w_t[a * f..][..f];
             let gamma_n = dot(w_n, u) + ws.w_n_hat[a];
             let gamma_t = dot(w_t, u) + ws.w_t_hat[a];
-            let gamma_n_a = ws.gamma_na[a];
+            let (gamma_n_a, gamma_t_a) = (ws.gamma_na[a], ws.gamma_ta[a]);
             let [p_n, p_r, _] = ws.prev[i];
             let impact = p_n > 0.0 && gamma_n_a < 0.0 && !ws.closed_before[a];
             let mu = laws[i].mu();
@@ -715,6 +718,7 @@ impl Core {
                 gamma_n,
                 gamma_t,
                 gamma_n_a,
+                gamma_t_a,
                 impact,
                 state,
             };
@@ -1010,6 +1014,7 @@ impl Core {
         ws.w_t_hat[0] = point.w_t_hat;
         let gamma_na = dot(w_n, u_a) + point.w_n_hat;
         ws.gamma_na[0] = gamma_na;
+        ws.gamma_ta[0] = dot(w_t, u_a) + point.w_t_hat;
         let u_free = &ws.u_free[..f];
         let b = dot(w_n, u_free) + point.w_n_hat + mech.laws()[i].eps_n() * gamma_na;
         ws.b[0] = b;
