@@ -12,6 +12,11 @@
 //! | [`kinematics`] | `moreau-kinematics` | gaps, contact Jacobians, finite-difference checks |
 //! | [`stepper`] | `moreau-stepper` | the Moreau midpoint time-stepper |
 //! | [`models`] | `moreau-models` | the reference report's mechanisms |
+//! | [`nalgebra`] | `nalgebra` | the geometry types of [`kinematics::planar`] (points, vectors, Jacobians) |
+//!
+//! A mechanism of one's own implements [`stepper::Mechanism`] and
+//! [`kinematics::ContactKinematics`]; `examples/box_on_incline` is one, with its Jacobians
+//! checked, its run, its record and its impacts, and `docs/theory.md` holds the equations.
 //!
 //! # Example
 //! ```
@@ -21,9 +26,12 @@
 //! let mut scene = Scene::report(ModelKind::Ball);
 //! scene.set("t_end", "1.0")?;
 //! let sim = scene.run()?;
-//! // The ball of the report first touches the floor at t1 = sqrt(2 · 0.9 / 9.81) ≈ 0.428 s.
-//! let first = sim.record.p_n.iter().position(|p| p[0] > 0.0).unwrap();
-//! assert!((sim.record.t[first] - 0.4284).abs() < 2e-3);
+//! // The ball of the report first hits the floor at t1 = sqrt(2 · 0.9 / 9.81) ≈ 0.428 s,
+//! // at v1 = sqrt(2 · 9.81 · 0.9) ≈ 4.20 m/s, and leaves at ε_N v1 with ε_N = 0.9.
+//! let first = sim.record.impacts[0];
+//! assert!((first.t - 0.4284).abs() < 2e-3);
+//! assert!((first.gamma_n_before + 4.202).abs() < 1e-2);
+//! assert!((first.gamma_n_after + 0.9 * first.gamma_n_before).abs() < 1e-12);
 //! # Ok(())
 //! # }
 //! ```
@@ -34,3 +42,4 @@ pub use moreau_lcp as lcp;
 pub use moreau_models as models;
 pub use moreau_setvalued as setvalued;
 pub use moreau_stepper as stepper;
+pub use nalgebra;

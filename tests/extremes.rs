@@ -66,7 +66,8 @@ fn energy_scale(r: &Record) -> f64 {
 
 /// Most negative impulse dissipation of one step: energy that impulses put in (J, ≤ 0).
 fn impulse_energy_input(r: &Record) -> f64 {
-    r.dissipated.iter().copied().fold(0.0, f64::min)
+    let d = &r.cumulative_dissipation;
+    d.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::min)
 }
 
 /// Solves the 3 × 3 system A x = b (column-major A) by Cramer's rule.

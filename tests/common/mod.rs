@@ -173,7 +173,11 @@ impl Mechanism for FlatRod {
 pub fn record_is_finite(r: &Record) -> bool {
     let rows = r.q.iter().chain(&r.u).chain(&r.p_n).chain(&r.p_t);
     rows.flatten().all(|x| x.is_finite())
-        && r.kinetic.iter().chain(&r.potential).chain(&r.dissipated).all(|x| x.is_finite())
+        && r.kinetic
+            .iter()
+            .chain(&r.potential)
+            .chain(&r.cumulative_dissipation)
+            .all(|x| x.is_finite())
 }
 
 /// Largest penetration max(0, −g_N) over every contact and row of a record (m).

@@ -15,7 +15,8 @@
 //!
 //! Principal types: the [`Mechanism`] trait a user implements; [`Stepper`] with
 //! [`Stepper::step`] returning a [`StepReport`]; [`Stepper::run_until`] streaming steps to an
-//! [`Observer`]; [`Recorder`] and [`Record`] for keeping a trajectory; [`StepperOptions`] and
+//! [`Observer`]; [`Recorder`] and [`Record`] for keeping a trajectory, with every [`Impact`]
+//! listed; [`StepperOptions`] and
 //! [`SolverChoice`]; [`StepError`]; [`check_evaluate`] for the overrides that share work
 //! between M, h, the gaps and the contacts' kinematics.
 //!
@@ -26,6 +27,7 @@
 //! | g_N, w_N, w_T, ŵ_N, ŵ_T | `moreau_kinematics::ContactKinematics` | gaps and force directions |
 //! | ε_N, ε_T, μ | `moreau_setvalued::ContactLaw` | restitution and friction |
 //! | P_N, P_T | [`ContactReport::p_n`], [`ContactReport::p_t`] | impulses over one step |
+//! | γ_N,A, γ_N,E | [`ContactReport::gamma_n_a`], [`ContactReport::gamma_n`] | normal relative velocity before and after a step |
 //! | Δt | [`StepperOptions::dt`] | time step |
 //!
 //! # Example: a ball dropped on the floor
@@ -87,7 +89,7 @@ mod stepper;
 pub use check::{EvaluateMismatch, check_evaluate};
 pub use error::StepError;
 pub use mechanism::{ConcreteOp, Mechanism};
-pub use observer::{Observer, Record, Recorder};
+pub use observer::{Impact, Observer, Record, Recorder};
 pub use options::{SolverChoice, StepperOptions};
 pub use rows::{RowIter, Rows};
 pub use stepper::{ContactReport, ContactState, LcpInfo, RunSummary, StepReport, Stepper};

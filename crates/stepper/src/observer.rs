@@ -21,11 +21,34 @@ impl<M: ?Sized, F: FnMut(&StepReport<'_>) -> ControlFlow<()>> Observer<M> for F 
     }
 }
 
-/// A recorded trajectory: one row per kept step.
+/// One impact of a run: a step in which a contact closed with Newton's law acting on a
+/// negative normal relative velocity (see [`ContactReport::impact`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Impact {
+    /// Index of the step since the stepper was created (see [`StepReport::step`]).
+    pub step: u64,
+    /// End time t_E of the impact step (s); the step spans (t_E − Δt, t_E].
+    pub t: f64,
+    /// The contact, as an index into the mechanism's contacts (0-based).
+    pub contact: usize,
+    /// Normal relative velocity before the step, γ_N,A < 0 (m/s, or rad/s for an angular
+    /// gap).
+    pub gamma_n_before: f64,
+    /// Normal relative velocity after the step, γ_N,E; for a single contact without friction
+    /// and a constant w_N, −ε_N γ_N,A.
+    pub gamma_n_after: f64,
+    /// Normal impulse P_N of the step (N s).
+    pub p_n: f64,
+    /// Tangential impulse P_T of the step (N s).
+    pub p_t: f64,
+}
+
+/// A recorded trajectory: one row per kept step, and every impact.
 ///
-/// Row `k` holds the state at `t[k]`; the impulses, activity and dissipation of row `k` are
-/// those of the steps since the previous row (summed when rows are thinned with
-/// [`Recorder::every`]). Row 0 is the state the run started from, with zero impulses.
+/// Row `k` holds the state at `t[k]`; the impulses and activity of row `k` are those of the
+/// steps since the previous row (summed when rows are thinned with [`Recorder::every`]). Row 0
+/// is the state the run started from, with zero impulses. [`Record::impacts`] lists every
+/// impact of every step, thinned rows or not.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Record {
     /// Time t (s).
@@ -50,14 +73,27 @@ pub struct Record {
     pub kinetic: Vec<f64>,
     /// Potential energy V(q, t) (J); zero when the mechanism defines none.
     pub potential: Vec<f64>,
-    /// Kinetic energy removed by the impulses of the row's steps (J).
-    pub dissipated: Vec<f64>,
+    /// Kinetic energy removed by the impulses from the recorder's first row up to this row
+    /// (J): cumulative, 0 at row 0. The energy removed by the steps of row k is
+    /// `cumulative_dissipation[k] − cumulative_dissipation[k − 1]`, and with conservative
+    /// smooth forces kinetic + potential + cumulative dissipation stays at its initial value
+    /// to within the scheme's error.
+    pub cumulative_dissipation: Vec<f64>,
+    /// Every impact, in the order of the steps (see [`ContactReport::impact`]): the steps in
+    /// which a contact closed with a negative normal relative velocity γ_N,A. A closing at a
+    /// speed below what the smooth forces give in a step or two (γ_N,A of the order of
+    /// g Δt) is a soft closing by the scheme's measure, still listed: filter on
+    /// [`Impact::gamma_n_before`] to keep the hard ones.
+    #[serde(default)]
+    pub impacts: Vec<Impact>,
 }
 
 impl Record {
-    /// Empties the record and makes its tables `f` (q, u) and `n` (the contacts) wide.
+    /// Empties the record's rows and makes its tables `f` (q, u) and `n` (the contacts)
+    /// wide; impacts already listed (by the step that writes the first row) are kept.
     fn set_widths(&mut self, f: usize, n: usize) {
         *self = Self {
+            impacts: std::mem::take(&mut self.impacts),
             q: Rows::new(f),
             u: Rows::new(f),
             p_n: Rows::new(n),
@@ -72,7 +108,9 @@ impl Record {
     /// length grows no buffer. The tables of q, u and the contacts take their widths from
     /// the first row, so reserve after it for them to be reserved too.
     pub fn reserve(&mut self, additional: usize) {
-        for v in [&mut self.t, &mut self.kinetic, &mut self.potential, &mut self.dissipated] {
+        for v in
+            [&mut self.t, &mut self.kinetic, &mut self.potential, &mut self.cumulative_dissipation]
+        {
             v.reserve(additional);
         }
         self.lcp_size.reserve(additional);
@@ -98,6 +136,11 @@ impl Record {
     pub fn total_energy(&self) -> Vec<f64> {
         self.kinetic.iter().zip(&self.potential).map(|(k, v)| k + v).collect()
     }
+
+    /// The impacts at contact `contact` (0-based), in the order of the steps.
+    pub fn impacts_at(&self, contact: usize) -> impl Iterator<Item = &Impact> + '_ {
+        self.impacts.iter().filter(move |i| i.contact == contact)
+    }
 }
 
 /// An [`Observer`] that keeps every `n`-th step in a [`Record`].
@@ -119,6 +162,7 @@ pub struct Recorder {
     any_active: Vec<bool>,
     /// The contacts' states of the row being written.
     states: Vec<ContactState>,
+    /// Energy removed by the impulses since the first row (J).
     sum_dissipated: f64,
 }
 
@@ -135,7 +179,7 @@ impl Recorder {
     }
 
     /// A recorder that keeps one step in `n` (`n = 0` is taken as 1), summing the impulses
-    /// and dissipation of the steps in between.
+    /// of the steps in between (impacts are all kept).
     pub fn every(n: usize) -> Self {
         Self {
             record: Record::default(),
@@ -202,11 +246,10 @@ impl Recorder {
         r.iterations.push(iterations);
         r.kinetic.push(half_quadratic(&self.mass, f, u));
         r.potential.push(mechanism.potential_energy(q, t).unwrap_or(0.0));
-        r.dissipated.push(self.sum_dissipated);
+        r.cumulative_dissipation.push(self.sum_dissipated);
         self.sum_p_n.fill(0.0);
         self.sum_p_t.fill(0.0);
         self.any_active.fill(false);
-        self.sum_dissipated = 0.0;
     }
 }
 
@@ -217,6 +260,17 @@ impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
             self.sum_p_n[i] += c.p_n;
             self.sum_p_t[i] += c.p_t;
             self.any_active[i] |= c.active;
+            if c.impact {
+                self.record.impacts.push(Impact {
+                    step: report.step,
+                    t: report.t,
+                    contact: i,
+                    gamma_n_before: c.gamma_n_a,
+                    gamma_n_after: c.gamma_n,
+                    p_n: c.p_n,
+                    p_t: c.p_t,
+                });
+            }
         }
         self.sum_dissipated += report.impulse_dissipation();
         self.pending += 1;
@@ -241,5 +295,6 @@ impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
 fn _assert_send_sync() {
     fn is<T: Send + Sync>() {}
     is::<Record>();
+    is::<Impact>();
     is::<Recorder>();
 }

@@ -35,10 +35,22 @@ pub struct ContactReport {
     pub p_n: f64,
     /// Tangential impulse P_T over the step (zero when not active or frictionless).
     pub p_t: f64,
-    /// Normal relative velocity γ_N after the step (only meaningful when active).
+    /// Normal relative velocity γ_N,E = w_Nᵀ u_E + ŵ_N after the step, with w_N and ŵ_N at
+    /// (q_M, t_M) (only meaningful when active).
     pub gamma_n: f64,
-    /// Tangential relative velocity γ_T after the step (only meaningful when active).
+    /// Tangential relative velocity γ_T,E after the step (only meaningful when active).
     pub gamma_t: f64,
+    /// Normal relative velocity γ_N,A = w_Nᵀ u_A + ŵ_N before the step, the velocity Newton's
+    /// law acts on, with w_N and ŵ_N at (q_M, t_M) (only meaningful when active).
+    pub gamma_n_a: f64,
+    /// Tangential relative velocity γ_T,A before the step, with w_T and ŵ_T at (q_M, t_M)
+    /// (only meaningful when active).
+    pub gamma_t_a: f64,
+    /// Whether the step was an impact at this contact: the contact closed (P_N > 0) after a
+    /// step in which it carried no impulse, approaching with γ_N,A < 0. Persistent contact is
+    /// not an impact, however γ_N,A rounds; a soft closing (γ_N,A of the order of the speed the
+    /// smooth forces give in one step) is, and `gamma_n_a` tells the two apart.
+    pub impact: bool,
     /// Open, sticking or slipping.
     pub state: ContactState,
 }
@@ -187,6 +199,9 @@ struct Workspace {
     w_t_hat: Vec<f64>,
     gamma_na: Vec<f64>,
     gamma_ta: Vec<f64>,
+    /// Whether each active contact carried a normal impulse in the step before, for telling
+    /// an impact from persistent contact.
+    closed_before: Vec<bool>,
     /// M⁻¹(w_N − μ w_T) per active contact and M⁻¹ w_T per active frictional contact.
     y_n: Vec<f64>,
     x_t: Vec<f64>,
@@ -365,6 +380,7 @@ impl<M: Mechanism> Stepper<M> {
             w_t_hat: vec![0.0; n],
             gamma_na: vec![0.0; n],
             gamma_ta: vec![0.0; n],
+            closed_before: vec![false; n],
             y_n: vec![0.0; f * n],
             x_t: vec![0.0; f * n],
             g: vec![0.0; 4 * n * n],
@@ -651,6 +667,10 @@ impl Core {
         ws.lcp_info = None;
         if !ws.active.is_empty() {
             check_finite("h", &ws.h[..order::<N>(ws.h.len())], t_m)?;
+            // The previous step's impulses are overwritten by this step's solve.
+            for (closed, &i) in ws.closed_before.iter_mut().zip(&ws.active) {
+                *closed = ws.prev[i][0] > 0.0;
+            }
             let (size, solved) =
                 Self::contact_step::<K, N>(mech, &self.options, &mut self.solver, ws, &self.u, t_m)
                     .map_err(|e| self.lcp_error(e))?;
@@ -677,7 +697,9 @@ impl Core {
             let w_t = &ws.w_t[a * f..][..f];
             let gamma_n = dot(w_n, u) + ws.w_n_hat[a];
             let gamma_t = dot(w_t, u) + ws.w_t_hat[a];
+            let (gamma_n_a, gamma_t_a) = (ws.gamma_na[a], ws.gamma_ta[a]);
             let [p_n, p_r, _] = ws.prev[i];
+            let impact = p_n > 0.0 && gamma_n_a < 0.0 && !ws.closed_before[a];
             let mu = laws[i].mu();
             // P_T = P_R − μ P_N (section 5); P_R is zero for a contact without friction rows.
             let p_t = p_r - mu * p_n;
@@ -689,7 +711,17 @@ impl Core {
             } else {
                 ContactState::Slip
             };
-            self.contacts[i] = ContactReport { active: true, p_n, p_t, gamma_n, gamma_t, state };
+            self.contacts[i] = ContactReport {
+                active: true,
+                p_n,
+                p_t,
+                gamma_n,
+                gamma_t,
+                gamma_n_a,
+                gamma_t_a,
+                impact,
+                state,
+            };
             ws.reported.push(i);
         }
         for (i, c) in self.contacts.iter().enumerate() {
@@ -981,6 +1013,8 @@ impl Core {
         ws.w_n_hat[0] = point.w_n_hat;
         ws.w_t_hat[0] = point.w_t_hat;
         let gamma_na = dot(w_n, u_a) + point.w_n_hat;
+        ws.gamma_na[0] = gamma_na;
+        ws.gamma_ta[0] = dot(w_t, u_a) + point.w_t_hat;
         let u_free = &ws.u_free[..f];
         let b = dot(w_n, u_free) + point.w_n_hat + mech.laws()[i].eps_n() * gamma_na;
         ws.b[0] = b;

@@ -174,7 +174,17 @@ fn energy_balance_of_each_step_is_the_work_of_the_impulse() {
         assert!(gain <= G * v1 * dt, "eps = {eps}: energy gain {gain}");
         if eps < 1.0 {
             assert!(e[e.len() - 1] < e[0] - 0.5, "eps = {eps}: the ball should have settled");
-            let dissipated: f64 = r.dissipated.iter().sum();
+            // The dissipation ½ m (ũ² − u_E²) of a contact step, with ũ = u_A − g Δt, and its
+            // energy change add up to g Δt P_N / 2 (the midpoint rule's gravity on the
+            // impulse's velocity change), so over the run the energy lost is the cumulative
+            // dissipation less Σ g Δt P_N / 2.
+            let dissipated = r.cumulative_dissipation[e.len() - 1];
+            let gravity: f64 = r.p_n.iter().map(|p| 0.5 * G * dt * p[0]).sum();
+            let lost = e[0] - e[e.len() - 1];
+            assert!(
+                (dissipated - gravity - lost).abs() < 1e-9,
+                "eps = {eps}: {dissipated} {gravity} {lost}"
+            );
             assert!(dissipated > 0.0);
         }
     }
@@ -198,5 +208,43 @@ fn every_solver_gives_the_same_bouncing_ball() {
             assert!((r.q[k][0] - reference.q[k][0]).abs() < 1e-12, "{solver:?}, row {k}");
             assert!((r.p_n[k][0] - reference.p_n[k][0]).abs() < 1e-12, "{solver:?}, row {k}");
         }
+    }
+}
+
+#[test]
+fn impacts_of_the_record_match_the_closed_form_speeds() {
+    // Each impact k of the closed form arrives at v_k = ε^(k−1) sqrt(2 g H) and leaves at
+    // −ε times that. The scheme's γ_N,A is the velocity at the start of the impact step,
+    // within g Δt of the closed form's for the first impact and within k g Δt (one step's
+    // gravity per flight) for the later ones; γ_N,E = −ε_N γ_N,A holds to round-off, as
+    // Newton's law with one frictionless contact and a constant w_N says.
+    for (eps, dt) in [(0.9, 1e-3), (0.7, 1e-4), (0.0, 1e-3)] {
+        let r = run(eps, dt, 3.0);
+        let v1 = (2.0 * G * (Y0 - 0.1)).sqrt();
+        let (t_ref, _) = closed_form(eps, 3);
+        let hard = r.impacts.iter().filter(|i| i.gamma_n_before < -10.0 * G * dt);
+        let n_checked = hard.clone().count();
+        assert!(n_checked >= if eps > 0.0 { 3 } else { 1 }, "ε = {eps}: {n_checked} impacts");
+        for (k, i) in hard.take(3).enumerate() {
+            let v_k = -v1 * eps.powi(k as i32);
+            assert_eq!(i.contact, 0);
+            assert!(
+                (i.gamma_n_before - v_k).abs() <= (k + 1) as f64 * G * dt,
+                "ε = {eps}, impact {k}: γ_N before {} vs {v_k}",
+                i.gamma_n_before
+            );
+            assert!((i.gamma_n_after + eps * i.gamma_n_before).abs() < 1e-12);
+            // P_N = m (γ_N,E − ũ) with ũ = γ_N,A − g Δt and m = 1.
+            assert!((i.p_n - (i.gamma_n_after - i.gamma_n_before + G * dt)).abs() < 1e-12);
+            assert!((i.t - 0.5 * dt - t_ref[k]).abs() <= (1.0 + 3.0 * k as f64) * dt);
+        }
+        // Persistent contact is no impact: after the ball comes to rest nothing is listed,
+        // and every listed impact starts a contact phase of the record.
+        for i in &r.impacts {
+            let k = r.t.iter().position(|&t| t == i.t).unwrap();
+            assert!(r.p_n[k][0] > 0.0 && r.p_n[k - 1][0] == 0.0, "ε = {eps}, step {}", i.step);
+        }
+        let phases = (1..r.len()).filter(|&k| r.p_n[k][0] > 0.0 && r.p_n[k - 1][0] == 0.0);
+        assert_eq!(phases.count(), r.impacts.len(), "ε = {eps}");
     }
 }
