@@ -38,7 +38,7 @@ fn slider_corner(q: &SVector<f64, 3>, k: usize) -> Result<ContactGeometry<3>, Ki
     Ok(corner_line(&slider, &corners[k], &guide)?.chain(&pose_jacobian, &Vector3::zeros()))
 }
 
-/// The gaps and rows of EQUATIONS.md 7.3, written out.
+/// The gaps and rows of docs/theory.md §7.3, written out.
 fn slider_corner_closed_form(
     q: &SVector<f64, 3>,
     k: usize,
@@ -121,7 +121,7 @@ const L_G: f64 = 0.0150;
 const H_S: f64 = 0.0200;
 const L_S: f64 = 0.0201;
 
-/// The woodpecker's contacts as written in EQUATIONS.md 7.2; `misprint` puts lG in the second
+/// The woodpecker's contacts as written in docs/theory.md §7.2; `misprint` puts lG in the second
 /// entry of w_T1, as the source report prints it.
 struct Woodpecker {
     misprint: bool,

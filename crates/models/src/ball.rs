@@ -1,4 +1,4 @@
-//! The bouncing ball (EQUATIONS.md 7.1): q = (y), one frictionless contact with the floor.
+//! The bouncing ball (docs/theory.md §7.1): q = (y), one frictionless contact with the floor.
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;

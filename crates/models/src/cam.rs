@@ -1,4 +1,4 @@
-//! The cam with a translating flat-face follower (EQUATIONS.md 7.4, reconstructed):
+//! The cam with a translating flat-face follower (docs/theory.md §7.4, reconstructed):
 //! q = (y), one frictionless rheonomic contact.
 
 use std::f64::consts::{PI, TAU};
@@ -208,7 +208,7 @@ impl Cam {
     /// profile a flat face needs is convex (p + p'' ≥ 0 with p = R + s(ψ)) if R_b is smaller,
     /// with a 10 % margin (m).
     ///
-    /// A flat-faced follower's dynamics do not depend on the base radius (EQUATIONS.md 7.4), and
+    /// A flat-faced follower's dynamics do not depend on the base radius (docs/theory.md §7.4), and
     /// the report's R_b = 3 mm is far too small for this lift law: its profile would undercut
     /// and loop. Drawing with a larger base circle shows a cam that could be made.
     pub fn drawing_radius(&self) -> f64 {

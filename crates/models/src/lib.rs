@@ -2,7 +2,7 @@
 //! drawings, and scene files that run them.
 //!
 //! # What this crate is for
-//! Each model of EQUATIONS.md section 7 implements `moreau_stepper::Mechanism`: its mass
+//! Each model of docs/theory.md section 7 implements `moreau_stepper::Mechanism`: its mass
 //! matrix M(q, t), smooth forces h(q, u, t), potential energy, and through
 //! `moreau_kinematics::ContactKinematics` its gaps g_N, force directions w_N, w_T and
 //! rheonomic terms ŵ_N. Every model has a parameter struct that reads and writes TOML

@@ -1,4 +1,4 @@
-//! Painlevé's sliding rod (EQUATIONS.md 7.5): q = (x, y, φ), one frictional contact of the
+//! Painlevé's sliding rod (docs/theory.md §7.5): q = (x, y, φ), one frictional contact of the
 //! rod's lower end with the ground.
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};

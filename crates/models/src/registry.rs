@@ -207,12 +207,12 @@ impl AnyModel {
         }
     }
 
-    /// Names of the coordinates q (as in EQUATIONS.md).
+    /// Names of the coordinates q (as in docs/theory.md).
     pub fn coordinate_names(&self) -> &'static [&'static str] {
         self.kind().coordinate_names()
     }
 
-    /// Names of the velocities u (as in EQUATIONS.md).
+    /// Names of the velocities u (as in docs/theory.md).
     pub fn velocity_names(&self) -> &'static [&'static str] {
         self.kind().velocity_names()
     }

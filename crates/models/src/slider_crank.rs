@@ -1,4 +1,4 @@
-//! The slider-crank with a translational clearance joint (EQUATIONS.md 7.3):
+//! The slider-crank with a translational clearance joint (docs/theory.md §7.3):
 //! q = (θ1, θ2, θ3), four frictional corner contacts of the slider with the guide.
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
@@ -141,7 +141,7 @@ impl SliderCrankParams {
     }
 }
 
-/// The slider-crank with a clearance joint as a [`Mechanism`] (EQUATIONS.md 7.3); corners on
+/// The slider-crank with a clearance joint as a [`Mechanism`] (docs/theory.md §7.3); corners on
 /// a switched-off guide surface are not listed.
 #[derive(Clone, Debug)]
 pub struct SliderCrank {
@@ -156,7 +156,7 @@ pub struct SliderCrank {
     k: Constants,
 }
 
-/// The parameter combinations of M, h and the gaps (EQUATIONS.md 7.3).
+/// The parameter combinations of M, h and the gaps (docs/theory.md §7.3).
 #[derive(Clone, Debug)]
 struct Constants {
     /// M11 and M22 (constant) and the factor of cos(θ2 − θ1) in M12.
@@ -305,14 +305,14 @@ impl SliderCrank {
         self.gap_at(i, y3, s3, c3)
     }
 
-    /// M with cos(θ2 − θ1) given (EQUATIONS.md 7.3).
+    /// M with cos(θ2 − θ1) given (docs/theory.md §7.3).
     fn mass_at(&self, cos21: f64, m: &mut [f64]) {
         let k = &self.k;
         let m12 = k.m12 * cos21;
         m[..9].copy_from_slice(&[k.m11, m12, 0.0, m12, k.m22, 0.0, 0.0, 0.0, self.params.j3]);
     }
 
-    /// h with sin(θ2 − θ1), cos θ1 and cos θ2 given (EQUATIONS.md 7.3).
+    /// h with sin(θ2 − θ1), cos θ1 and cos θ2 given (docs/theory.md §7.3).
     fn forces_at(&self, sin21: f64, c1: f64, c2: f64, u: &[f64], h: &mut [f64]) {
         let k = &self.k;
         let a = k.m12 * sin21;

@@ -1,4 +1,4 @@
-//! The ideal slider-crank (no clearance, EQUATIONS.md 7.3 "Ideal joint"): one coordinate θ1,
+//! The ideal slider-crank (no clearance, docs/theory.md §7.3 "Ideal joint"): one coordinate θ1,
 //! no contacts, with the reduced mass M_r(θ1) = M11 + 2 M12 k + M22 k².
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};

@@ -1,4 +1,4 @@
-//! The woodpecker toy (EQUATIONS.md 7.2): a sleeve on a pole with a bird on a torsion spring,
+//! The woodpecker toy (docs/theory.md §7.2): a sleeve on a pole with a bird on a torsion spring,
 //! q = (y, φ_M, φ_S), three frictional contacts, small-angle model.
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
@@ -125,7 +125,7 @@ impl WoodpeckerParams {
 }
 
 /// The woodpecker toy as a [`Mechanism`] with the constant mass matrix and the gaps of
-/// EQUATIONS.md 7.2; contacts switched off in the parameters are not listed.
+/// docs/theory.md §7.2; contacts switched off in the parameters are not listed.
 #[derive(Clone, Debug)]
 pub struct Woodpecker {
     params: WoodpeckerParams,

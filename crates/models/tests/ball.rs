@@ -1,4 +1,4 @@
-//! The bouncing ball against its closed form (EQUATIONS.md 7.1).
+//! The bouncing ball against its closed form (docs/theory.md §7.1).
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! The cam-follower (EQUATIONS.md 7.4): the first impact against the closed-form free fall,
+//! The cam-follower (docs/theory.md §7.4): the first impact against the closed-form free fall,
 //! bounded penetration and persistent contact between drops.
 
 mod common;

@@ -143,7 +143,7 @@ fn frictionless_contacts_stay_frictionless() {
 
 #[test]
 fn woodpecker_gaps_match_the_report_at_the_start() {
-    // EQUATIONS.md 7.2: contact 2 is closed at t = 0 with g_N2 = −8.8e-7 m.
+    // docs/theory.md §7.2: contact 2 is closed at t = 0 with g_N2 = −8.8e-7 m.
     let wp = Woodpecker::new(WoodpeckerParams::report()).unwrap();
     let (q, _) = wp.initial_state();
     let g2 = wp.normal_gap(1, &q, 0.0);

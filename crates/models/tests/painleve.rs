@@ -1,4 +1,4 @@
-//! Painlevé's rod (EQUATIONS.md 7.5): the acceleration-level LCP can have no solution, the
+//! Painlevé's rod (docs/theory.md §7.5): the acceleration-level LCP can have no solution, the
 //! velocity-level step always has one.
 
 use moreau_models::*;

@@ -1,4 +1,4 @@
-//! The slider-crank with a clearance joint (EQUATIONS.md 7.3): penetration, symmetry, and
+//! The slider-crank with a clearance joint (docs/theory.md §7.3): penetration, symmetry, and
 //! convergence to the ideal slider-crank as the clearance shrinks.
 
 mod common;

@@ -1,4 +1,4 @@
-//! The woodpecker toy reaches a periodic motion and walks down the pole (EQUATIONS.md 7.2).
+//! The woodpecker toy reaches a periodic motion and walks down the pole (docs/theory.md §7.2).
 
 mod common;
 

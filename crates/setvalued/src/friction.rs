@@ -1,6 +1,6 @@
 //! Coulomb's law −λ_T ∈ μλ_N Sgn(γ_T) and its split into two unilateral primitives.
 //!
-//! The split used by the step's LCP (EQUATIONS.md section 5) introduces
+//! The split used by the step's LCP (docs/theory.md section 5) introduces
 //!
 //! ```text
 //! λ_R = μλ_N + λ_T,   λ_L = μλ_N − λ_T,   γ_T = γ_R − γ_L,

@@ -1,4 +1,4 @@
-//! Property tests of the set-valued maps: the identities of EQUATIONS.md section 1, the
+//! Property tests of the set-valued maps: the identities of docs/theory.md section 1, the
 //! complementarity and relay-split equivalences, inverse graphs and the proximal maps.
 
 use moreau_setvalued::{

@@ -1,4 +1,4 @@
-//! Moreau's midpoint time-stepper (EQUATIONS.md, sections 4-6).
+//! Moreau's midpoint time-stepper (docs/theory.md, sections 4-6).
 #![allow(non_snake_case)]
 
 use faer::{ColRef, MatRef};
@@ -237,7 +237,7 @@ struct Workspace {
 
 /// Moreau's midpoint time-stepper for a [`Mechanism`].
 ///
-/// One step from t_A to t_E = t_A + Δt (EQUATIONS.md section 4):
+/// One step from t_A to t_E = t_A + Δt (docs/theory.md section 4):
 /// 1. t_M = t_A + Δt/2, q_M = q_A + (Δt/2) u_A;
 /// 2. M_M = M(q_M, t_M), h_M = h(q_M, u_A, t_M);
 /// 3. the active set H = { i : g_N,i(q_M, t_M) ≤ 0 } (or ≤ [`StepperOptions::gap_tolerance`]);
@@ -1154,7 +1154,7 @@ impl<M: Mechanism, O: Observer<M>> ConcreteOp for RunSteps<'_, M, O> {
 /// solvers' default).
 const CLOSED_FORM_TOLERANCE: f64 = 1e-9;
 
-/// The cases of one active contact's LCP (EQUATIONS.md section 5 with n = 1), in the order
+/// The cases of one active contact's LCP (docs/theory.md section 5 with n = 1), in the order
 /// they are tried.
 #[derive(Clone, Copy, PartialEq)]
 enum Mode {

@@ -1,4 +1,4 @@
-//! The bouncing ball against its closed-form solution (EQUATIONS.md 7.1).
+//! The bouncing ball against its closed-form solution (docs/theory.md §7.1).
 
 mod common;
 
@@ -12,7 +12,7 @@ fn run(eps: f64, dt: f64, t_end: f64) -> Record {
     s.record_until(t_end).unwrap()
 }
 
-/// Closed-form impact times t_k and the accumulation time t_∞ (EQUATIONS.md 7.1).
+/// Closed-form impact times t_k and the accumulation time t_∞ (docs/theory.md §7.1).
 fn closed_form(eps: f64, k: usize) -> (Vec<f64>, f64) {
     let h = Y0 - 0.1;
     let t1 = (2.0 * h / G).sqrt();
