@@ -109,6 +109,7 @@ mod auto;
 mod dense;
 mod enumeration;
 mod error;
+pub mod fc2d;
 mod io;
 mod lemke;
 mod pgs;
