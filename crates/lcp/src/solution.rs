@@ -66,10 +66,10 @@ pub enum Method {
     /// problem (a time-stepper's single active contact); the residual is still computed.
     ClosedForm,
     /// Nonsmooth block Gauss-Seidel on a planar frictional-contact problem
-    /// (`fc2d::Nsgs`).
+    /// ([`fc2d::Nsgs`](crate::fc2d::Nsgs)).
     Nsgs,
     /// The exact LCP reformulation of a planar frictional-contact problem
-    /// (`fc2d::LcpRoute`); the LCP solver's method is recorded
+    /// ([`fc2d::LcpRoute`](crate::fc2d::LcpRoute)); the LCP solver's method is recorded
     /// beside it.
     LcpRoute,
 }
