@@ -53,12 +53,46 @@ pub enum LcpError {
         /// What went wrong.
         message: String,
     },
-    /// A Siconos file uses a matrix storage other than dense (type 0).
-    #[error("unsupported Siconos matrix storage type {storage} (only 0 = dense is supported)")]
+    /// A Siconos file names a matrix storage that does not exist.
+    #[error(
+        "unknown Siconos matrix storage type {storage} (0 = dense, 1 = sparse block, 2 = sparse)"
+    )]
     UnsupportedStorage {
-        /// The storage type number read from the file (1 = sparse block, 2 = sparse).
+        /// The storage type number read from the file.
         storage: i64,
     },
+    /// A text file is in neither of the formats that [`Lcp::read_any`](crate::Lcp::read_any)
+    /// accepts; both reasons are kept.
+    #[error("not a plain LCP file ({plain}) and not a Siconos LCP file ({siconos})")]
+    UnknownFormat {
+        /// Why the plain format did not parse.
+        plain: Box<LcpError>,
+        /// Why the Siconos format did not parse.
+        siconos: Box<LcpError>,
+    },
+    /// A friction coefficient is negative.
+    #[error("friction coefficient μ of contact {contact} is {mu}, it must be >= 0")]
+    NegativeFriction {
+        /// Index of the contact.
+        contact: usize,
+        /// Its μ.
+        mu: f64,
+    },
+    /// The diagonal block of a contact (or of a group of bilateral rows) in W is not
+    /// symmetric positive semidefinite, so its local problem is not a friction problem.
+    #[error("diagonal block of {what} {index} is not symmetric positive semidefinite: {reason}")]
+    NotPositiveSemidefinite {
+        /// `"contact"` or `"bilateral group"`.
+        what: &'static str,
+        /// Index of the contact or of the bilateral group.
+        index: usize,
+        /// Which test failed, with the numbers.
+        reason: String,
+    },
+    /// The sparsity structure of a block matrix is inconsistent (row pointers, column
+    /// indices, missing diagonal block).
+    #[error("invalid block structure: {0}")]
+    Structure(String),
     /// The problem is larger than a size guard allows.
     #[error("problem size n = {n} exceeds the limit {max} of this solver")]
     TooLarge {
@@ -86,6 +120,12 @@ pub enum LcpError {
         index: usize,
         /// Its value.
         value: f64,
+    },
+    /// A matrix that must be factored is singular.
+    #[error("the matrix {what} is singular")]
+    Singular {
+        /// Which matrix.
+        what: &'static str,
     },
     /// Reading or writing a file failed.
     #[error("i/o error: {0}")]

@@ -65,6 +65,13 @@ pub enum Method {
     /// Solved in closed form by the caller, which checked the few cases of a one-contact
     /// problem (a time-stepper's single active contact); the residual is still computed.
     ClosedForm,
+    /// Nonsmooth block Gauss-Seidel on a planar frictional-contact problem
+    /// ([`fc2d::Nsgs`](crate::fc2d::Nsgs)).
+    Nsgs,
+    /// The exact LCP reformulation of a planar frictional-contact problem
+    /// ([`fc2d::LcpRoute`](crate::fc2d::LcpRoute)); the LCP solver's method is recorded
+    /// beside it.
+    LcpRoute,
 }
 
 impl fmt::Display for Method {
@@ -76,6 +83,8 @@ impl fmt::Display for Method {
             Method::Enumeration => "enumeration",
             Method::WarmBasis => "warm_basis",
             Method::ClosedForm => "closed_form",
+            Method::Nsgs => "nsgs",
+            Method::LcpRoute => "lcp_route",
         })
     }
 }

@@ -97,18 +97,18 @@ fn detection_of_ambiguous_plain_files() {
 }
 
 #[test]
-fn unsupported_storage_is_a_clear_error() {
-    let text = "2\n1\n2\n2\n1 1 2 2 0 0\n";
+fn unknown_storage_is_a_clear_error() {
+    let text = "2\n3\n2\n2\n1 1 2 2 0 0\n";
     assert!(matches!(
         Lcp::read_siconos(text.as_bytes()),
-        Err(LcpError::UnsupportedStorage { storage: 1 })
+        Err(LcpError::UnsupportedStorage { storage: 3 })
     ));
-    assert!(matches!(Lcp::read_any(text), Err(LcpError::UnsupportedStorage { storage: 1 })));
-    let text = "2\n2\n2\n2\n4\n0 1 0 1\n";
-    assert!(matches!(
-        Lcp::read_siconos(text.as_bytes()),
-        Err(LcpError::UnsupportedStorage { storage: 2 })
-    ));
+    let err = Lcp::read_any(text).unwrap_err();
+    assert!(
+        matches!(&err, LcpError::UnknownFormat { siconos, .. }
+            if matches!(**siconos, LcpError::UnsupportedStorage { storage: 3 })),
+        "{err}"
+    );
 }
 
 #[test]

@@ -1,0 +1,139 @@
+//! Solves a Siconos FC2D or GFC2D file and prints one JSON object.
+//!
+//! ```text
+//! cargo run --release -p moreau-lcp --example fc2d -- [--solver auto|nsgs|lcp|newton] [--tol T] [--repeat N] FILE
+//! ```
+//!
+//! Keys: `solver`, `status` ("solved" when, and only when, the natural-map residual is
+//! within the tolerance), `contacts`, `iterations`, `residual` (`natural` and `siconos`),
+//! `seconds_per_solve` (with `--repeat`), `r`. A GFC2D file (its name starts with `gfc2d`)
+//! is reduced to the contact space first and the global velocity `v` is printed too.
+
+use std::process::ExitCode;
+use std::time::Instant;
+
+use moreau_lcp::fc2d::{
+    Fc2d, Fc2dSolution, Fc2dSolver, Gfc2d, LcpRoute, LcpRouteOptions, Nsgs, NsgsOptions,
+};
+use moreau_lcp::{LcpError, Status};
+
+/// Largest problem the `auto` choice hands to the LCP route; NSGS beyond it.
+const AUTO_LCP_CONTACTS: usize = 40;
+
+struct Args {
+    solver: String,
+    tolerance: f64,
+    repeat: usize,
+    file: String,
+}
+
+fn parse_args() -> Result<Args, String> {
+    let mut args = Args { solver: "auto".into(), tolerance: 1e-8, repeat: 0, file: String::new() };
+    let mut it = std::env::args().skip(1);
+    while let Some(a) = it.next() {
+        let mut value = |name: &str| it.next().ok_or(format!("{name} needs a value"));
+        match a.as_str() {
+            "--solver" => args.solver = value("--solver")?,
+            "--tol" => {
+                let v = value("--tol")?;
+                args.tolerance = v.parse().map_err(|_| format!("--tol: '{v}' is not a number"))?;
+            }
+            "--repeat" => {
+                let v = value("--repeat")?;
+                args.repeat = v.parse().map_err(|_| format!("--repeat: '{v}' is not a count"))?;
+            }
+            _ if a.starts_with("--") => return Err(format!("unknown option {a}")),
+            _ => args.file = a,
+        }
+    }
+    if args.file.is_empty() {
+        return Err(
+            "usage: fc2d [--solver auto|nsgs|lcp|newton] [--tol T] [--repeat N] FILE".into()
+        );
+    }
+    Ok(args)
+}
+
+/// Runs the chosen solver once; returns its name as reported.
+fn solve(
+    solver: &str,
+    tolerance: f64,
+    problem: &Fc2d,
+    out: &mut Fc2dSolution,
+) -> Result<&'static str, String> {
+    let err = |e: LcpError| e.to_string();
+    let nsgs = |out: &mut Fc2dSolution| -> Result<(), String> {
+        let options = NsgsOptions { tolerance, max_sweeps: 100_000, ..Default::default() };
+        Nsgs::new(options).map_err(err)?.solve_into(problem.view(), None, out).map_err(err)
+    };
+    let lcp = |out: &mut Fc2dSolution| -> Result<(), String> {
+        let options = LcpRouteOptions { tolerance, max_contacts: usize::MAX, ..Default::default() };
+        LcpRoute::new(options).map_err(err)?.solve_into(problem.view(), None, out).map_err(err)
+    };
+    match solver {
+        "nsgs" => nsgs(out).map(|_| "nsgs"),
+        "lcp" => lcp(out).map(|_| "lcp"),
+        "auto" => {
+            if problem.n_contacts() <= AUTO_LCP_CONTACTS {
+                lcp(out)?;
+                if out.status == Status::Solved {
+                    return Ok("lcp");
+                }
+            }
+            nsgs(out).map(|_| "nsgs")
+        }
+        "newton" => Err("the nonsmooth Newton solver is not part of this build".into()),
+        other => Err(format!("unknown solver '{other}' (auto, nsgs, lcp, newton)")),
+    }
+}
+
+fn run() -> Result<(), String> {
+    let args = parse_args()?;
+    let file = std::fs::File::open(&args.file).map_err(|e| format!("{}: {e}", args.file))?;
+    let is_global = std::path::Path::new(&args.file)
+        .file_name()
+        .is_some_and(|n| n.to_string_lossy().starts_with("gfc2d"));
+    let (problem, global) = if is_global {
+        let global = Gfc2d::read_siconos(file).map_err(|e| e.to_string())?;
+        let reduced = global.reduce().map_err(|e| e.to_string())?;
+        (reduced.problem.clone(), Some((global, reduced)))
+    } else {
+        (Fc2d::read_siconos(file).map_err(|e| e.to_string())?, None)
+    };
+    let mut out = Fc2dSolution::new();
+    let name = solve(&args.solver, args.tolerance, &problem, &mut out)?;
+    let mut json = serde_json::json!({
+        "solver": name,
+        "status": out.status.to_string(),
+        "method": out.method.to_string(),
+        "contacts": problem.n_contacts(),
+        "blocks": problem.n_blocks(),
+        "iterations": out.iterations,
+        "residual": { "natural": out.residual.natural, "siconos": out.residual.siconos },
+        "r": out.r,
+    });
+    if let Some((global, reduced)) = &global {
+        json["v"] = serde_json::json!(reduced.global_velocity(global, &out.r));
+    }
+    if args.repeat > 0 {
+        let start = Instant::now();
+        let mut again = Fc2dSolution::new();
+        for _ in 0..args.repeat {
+            solve(&args.solver, args.tolerance, &problem, &mut again)?;
+        }
+        json["seconds_per_solve"] =
+            serde_json::json!(start.elapsed().as_secs_f64() / args.repeat as f64);
+    }
+    println!("{json}");
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("fc2d: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

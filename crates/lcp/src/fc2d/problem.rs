@@ -1,0 +1,612 @@
+//! The planar frictional-contact problem: W by 2x2 blocks, q, μ, and bilateral rows.
+
+use faer::MatRef;
+
+use crate::LcpError;
+
+/// Relative tolerance of the symmetry and semidefiniteness test of the diagonal blocks.
+///
+/// A diagonal block `[a b; c d]` with scale `s = max(|a|, |b|, |c|, |d|)` is accepted when
+/// `|b - c| <= τ s`, `a >= -τ s`, `d >= -τ s` and `a d - ((b + c) / 2)² >= -τ s²`, with
+/// τ = 1e-5. Siconos' granular-flow problems print W with six significant digits, so their
+/// blocks are symmetric only to a few units in 1e-6 of their scale; τ accepts them and
+/// still rejects any block that is unsymmetric or indefinite by more than rounding to six
+/// digits explains.
+pub const PSD_TOLERANCE: f64 = 1e-5;
+
+/// The parts of a planar frictional-contact problem, borrowed from the caller's buffers,
+/// for [`Fc2dRef::from_parts`].
+///
+/// The unknowns are grouped: groups `0..n_contacts` are the contacts (two rows each, the
+/// normal row then the tangential row, the order of Siconos' FC2D files), the groups after
+/// them are bilateral (equality) constraints of one or two rows each. Group `g` owns the
+/// rows `group_start[g]..group_start[g + 1]` of W, q, r and u.
+///
+/// W is stored by blocks in block compressed sparse row form: the blocks of group row `g`
+/// are `blocks[row_ptr[g]..row_ptr[g + 1]]`, in columns `col[...]` (strictly increasing,
+/// the diagonal block always present). A block is `[W_00, W_01, W_10, W_11]` (row-major)
+/// between the rows of its row group and the columns of its column group; the entries a
+/// one-row group does not have are stored as zeros.
+#[derive(Clone, Copy, Debug)]
+pub struct Fc2dParts<'a> {
+    /// Number of contacts n_c.
+    pub n_contacts: usize,
+    /// First row of each group and, last, the number of rows (`2 n_c + n_b`). Contacts
+    /// start at `2 i`; a bilateral group has one or two rows.
+    pub group_start: &'a [usize],
+    /// Block row pointers, one per group plus one.
+    pub row_ptr: &'a [usize],
+    /// Block column (group) of each stored block.
+    pub col: &'a [u32],
+    /// The stored blocks, row-major.
+    pub blocks: &'a [[f64; 4]],
+    /// q, one entry per row.
+    pub q: &'a [f64],
+    /// μ, one per contact, >= 0.
+    pub mu: &'a [f64],
+}
+
+/// A validated planar frictional-contact problem (FC2D), borrowed: the form the solvers
+/// take.
+///
+/// Find r and u = W r + q such that each contact i satisfies Signorini's law
+/// `0 <= r_N,i ⊥ u_N,i >= 0` and Coulomb's law `|r_T,i| <= μ_i r_N,i`, with
+/// `r_T,i = -μ_i r_N,i sign(u_T,i)` when `u_T,i != 0`, and each bilateral row b has
+/// `u_b = 0` with a free multiplier r_b. See [`Fc2dParts`] for the layout.
+#[derive(Clone, Copy, Debug)]
+pub struct Fc2dRef<'a> {
+    parts: Fc2dParts<'a>,
+}
+
+/// A validated planar frictional-contact problem (FC2D) that owns its data; see
+/// [`Fc2dRef`] for the problem and [`Fc2dParts`] for the layout.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Fc2d {
+    n_contacts: usize,
+    group_start: Vec<usize>,
+    row_ptr: Vec<usize>,
+    col: Vec<u32>,
+    blocks: Vec<[f64; 4]>,
+    q: Vec<f64>,
+    mu: Vec<f64>,
+}
+
+fn structure(message: String) -> LcpError {
+    LcpError::Structure(message)
+}
+
+/// Checks the symmetry and semidefiniteness of a diagonal block (see [`PSD_TOLERANCE`]).
+fn check_diagonal(
+    b: &[f64; 4],
+    size: usize,
+    what: &'static str,
+    index: usize,
+) -> Result<(), LcpError> {
+    let [a, w01, w10, d] = *b;
+    let s = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let tol = PSD_TOLERANCE * s;
+    let fail = |reason: String| Err(LcpError::NotPositiveSemidefinite { what, index, reason });
+    if a < -tol {
+        return fail(format!("W_00 = {a:e} < 0"));
+    }
+    if size == 1 {
+        return Ok(());
+    }
+    if (w01 - w10).abs() > tol {
+        return fail(format!(
+            "W_01 = {w01:e} and W_10 = {w10:e} differ by more than {PSD_TOLERANCE:e} of {s:e}"
+        ));
+    }
+    if d < -tol {
+        return fail(format!("W_11 = {d:e} < 0"));
+    }
+    let off = 0.5 * (w01 + w10);
+    let det = a * d - off * off;
+    if det < -PSD_TOLERANCE * s * s {
+        return fail(format!("determinant {det:e} < 0"));
+    }
+    Ok(())
+}
+
+impl<'a> Fc2dRef<'a> {
+    /// Validates the parts and wraps them, without allocating.
+    ///
+    /// # Errors
+    /// [`LcpError::Structure`] for inconsistent group starts, row pointers or columns, a
+    /// missing diagonal block or a nonzero entry outside a one-row group;
+    /// [`LcpError::DimensionMismatch`] for the lengths of q or μ; [`LcpError::NonFinite`];
+    /// [`LcpError::NegativeFriction`]; [`LcpError::NotPositiveSemidefinite`] for a
+    /// diagonal block (see [`PSD_TOLERANCE`]).
+    pub fn from_parts(parts: Fc2dParts<'a>) -> Result<Self, LcpError> {
+        let Fc2dParts { n_contacts, group_start, row_ptr, col, blocks, q, mu } = parts;
+        if group_start.len() < n_contacts + 1 {
+            return Err(structure(format!(
+                "{} group starts for {n_contacts} contacts",
+                group_start.len()
+            )));
+        }
+        let groups = group_start.len() - 1;
+        if group_start[0] != 0 {
+            return Err(structure("the first group must start at row 0".into()));
+        }
+        for g in 0..groups {
+            let size = group_start[g + 1].wrapping_sub(group_start[g]);
+            let ok = if g < n_contacts { size == 2 } else { size == 1 || size == 2 };
+            if !ok {
+                return Err(structure(format!(
+                    "group {g} has {} rows (contacts have 2, bilateral groups 1 or 2)",
+                    group_start[g + 1] as i64 - group_start[g] as i64
+                )));
+            }
+        }
+        if groups > u32::MAX as usize {
+            return Err(structure(format!("{groups} groups exceed the u32 column indices")));
+        }
+        let rows = group_start[groups];
+        if row_ptr.len() != groups + 1 || row_ptr[0] != 0 {
+            return Err(structure(format!(
+                "{} row pointers for {groups} groups (need {} starting at 0)",
+                row_ptr.len(),
+                groups + 1
+            )));
+        }
+        if row_ptr[groups] != col.len() || col.len() != blocks.len() {
+            return Err(structure(format!(
+                "row pointers end at {}, with {} column indices and {} blocks",
+                row_ptr[groups],
+                col.len(),
+                blocks.len()
+            )));
+        }
+        let mut poison = 0.0;
+        for g in 0..groups {
+            let (start, end) = (row_ptr[g], row_ptr[g + 1]);
+            if start > end {
+                return Err(structure(format!("row pointers decrease at group {g}")));
+            }
+            let mut diagonal = None;
+            let mut previous: Option<u32> = None;
+            let row_size = group_start[g + 1] - group_start[g];
+            for k in start..end {
+                let j = col[k];
+                if previous.is_some_and(|p| j <= p) || j as usize >= groups {
+                    return Err(structure(format!(
+                        "block columns of group {g} must increase and stay below {groups}, found {j}"
+                    )));
+                }
+                previous = Some(j);
+                let b = &blocks[k];
+                for v in b {
+                    poison += v * 0.0;
+                }
+                let j = j as usize;
+                let col_size = group_start[j + 1] - group_start[j];
+                let padding = (row_size == 1 && (b[2] != 0.0 || b[3] != 0.0))
+                    || (col_size == 1 && (b[1] != 0.0 || b[3] != 0.0));
+                if padding {
+                    return Err(structure(format!(
+                        "block ({g}, {j}) has an entry outside its {row_size} x {col_size} size"
+                    )));
+                }
+                if j == g {
+                    diagonal = Some(k);
+                }
+            }
+            let Some(d) = diagonal else {
+                return Err(structure(format!("group {g} has no diagonal block")));
+            };
+            if poison != 0.0 {
+                return Err(first_non_finite_block(row_ptr, col, blocks, group_start));
+            }
+            let (what, index) =
+                if g < n_contacts { ("contact", g) } else { ("bilateral group", g - n_contacts) };
+            check_diagonal(&blocks[d], row_size, what, index)?;
+        }
+        if q.len() != rows {
+            return Err(LcpError::DimensionMismatch { what: "q", expected: rows, found: q.len() });
+        }
+        if mu.len() != n_contacts {
+            return Err(LcpError::DimensionMismatch {
+                what: "μ",
+                expected: n_contacts,
+                found: mu.len(),
+            });
+        }
+        if let Some(i) = q.iter().position(|v| !v.is_finite()) {
+            return Err(LcpError::NonFinite { what: "q", index: (i, 0) });
+        }
+        for (i, &m) in mu.iter().enumerate() {
+            if !m.is_finite() {
+                return Err(LcpError::NonFinite { what: "μ", index: (i, 0) });
+            }
+            if m < 0.0 {
+                return Err(LcpError::NegativeFriction { contact: i, mu: m });
+            }
+        }
+        Ok(Fc2dRef { parts })
+    }
+
+    /// The parts of the problem.
+    pub fn parts(&self) -> Fc2dParts<'a> {
+        self.parts
+    }
+
+    /// Number of contacts n_c.
+    pub fn n_contacts(&self) -> usize {
+        self.parts.n_contacts
+    }
+
+    /// Number of groups (contacts, then bilateral groups).
+    pub fn n_groups(&self) -> usize {
+        self.parts.group_start.len() - 1
+    }
+
+    /// Number of bilateral rows n_b.
+    pub fn n_bilateral(&self) -> usize {
+        self.n_rows() - 2 * self.parts.n_contacts
+    }
+
+    /// Number of rows of W: `2 n_c + n_b`.
+    pub fn n_rows(&self) -> usize {
+        self.parts.group_start[self.n_groups()]
+    }
+
+    /// Number of stored 2x2 blocks.
+    pub fn n_blocks(&self) -> usize {
+        self.parts.blocks.len()
+    }
+
+    /// q.
+    pub fn q(&self) -> &'a [f64] {
+        self.parts.q
+    }
+
+    /// μ, one per contact.
+    pub fn mu(&self) -> &'a [f64] {
+        self.parts.mu
+    }
+
+    /// `‖q‖∞`.
+    pub fn q_norm_inf(&self) -> f64 {
+        self.parts.q.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+    }
+
+    /// Computes `u = W r + q` (both of length `n_rows`).
+    ///
+    /// # Panics
+    /// If `r` or `u` has the wrong length.
+    pub fn velocity(&self, r: &[f64], u: &mut [f64]) {
+        let p = &self.parts;
+        let n = self.n_rows();
+        assert!(r.len() == n && u.len() == n, "r and u must have {n} entries");
+        let gs = p.group_start;
+        for g in 0..self.n_groups() {
+            let (mut u0, mut u1) = (0.0, 0.0);
+            for k in p.row_ptr[g]..p.row_ptr[g + 1] {
+                let j = p.col[k] as usize;
+                let b = &p.blocks[k];
+                let r0 = r[gs[j]];
+                // A one-row column group has zeros in its second block column.
+                let r1 = if gs[j + 1] - gs[j] == 2 { r[gs[j] + 1] } else { 0.0 };
+                u0 += b[0] * r0 + b[1] * r1;
+                u1 += b[2] * r0 + b[3] * r1;
+            }
+            u[gs[g]] = u0 + p.q[gs[g]];
+            if gs[g + 1] - gs[g] == 2 {
+                u[gs[g] + 1] = u1 + p.q[gs[g] + 1];
+            }
+        }
+    }
+
+    /// W as a dense `n_rows x n_rows` column-major array (for small problems and tests).
+    pub fn to_dense(&self) -> Vec<f64> {
+        let n = self.n_rows();
+        let mut w = vec![0.0; n * n];
+        self.for_each_entry(|i, j, v| w[i + j * n] += v);
+        w
+    }
+
+    /// Calls `f(row, column, value)` for each stored entry of W (padding of one-row groups
+    /// skipped).
+    pub fn for_each_entry(&self, mut f: impl FnMut(usize, usize, f64)) {
+        let p = &self.parts;
+        let gs = p.group_start;
+        for g in 0..self.n_groups() {
+            let rs = gs[g + 1] - gs[g];
+            for k in p.row_ptr[g]..p.row_ptr[g + 1] {
+                let j = p.col[k] as usize;
+                let cs = gs[j + 1] - gs[j];
+                let b = &p.blocks[k];
+                for a in 0..rs {
+                    for c in 0..cs {
+                        f(gs[g] + a, gs[j] + c, b[2 * a + c]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Copies the problem into an owned [`Fc2d`].
+    pub fn to_owned(&self) -> Fc2d {
+        let p = &self.parts;
+        Fc2d {
+            n_contacts: p.n_contacts,
+            group_start: p.group_start.to_vec(),
+            row_ptr: p.row_ptr.to_vec(),
+            col: p.col.to_vec(),
+            blocks: p.blocks.to_vec(),
+            q: p.q.to_vec(),
+            mu: p.mu.to_vec(),
+        }
+    }
+}
+
+/// The error naming the first non-finite entry of W.
+#[cold]
+fn first_non_finite_block(
+    row_ptr: &[usize],
+    col: &[u32],
+    blocks: &[[f64; 4]],
+    group_start: &[usize],
+) -> LcpError {
+    for g in 0..row_ptr.len() - 1 {
+        for k in row_ptr[g]..row_ptr[g + 1] {
+            if let Some(e) = blocks[k].iter().position(|v| !v.is_finite()) {
+                let j = col[k] as usize;
+                return LcpError::NonFinite {
+                    what: "W",
+                    index: (group_start[g] + e / 2, group_start[j] + e % 2),
+                };
+            }
+        }
+    }
+    LcpError::NonFinite { what: "W", index: (0, 0) }
+}
+
+impl Fc2d {
+    /// Wraps owned parts after validating them as [`Fc2dRef::from_parts`] does.
+    ///
+    /// # Errors
+    /// As [`Fc2dRef::from_parts`].
+    fn validated(self) -> Result<Fc2d, LcpError> {
+        self.parts_unchecked().validate()?;
+        Ok(self)
+    }
+
+    fn parts_unchecked(&self) -> Fc2dParts<'_> {
+        Fc2dParts {
+            n_contacts: self.n_contacts,
+            group_start: &self.group_start,
+            row_ptr: &self.row_ptr,
+            col: &self.col,
+            blocks: &self.blocks,
+            q: &self.q,
+            mu: &self.mu,
+        }
+    }
+
+    /// A problem of contacts only from a dense W (`2 n_c x 2 n_c`), q and μ; a block is
+    /// stored when one of its entries is nonzero (diagonal blocks always).
+    ///
+    /// # Errors
+    /// [`LcpError::NotSquare`] or [`LcpError::DimensionMismatch`] when W is not
+    /// `2 n_c x 2 n_c` for `n_c = μ.len()`, and the errors of [`Fc2dRef::from_parts`].
+    pub fn from_dense(w: MatRef<'_, f64>, q: &[f64], mu: &[f64]) -> Result<Fc2d, LcpError> {
+        let mut problem = Fc2d::default();
+        problem.set_dense(w, q, mu)?;
+        Ok(problem)
+    }
+
+    /// Replaces the problem by the one of [`Fc2d::from_dense`], reusing this problem's
+    /// buffers: no allocation once they are large enough. On error the problem is left
+    /// empty (no contacts).
+    ///
+    /// # Errors
+    /// As [`Fc2d::from_dense`].
+    pub fn set_dense(&mut self, w: MatRef<'_, f64>, q: &[f64], mu: &[f64]) -> Result<(), LcpError> {
+        let n_c = mu.len();
+        self.clear();
+        if w.nrows() != w.ncols() {
+            return Err(LcpError::NotSquare { rows: w.nrows(), cols: w.ncols() });
+        }
+        if w.nrows() != 2 * n_c {
+            return Err(LcpError::DimensionMismatch {
+                what: "W (2 rows per contact)",
+                expected: 2 * n_c,
+                found: w.nrows(),
+            });
+        }
+        self.n_contacts = n_c;
+        self.group_start.extend((1..=n_c).map(|g| 2 * g));
+        for i in 0..n_c {
+            for j in 0..n_c {
+                let b = [
+                    w[(2 * i, 2 * j)],
+                    w[(2 * i, 2 * j + 1)],
+                    w[(2 * i + 1, 2 * j)],
+                    w[(2 * i + 1, 2 * j + 1)],
+                ];
+                if i == j || b.iter().any(|v| *v != 0.0) {
+                    self.col.push(j as u32);
+                    self.blocks.push(b);
+                }
+            }
+            self.row_ptr.push(self.col.len());
+        }
+        self.q.extend_from_slice(q);
+        self.mu.extend_from_slice(mu);
+        if let Err(e) = self.parts_unchecked().validate() {
+            self.clear();
+            return Err(e);
+        }
+        Ok(())
+    }
+
+    /// Empties the problem (no contacts), keeping its buffers.
+    fn clear(&mut self) {
+        self.n_contacts = 0;
+        self.group_start.clear();
+        self.group_start.push(0);
+        self.row_ptr.clear();
+        self.row_ptr.push(0);
+        self.col.clear();
+        self.blocks.clear();
+        self.q.clear();
+        self.mu.clear();
+    }
+
+    /// The borrowed view that the solvers take.
+    pub fn view(&self) -> Fc2dRef<'_> {
+        Fc2dRef { parts: self.parts_unchecked() }
+    }
+
+    /// Number of contacts n_c.
+    pub fn n_contacts(&self) -> usize {
+        self.n_contacts
+    }
+
+    /// Number of rows `2 n_c + n_b`.
+    pub fn n_rows(&self) -> usize {
+        self.q.len()
+    }
+
+    /// Number of stored blocks.
+    pub fn n_blocks(&self) -> usize {
+        self.blocks.len()
+    }
+
+    /// q.
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// μ.
+    pub fn mu(&self) -> &[f64] {
+        &self.mu
+    }
+}
+
+impl Fc2dParts<'_> {
+    fn validate(self) -> Result<(), LcpError> {
+        Fc2dRef::from_parts(self).map(|_| ())
+    }
+}
+
+/// Assembles an [`Fc2d`] from blocks or scalar entries in any order; duplicates add up.
+///
+/// ```
+/// use moreau_lcp::fc2d::Fc2dBuilder;
+///
+/// # fn main() -> Result<(), moreau_lcp::LcpError> {
+/// // Two contacts coupled through a shared body, and one bilateral row.
+/// let mut b = Fc2dBuilder::new(2);
+/// let joint = b.bilateral_group(1);
+/// b.add_block(0, 0, [2.0, 0.5, 0.5, 1.0]);
+/// b.add_block(1, 1, [2.0, 0.0, 0.0, 1.0]);
+/// b.add_block(0, 1, [0.3, 0.0, 0.0, 0.1]);
+/// b.add_block(1, 0, [0.3, 0.0, 0.0, 0.1]);
+/// b.add_entry(4, 4, 1.0); // the bilateral row is row 4, its group is `joint`
+/// b.add_entry(4, 0, 0.2);
+/// b.add_entry(0, 4, 0.2);
+/// let problem = b.build(&[-1.0, 0.0, 1.0, 0.0, 0.5], &[0.3, 0.3])?;
+/// assert_eq!((problem.n_contacts(), problem.n_rows(), joint), (2, 5, 2));
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct Fc2dBuilder {
+    n_contacts: usize,
+    group_start: Vec<usize>,
+    /// `(row group, column group, block)`.
+    entries: Vec<(u32, u32, [f64; 4])>,
+}
+
+impl Fc2dBuilder {
+    /// A builder for `n_contacts` contacts (groups `0..n_contacts`, rows `0..2 n_c`).
+    pub fn new(n_contacts: usize) -> Self {
+        Fc2dBuilder {
+            n_contacts,
+            group_start: (0..=n_contacts).map(|g| 2 * g).collect(),
+            entries: Vec::new(),
+        }
+    }
+
+    /// Adds a bilateral group of `rows` rows (1 or 2, other values are reported by
+    /// [`Fc2dBuilder::build`]) after the existing groups; returns its group index.
+    pub fn bilateral_group(&mut self, rows: usize) -> usize {
+        let last = *self.group_start.last().unwrap_or(&0);
+        self.group_start.push(last + rows);
+        self.group_start.len() - 2
+    }
+
+    /// Adds a 2x2 block `[W_00, W_01, W_10, W_11]` between group `row` and group `col`.
+    pub fn add_block(&mut self, row: usize, col: usize, block: [f64; 4]) {
+        self.entries.push((row as u32, col as u32, block));
+    }
+
+    /// Adds `value` to the entry W_ij (rows and columns numbered as in q).
+    ///
+    /// # Panics
+    /// When i or j is not a row of the groups declared so far.
+    pub fn add_entry(&mut self, i: usize, j: usize, value: f64) {
+        let (gi, a) = self.locate(i);
+        let (gj, c) = self.locate(j);
+        let mut block = [0.0; 4];
+        block[2 * a + c] = value;
+        self.entries.push((gi as u32, gj as u32, block));
+    }
+
+    fn locate(&self, row: usize) -> (usize, usize) {
+        let g = self.group_start.partition_point(|&s| s <= row);
+        assert!(g >= 1 && g < self.group_start.len(), "row {row} is outside the declared groups");
+        (g - 1, row - self.group_start[g - 1])
+    }
+
+    /// Builds the problem with q (one entry per row) and μ (one per contact); missing
+    /// diagonal blocks are stored as zeros.
+    ///
+    /// # Errors
+    /// As [`Fc2dRef::from_parts`]; a block outside the groups gives
+    /// [`LcpError::Structure`].
+    pub fn build(&self, q: &[f64], mu: &[f64]) -> Result<Fc2d, LcpError> {
+        let groups = self.group_start.len() - 1;
+        if let Some(&(i, j, _)) =
+            self.entries.iter().find(|(i, j, _)| *i as usize >= groups || *j as usize >= groups)
+        {
+            return Err(structure(format!("block ({i}, {j}) outside the {groups} groups")));
+        }
+        let mut entries = self.entries.clone();
+        entries.extend((0..groups as u32).map(|g| (g, g, [0.0; 4])));
+        entries.sort_by_key(|&(i, j, _)| (i, j));
+        let mut row_ptr = vec![0; groups + 1];
+        let mut col: Vec<u32> = Vec::with_capacity(entries.len());
+        let mut blocks: Vec<[f64; 4]> = Vec::with_capacity(entries.len());
+        let mut last: Option<(u32, u32)> = None;
+        for (i, j, b) in entries {
+            if last == Some((i, j)) {
+                let dst = blocks.last_mut().expect("a block was pushed for this key");
+                for (d, s) in dst.iter_mut().zip(b) {
+                    *d += s;
+                }
+            } else {
+                col.push(j);
+                blocks.push(b);
+                row_ptr[i as usize + 1] += 1;
+                last = Some((i, j));
+            }
+        }
+        for g in 0..groups {
+            row_ptr[g + 1] += row_ptr[g];
+        }
+        Fc2d {
+            n_contacts: self.n_contacts,
+            group_start: self.group_start.clone(),
+            row_ptr,
+            col,
+            blocks,
+            q: q.to_vec(),
+            mu: mu.to_vec(),
+        }
+        .validated()
+    }
+}
