@@ -6,9 +6,6 @@
 //!
 //! Each property runs 32 seeded cases, so the suite stays fast in debug builds.
 
-mod common;
-
-use common::{Chain, deepest_penetration, record_is_finite};
 use moreau::lcp::{Enumeration, LcpError, Status};
 use moreau::models::{
     BallInit, BallParams, CamInit, CamParams, LawParams, ModelError, ModelParams, PainleveInit,
@@ -17,6 +14,7 @@ use moreau::models::{
 };
 use moreau::setvalued::{ContactLaw, SetValuedError};
 use moreau::stepper::{SolverChoice, StepError, Stepper, StepperOptions};
+use moreau_testsupport::{Chain, deepest_penetration, record_is_finite};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 

@@ -223,8 +223,8 @@ fn finite(
 /// Checks the force directions and rheonomic terms of every contact of `k` against central
 /// finite differences of its gaps, at every sample state `(q, t)`.
 ///
-/// See the [module documentation](self) for the differences and measures used. The returned
-/// report holds the worst comparison of each contact; decide with [`FdReport::passed`].
+/// The steps are those of [`FdOptions`]; [`Mismatch`] defines the measures compared. The
+/// returned report holds the worst comparison of each contact; decide with [`FdReport::passed`].
 ///
 /// # Errors
 /// [`KinematicsError::NoSamples`] for an empty `samples`, [`KinematicsError::DimensionMismatch`]

@@ -1,15 +1,13 @@
 //! The contact kinematics of the report's models, built from the planar pairs and compared
 //! with the closed forms of the specification, and the checker on the woodpecker's rows.
 
-mod common;
-
 use approx::assert_relative_eq;
-use common::Pairs;
 use moreau_kinematics::{
     Component, ContactGeometry, ContactKinematics, ContactPoint, FdOptions, KinematicsError,
     LineMotion, PointMotion, PoseMotion, SampleOptions, Side, assert_consistent, check_jacobians,
     corner_line, point_line, rectangle_corners, sample_states,
 };
+use moreau_testsupport::Pairs;
 use nalgebra::{Matrix2x1, Matrix3, Point2, SVector, Vector1, Vector2, Vector3};
 
 // Slider-crank with a translational clearance joint (section 7.3).

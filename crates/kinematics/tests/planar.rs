@@ -1,15 +1,13 @@
 //! The planar contact pairs against hand-computed values, finite differences and the relative
 //! velocity of the material contact points.
 
-mod common;
-
 use approx::assert_relative_eq;
-use common::Pairs;
 use moreau_kinematics::{
     Circle, ContactGeometry, FdOptions, KinematicsError, LineMotion, PointMotion, PoseMotion,
     SampleOptions, Side, check_jacobians, circle_circle, circle_line, corner_line, point_line,
     rectangle_corners, sample_states,
 };
+use moreau_testsupport::Pairs;
 use nalgebra::{Matrix2x1, Matrix3x2, Point2, SMatrix, SVector, Vector2, Vector3};
 use proptest::prelude::*;
 

@@ -346,14 +346,8 @@ mod tests {
     use super::*;
 
     fn check(k: usize, seed: u64) {
-        let mut s = seed;
-        let mut next = || {
-            s = s.wrapping_add(0x9E3779B97F4A7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = moreau_testsupport::SplitMix64::new(seed);
+        let mut next = || rng.uniform(-1.0, 1.0);
         let a: Vec<f64> = (0..k * k).map(|_| next()).collect();
         let x: Vec<f64> = (0..k).map(|_| next()).collect();
         let mut b = vec![0.0; k];

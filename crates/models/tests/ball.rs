@@ -1,9 +1,7 @@
 //! The bouncing ball against its closed form (docs/theory.md §7.1).
 
-mod common;
-
-use common::onsets;
 use moreau_models::*;
+use moreau_testsupport::onsets;
 
 fn run(eps_n: f64, dt: f64, t_end: f64) -> Simulation {
     let mut scene = Scene::report(ModelKind::Ball);

@@ -1,11 +1,9 @@
 //! The cam-follower (docs/theory.md §7.4): the first impact against the closed-form free fall,
 //! bounded penetration and persistent contact between drops.
 
-mod common;
-
-use common::onsets;
 use moreau_kinematics::ContactKinematics;
 use moreau_models::*;
+use moreau_testsupport::onsets;
 use std::f64::consts::TAU;
 
 #[test]

@@ -1,11 +1,9 @@
 //! Scene files: every shipped file loads and runs; malformed files and bad `--set` keys get
 //! errors that name the field.
 
-mod common;
-
-use common::scene_path;
 use moreau_models::*;
 use moreau_stepper::SolverChoice;
+use moreau_testsupport::scene_path;
 
 const FILES: [&str; 8] = [
     "ball.toml",

@@ -1,11 +1,9 @@
 //! The slider-crank with a clearance joint (docs/theory.md §7.3): penetration, symmetry, and
 //! convergence to the ideal slider-crank as the clearance shrinks.
 
-mod common;
-
-use common::velocity_at;
 use moreau_kinematics::ContactKinematics;
 use moreau_models::*;
+use moreau_testsupport::velocity_at;
 use std::f64::consts::PI;
 
 fn run(c: f64, dt: f64) -> Simulation {

@@ -1,11 +1,9 @@
 //! The ideal slider-crank: analytic derivatives against finite differences, the reduced mass
 //! against the 3-DOF model's M, and conservation of energy.
 
-mod common;
-
-use moreau_kinematics::SplitMix64;
 use moreau_models::*;
 use moreau_stepper::Mechanism;
+use moreau_testsupport::SplitMix64;
 
 #[test]
 fn reduced_mass_and_potential_derivatives_match_finite_differences() {

@@ -1,9 +1,7 @@
 //! The woodpecker toy reaches a periodic motion and walks down the pole (docs/theory.md §7.2).
 
-mod common;
-
-use common::{onsets, up_crossings};
 use moreau_models::*;
+use moreau_testsupport::{onsets, up_crossings};
 
 fn run(dt: f64, t_end: f64) -> Simulation {
     let mut scene = Scene::report(ModelKind::Woodpecker);

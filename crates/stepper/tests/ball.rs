@@ -1,9 +1,7 @@
 //! The bouncing ball against its closed-form solution (docs/theory.md §7.1).
 
-mod common;
-
-use common::{Ball, G};
 use moreau_stepper::{Record, Stepper, StepperOptions};
+use moreau_testsupport::{Ball, G};
 
 const Y0: f64 = 1.0;
 

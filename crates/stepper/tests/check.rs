@@ -1,12 +1,10 @@
 //! `check_evaluate`: overrides of `Mechanism::evaluate` and `Mechanism::midpoint_contacts`
 //! against the separate methods.
 
-mod common;
-
-use common::Rod;
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
 use moreau_stepper::{Mechanism, StepError, check_evaluate};
+use moreau_testsupport::Rod;
 
 /// The shared test rod, q = (x, y, φ), with overrides of `evaluate` and `midpoint_contacts`
 /// that share sin φ and cos φ through the memo. `bug` plants one mistake.

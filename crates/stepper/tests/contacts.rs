@@ -1,12 +1,10 @@
 //! Rheonomic contacts, frictionless rows, simultaneous impacts and input validation.
 
-mod common;
-
 use std::ops::ControlFlow;
 
-use common::{Ball, Block, G, Rod};
 use moreau_setvalued::ContactLaw;
 use moreau_stepper::{SolverChoice, StepError, StepReport, Stepper, StepperOptions};
+use moreau_testsupport::{Ball, Block, G, Rod};
 
 #[test]
 fn moving_floor_reverses_the_relative_velocity_at_impact() {

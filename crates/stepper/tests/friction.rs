@@ -1,9 +1,7 @@
 //! Coulomb friction against closed forms: a block on an incline and one braking on a floor.
 
-mod common;
-
-use common::{Block, G};
 use moreau_stepper::{ContactState, SolverChoice, Stepper, StepperOptions};
+use moreau_testsupport::{Block, G};
 
 /// Distance, speed along the slope and final contact state after `t_end`. The active-set
 /// threshold of 1e-12 m keeps round-off from opening the contact (see the test below).

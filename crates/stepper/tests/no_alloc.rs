@@ -1,14 +1,12 @@
 //! The step loop does not touch the heap once the stepper is built and warmed up.
 #![allow(unsafe_code)] // A counting global allocator needs `unsafe impl GlobalAlloc`.
 
-mod common;
-
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::ops::ControlFlow;
 
-use common::{Ball, Rod};
 use moreau_stepper::{SolverChoice, StepReport, Stepper, StepperOptions};
+use moreau_testsupport::{Ball, Rod};
 
 struct Counting;
 

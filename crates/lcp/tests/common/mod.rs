@@ -1,79 +1,14 @@
-//! Shared helpers of the integration tests and benches: a seeded generator and problem
-//! builders (random SPD and P-matrices with planted solutions, the friction LCP of the
-//! time-stepper, Murty's exponential problem).
+//! Shared helpers of the integration tests and benches: the friction LCP of the
+//! time-stepper, the bench sets and independent checks of solutions; the seeded generator
+//! and the SPD, P-matrix, planted and Murty problems come from `moreau-testsupport`.
 #![allow(dead_code, non_snake_case)]
 
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Col, Mat};
 use moreau_lcp::{Auto, Lcp, Solution, Solver};
-
-/// splitmix64: a tiny deterministic generator.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in [a, b).
-    pub fn uniform(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.unit()
-    }
-
-    pub fn below(&mut self, k: u64) -> u64 {
-        self.next_u64() % k
-    }
-}
-
-/// A random symmetric positive definite matrix `B B' / n + 0.1 I`.
-pub fn random_spd(n: usize, rng: &mut Rng) -> Mat<f64> {
-    let b = Mat::from_fn(n, n, |_, _| rng.uniform(-1.0, 1.0));
-    let mut a = &b * b.transpose() * (1.0 / n as f64);
-    for i in 0..n {
-        a[(i, i)] += 0.1;
-    }
-    a
-}
-
-/// A random non-symmetric P-matrix: positive diagonal, strictly dominant by rows.
-pub fn random_p_matrix(n: usize, rng: &mut Rng) -> Mat<f64> {
-    let mut a = Mat::from_fn(n, n, |i, j| if i == j { 0.0 } else { rng.uniform(-1.0, 1.0) });
-    for i in 0..n {
-        let off: f64 = (0..n).map(|j| a[(i, j)].abs()).sum();
-        a[(i, i)] = off * rng.uniform(1.1, 2.0) + 0.1;
-    }
-    a
-}
-
-/// Chooses complementary (z*, w*) (some pairs both zero when `degenerate`) and returns
-/// the LCP with `q = w* - M z*` and z*.
-pub fn planted(m: Mat<f64>, rng: &mut Rng, degenerate: bool) -> (Lcp, Vec<f64>) {
-    let n = m.nrows();
-    let mut z = vec![0.0; n];
-    let mut w = vec![0.0; n];
-    for i in 0..n {
-        match rng.below(if degenerate { 3 } else { 2 }) {
-            0 => z[i] = rng.uniform(0.1, 2.0),
-            1 => w[i] = rng.uniform(0.1, 2.0),
-            _ => {}
-        }
-    }
-    let q = Col::from_fn(n, |i| w[i] - (0..n).map(|j| m[(i, j)] * z[j]).sum::<f64>());
-    (Lcp::new(m, q).expect("valid planted problem"), z)
-}
+// Each test file takes the part of these it needs.
+#[allow(unused_imports)]
+pub use moreau_testsupport::{SplitMix64 as Rng, murty, planted, random_p_matrix, random_spd};
 
 /// Independent check that z solves the LCP: recomputes w = M z + q in a different
 /// order and tests the conditions with scaled bounds.
@@ -98,20 +33,6 @@ pub fn assert_solves(lcp: &Lcp, z: &[f64], tol: f64) {
 pub fn rel_dist(a: &[f64], b: &[f64]) -> f64 {
     let scale = a.iter().fold(1.0f64, |s, v| s.max(v.abs()));
     a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale
-}
-
-/// Murty's problem: M upper triangular with 1 on the diagonal and 2 above, q = -1.
-pub fn murty(n: usize) -> Lcp {
-    let m = Mat::from_fn(n, n, |i, j| {
-        if i == j {
-            1.0
-        } else if j > i {
-            2.0
-        } else {
-            0.0
-        }
-    });
-    Lcp::new(m, Col::from_fn(n, |_| -1.0)).expect("valid Murty problem")
 }
 
 /// The data of one step LCP with friction (EQUATIONS.md section 5).
