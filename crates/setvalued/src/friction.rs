@@ -37,7 +37,7 @@ pub struct CoulombState {
     pub gamma_t: f64,
 }
 
-/// Coulomb's law split into two unilateral primitives (see the [module documentation](self)).
+/// Coulomb's law split into two unilateral primitives (see the documentation of this module).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CoulombSplit {
     /// λ_R = μλ_N + λ_T.
