@@ -319,6 +319,9 @@ impl Lemke {
             End::Ray => out.status = status_for(out.residual, tol, Status::RayTermination),
             End::Limit => out.status = status_for(out.residual, tol, Status::IterationLimit),
         }
+        if !out.is_solved() {
+            out.drop_non_finite(&ws.q);
+        }
         Ok(())
     }
 
