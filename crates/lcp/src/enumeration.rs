@@ -103,6 +103,10 @@ pub struct Enumeration {
     by_count: Vec<u32>,
     by_count_n: usize,
     lu: Lu,
+    /// Whether a basis of the current search gave a z or a w = M z + q beyond f64's range:
+    /// a solution may then exist that no f64 candidate represents, so the search proves
+    /// nothing.
+    overflowed: bool,
 }
 
 impl Default for Enumeration {
@@ -118,6 +122,7 @@ impl Default for Enumeration {
             by_count: Vec::new(),
             by_count_n: usize::MAX,
             lu: Lu::default(),
+            overflowed: false,
         }
     }
 }
@@ -149,7 +154,8 @@ impl Enumeration {
     /// solution, unless the vertex pass was needed but n > `max_n_degenerate`.
     ///
     /// # Errors
-    /// [`LcpError::TooLarge`] when n > `max_n`.
+    /// [`LcpError::TooLarge`] when n > `max_n`; [`LcpError::Overflow`] when some basis gave
+    /// a z or a w = M z + q beyond f64's range, so that the list may miss solutions.
     pub fn solve_all(&mut self, lcp: LcpRef<'_>) -> Result<Vec<Solution>, LcpError> {
         let n = self.prepare(lcp)?;
         let mut found: Vec<Solution> = Vec::new();
@@ -178,6 +184,9 @@ impl Enumeration {
         if singular > 0 && n <= self.options.max_n_degenerate {
             self.vertex_pass(n, &mut z, &mut w, &mut examined, &mut keep);
         }
+        if self.overflowed {
+            return Err(LcpError::Overflow);
+        }
         Ok(found)
     }
 
@@ -197,6 +206,7 @@ impl Enumeration {
         self.lu.reserve(n);
         lcp.copy_m_row_major(&mut self.m_rows);
         lcp.copy_q(&mut self.q);
+        self.overflowed = false;
         Ok(n)
     }
 
@@ -212,6 +222,10 @@ impl Enumeration {
             self.rhs[t] = -self.q[i];
         }
         self.lu.solve(&mut self.rhs);
+        if self.rhs[..k].iter().any(|v| !v.is_finite()) {
+            self.overflowed = true;
+            return Some(Residual::INFINITE);
+        }
         // Cheap rejection before the O(n^2) residual: a clearly negative z_j.
         let zmax = self.rhs[..k].iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if self.rhs[..k].iter().any(|&v| v < -1e-6 * zmax) {
@@ -244,12 +258,16 @@ impl Enumeration {
     }
 
     /// z = the solution in `rhs` on `cols` (clamped at 0, zero elsewhere), w = M z + q.
-    fn scatter(&self, n: usize, z: &mut [f64], w: &mut [f64]) -> Residual {
+    fn scatter(&mut self, n: usize, z: &mut [f64], w: &mut [f64]) -> Residual {
         z.fill(0.0);
         for (t, &j) in self.cols.iter().enumerate() {
             z[j] = self.rhs[t].max(0.0);
         }
-        finish_row_major(&self.m_rows, n, &self.q, z, w)
+        let r = finish_row_major(&self.m_rows, n, &self.q, z, w);
+        if w.iter().any(|v| !v.is_finite()) {
+            self.overflowed = true;
+        }
+        r
     }
 
     /// Tries every principal basis; returns the number of singular `M_αα`.
@@ -367,7 +385,15 @@ impl Solver for Enumeration {
             None => {
                 out.z.fill(0.0);
                 out.residual = finish_row_major(&self.m_rows, n, &self.q, &out.z, &mut out.w);
-                out.status = if complete { Status::NoSolution } else { Status::TooLarge };
+                // A basis whose z or w overflowed may hold a solution that f64 cannot
+                // represent: the search then proves nothing.
+                out.status = if self.overflowed {
+                    Status::NumericalFailure
+                } else if complete {
+                    Status::NoSolution
+                } else {
+                    Status::TooLarge
+                };
             }
         }
         Ok(())

@@ -34,6 +34,32 @@ pub enum LcpError {
         /// `(row, column)` of the entry; for vectors the column is 0.
         index: (usize, usize),
     },
+    /// An entry is beyond the range the solvers compute in ([`MAX_ENTRY`](crate::MAX_ENTRY),
+    /// 2^500 ≈ 3.3e150, in magnitude): products of such entries overflow.
+    #[error(
+        "entry {what}[{}][{}] = {value:e} is beyond the range the solvers compute in \
+         (|x| <= 2^500 = 3.3e150, so that products of entries stay finite); scale the \
+         problem first: a row of (M, q) times a positive factor keeps z, a column j of M \
+         times c_j > 0 maps z_j to z_j / c_j",
+        index.0,
+        index.1
+    )]
+    OutOfRange {
+        /// Which input (`"M"` or `"q"`).
+        what: &'static str,
+        /// `(row, column)` of the entry; for vectors the column is 0.
+        index: (usize, usize),
+        /// Its value.
+        value: f64,
+    },
+    /// A complementary basis gave a z or a w = M z + q beyond f64's range, so the answer
+    /// asked for (every solution) cannot be given: a solution may exist that no f64 vector
+    /// represents.
+    #[error(
+        "a basis gave z or w = M z + q beyond the range of f64 (1.8e308), so solutions may be \
+         missed; scale the problem (rows of (M, q), or columns of M, by positive factors)"
+    )]
+    Overflow,
     /// The problem has size n = 0.
     #[error("the LCP is empty (n = 0)")]
     Empty,

@@ -173,6 +173,8 @@ struct Workspace {
     /// Whether the AVX2 copy of the kernels runs (detected on the first solve).
     avx: bool,
     row_scaled: bool,
+    /// The tie tolerance of the solve in progress ([`LemkeOptions::tie_tolerance`]).
+    tie_rel: f64,
     /// M column-major and unscaled, each column padded to h rows: the residual reads it.
     m_cols: Vec<Chunk>,
     /// M row-major, filled only for the LU paths (warm basis, re-solve fallback).
@@ -316,6 +318,9 @@ impl Lemke {
             }
             End::Ray => out.status = status_for(out.residual, tol, Status::RayTermination),
             End::Limit => out.status = status_for(out.residual, tol, Status::IterationLimit),
+        }
+        if !out.is_solved() {
+            out.drop_non_finite(&ws.q);
         }
         Ok(())
     }
@@ -1100,6 +1105,7 @@ impl Workspace {
     /// for AVX2 when the processor has it. Returns how the pivoting ended and the pivots.
     #[allow(unsafe_code)]
     fn run(&mut self, lcp: LcpRef<'_>, opts: &LemkeOptions, out: &mut Solution) -> (End, usize) {
+        self.tie_rel = opts.tie_tolerance;
         #[cfg(target_arch = "x86_64")]
         if self.avx {
             // SAFETY: `self.avx` is set only by `avx2_available`, which detected AVX and
@@ -1436,6 +1442,16 @@ impl Workspace {
     /// Among the rows with `a_i > ptol` and `q̄_i − θ a_i <= eps`: z_0's row if it is one
     /// of them (after the first step), otherwise the row whose row of `[q̄ | B^{-1}]`
     /// divided by `a_i` is lexicographically smallest (q̄_i / a_i tie, so `B^{-1}` decides).
+    ///
+    /// The comparison runs column by column over the tied rows, as the ratio test does on
+    /// q̄: in column j the smallest `β_ij / a_i` (β = B^{-1}) is found, and the rows with
+    /// `(β_ij / a_i − min) a_i <= tie_rel · max_i |β_ij|` stay tied; the others drop out.
+    /// The tolerance is relative to the column's largest entry, not to the two values
+    /// compared: pivots leave round-off of order 1e-15 in entries that are exactly zero,
+    /// and a comparison of two such entries by their own size would let that round-off
+    /// pick the row, which breaks the rule's guarantee (no basis repeats) and let the
+    /// method cycle. Rows that stay tied over all n columns (which needs a nearly singular
+    /// basis) are decided by the largest `a_i`, the most stable pivot.
     #[inline(never)]
     fn select_tied(&mut self, s: usize, initial: bool, ptol: f64, theta: f64, eps: f64) -> usize {
         let n = self.n;
@@ -1453,28 +1469,28 @@ impl Workspace {
                 return r;
             }
         }
-        let mut pick = self.ties[0];
-        for t in 1..self.ties.len() {
-            let i = self.ties[t];
-            if self.lex_less(i, sign * self.entry(i, s), pick, sign * self.entry(pick, s)) {
+        let mut ties = std::mem::take(&mut self.ties);
+        for j in 0..n {
+            if ties.len() <= 1 {
+                break;
+            }
+            let scale = match self.col_of[j] {
+                NONE => 1.0,
+                c => (0..n).fold(0.0, |m, i| fmax(m, self.entry(i, c).abs())),
+            };
+            let tol = self.tie_rel * scale;
+            let key = |i: usize| self.binv(i, j) / (sign * self.entry(i, s));
+            let least = ties.iter().fold(f64::INFINITY, |m, &i| fmin(m, key(i)));
+            ties.retain(|&i| (key(i) - least) * (sign * self.entry(i, s)) <= tol);
+        }
+        let mut pick = ties[0];
+        for &i in &ties[1..] {
+            if sign * self.entry(i, s) > sign * self.entry(pick, s) {
                 pick = i;
             }
         }
+        self.ties = ties;
         pick
-    }
-
-    /// `true` when row i of `B^{-1}` divided by `ai` is lexicographically smaller than
-    /// row k divided by `ak`.
-    fn lex_less(&self, i: usize, ai: f64, k: usize, ak: f64) -> bool {
-        for j in 0..self.n {
-            let x = self.binv(i, j) / ai;
-            let y = self.binv(k, j) / ak;
-            if (x - y).abs() <= 1e-9 * x.abs().max(y.abs()) {
-                continue;
-            }
-            return x < y;
-        }
-        false
     }
 
     /// Exchanges the basic variable of row r with the non-basic variable of column s and

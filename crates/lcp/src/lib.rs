@@ -168,5 +168,5 @@ pub use enumeration::{Enumeration, EnumerationOptions};
 pub use error::LcpError;
 pub use lemke::{Covering, Lemke, LemkeOptions};
 pub use pgs::{Pgs, PgsOptions};
-pub use problem::{Lcp, LcpRef};
+pub use problem::{Lcp, LcpRef, MAX_ENTRY};
 pub use solution::{Method, Residual, Solution, Solver, Status};

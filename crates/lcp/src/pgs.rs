@@ -141,6 +141,7 @@ impl Solver for Pgs {
                 out.z.copy_from_slice(&self.backup);
                 out.residual = finish_row_major(m, n, q, &out.z, &mut out.w);
                 out.status = Status::NumericalFailure;
+                out.drop_non_finite(q);
                 return Ok(());
             }
             out.residual = finish_row_major(m, n, q, &out.z, &mut out.w);
@@ -149,6 +150,7 @@ impl Solver for Pgs {
                 return Ok(());
             }
         }
+        out.drop_non_finite(q);
         Ok(())
     }
 }

@@ -8,7 +8,8 @@ use crate::LcpError;
 /// A validated linear complementarity problem LCP(M, q): find z with
 /// `w = M z + q`, `0 <= z ⊥ w >= 0`.
 ///
-/// M is a dense square n x n matrix and q a vector of length n >= 1, all entries finite.
+/// M is a dense square n x n matrix and q a vector of length n >= 1, all entries finite
+/// and at most [`MAX_ENTRY`] in magnitude.
 /// The problem owns its data; [`Lcp::view`] gives the borrowed [`LcpRef`] that the
 /// solvers take.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,7 +26,23 @@ pub struct LcpRef<'a> {
     q: ColRef<'a, f64>,
 }
 
-/// Checks shape and finiteness of (M, q) without allocating.
+/// The largest magnitude of an entry of M or q that the solvers accept: 2^500 ≈ 3.3e150.
+///
+/// Products of two entries then stay below 2^1000 and sums of up to 2^23 such products stay
+/// finite, so the pivots, factorisations and residuals of the solvers do not overflow on
+/// data of ordinary range. Entries near f64's largest value (1.8e308) would make w = M z + q
+/// overflow even for z of order one (`M = 1e308`, `z = 2`), so a solver could neither
+/// represent nor check a solution. Such a problem is refused with
+/// [`LcpError::OutOfRange`]; scaling it first keeps its solutions: a row of (M, q) times any
+/// positive factor leaves z unchanged, and a column j of M times `c_j > 0` maps z_j to
+/// `z_j / c_j`.
+pub const MAX_ENTRY: f64 = {
+    // 2^500, built in the exponent bits (a literal power would need a const pow).
+    f64::from_bits((1023 + 500) << 52)
+};
+
+/// Checks shape, finiteness and range (at most [`MAX_ENTRY`] in magnitude) of (M, q)
+/// without allocating.
 fn validate(m: MatRef<'_, f64>, q: ColRef<'_, f64>) -> Result<(), LcpError> {
     let (rows, cols) = (m.nrows(), m.ncols());
     if rows != cols {
@@ -37,25 +54,50 @@ fn validate(m: MatRef<'_, f64>, q: ColRef<'_, f64>) -> Result<(), LcpError> {
     if q.nrows() != rows {
         return Err(LcpError::DimensionMismatch { what: "q", expected: rows, found: q.nrows() });
     }
-    // One pass without early exits (x · 0 is 0 for a finite x and NaN otherwise); the
-    // offending entry is looked for only when there is one.
-    let mut poison = 0.0;
+    // One pass without early exits (x · 0 is 0 for a finite x and NaN otherwise, and the
+    // largest magnitude ignores NaN); the offending entry is looked for only when there is
+    // one.
+    let (mut poison, mut big) = (0.0, 0.0f64);
     for j in 0..cols {
         let col = m.col(j);
         if let Some(slice) = col.try_as_col_major().map(|c| c.as_slice()) {
             for v in slice {
                 poison += v * 0.0;
+                big = big.max(v.abs());
             }
         } else {
             for i in 0..rows {
                 poison += col[i] * 0.0;
+                big = big.max(col[i].abs());
             }
         }
     }
     for i in 0..rows {
         poison += q[i] * 0.0;
+        big = big.max(q[i].abs());
     }
-    if poison == 0.0 { Ok(()) } else { Err(first_non_finite(m, q)) }
+    if poison != 0.0 {
+        return Err(first_non_finite(m, q));
+    }
+    if big > MAX_ENTRY {
+        return Err(first_out_of_range(m, q));
+    }
+    Ok(())
+}
+
+/// The error naming the first entry of M (column by column), else of q, above
+/// [`MAX_ENTRY`] in magnitude.
+#[cold]
+fn first_out_of_range(m: MatRef<'_, f64>, q: ColRef<'_, f64>) -> LcpError {
+    for j in 0..m.ncols() {
+        for i in 0..m.nrows() {
+            if m[(i, j)].abs() > MAX_ENTRY {
+                return LcpError::OutOfRange { what: "M", index: (i, j), value: m[(i, j)] };
+            }
+        }
+    }
+    let i = (0..q.nrows()).find(|&i| q[i].abs() > MAX_ENTRY).unwrap_or(0);
+    LcpError::OutOfRange { what: "q", index: (i, 0), value: q[i] }
 }
 
 /// The error naming the first non-finite entry of M (column by column), else of q.
@@ -76,8 +118,9 @@ impl Lcp {
     /// Builds an LCP from an n x n matrix M and a vector q of length n.
     ///
     /// # Errors
-    /// [`LcpError::NotSquare`], [`LcpError::Empty`], [`LcpError::DimensionMismatch`] or
-    /// [`LcpError::NonFinite`] when the data is not a valid LCP.
+    /// [`LcpError::NotSquare`], [`LcpError::Empty`], [`LcpError::DimensionMismatch`],
+    /// [`LcpError::NonFinite`] or [`LcpError::OutOfRange`] (an entry above [`MAX_ENTRY`]
+    /// in magnitude) when the data is not a valid LCP.
     pub fn new(m: Mat<f64>, q: Col<f64>) -> Result<Lcp, LcpError> {
         validate(m.as_ref(), q.as_ref())?;
         Ok(Lcp { m, q })
@@ -127,7 +170,7 @@ impl Lcp {
 }
 
 impl<'a> LcpRef<'a> {
-    /// Validates (square, sizes, finite entries) and wraps M and q, without allocating.
+    /// Validates (square, sizes, finite entries within [`MAX_ENTRY`]) and wraps M and q, without allocating.
     ///
     /// # Errors
     /// As [`Lcp::new`].
@@ -142,7 +185,8 @@ impl<'a> LcpRef<'a> {
     ///
     /// # Errors
     /// [`LcpError::Empty`] for n = 0, [`LcpError::DimensionMismatch`] when `m` does not
-    /// have n² entries or `q` n, and [`LcpError::NonFinite`] for a non-finite entry.
+    /// have n² entries or `q` n, [`LcpError::NonFinite`] for a non-finite entry and
+    /// [`LcpError::OutOfRange`] for one above [`MAX_ENTRY`] in magnitude.
     pub fn from_column_major(n: usize, m: &'a [f64], q: &'a [f64]) -> Result<Self, LcpError> {
         if m.len() != n * n {
             return Err(LcpError::DimensionMismatch {
@@ -158,9 +202,20 @@ impl<'a> LcpRef<'a> {
             return Err(LcpError::DimensionMismatch { what: "q", expected: n, found: q.len() });
         }
         let view = LcpRef { m: MatRef::from_column_major_slice(m, n, n), q: ColRef::from_slice(q) };
-        // x · 0 is 0 for a finite x and NaN otherwise: one test for all entries.
-        let poison: f64 = m.iter().chain(q).map(|v| v * 0.0).sum();
-        if poison == 0.0 { Ok(view) } else { Err(first_non_finite(view.m, view.q)) }
+        // x · 0 is 0 for a finite x and NaN otherwise: one test for all entries, and one
+        // for their range.
+        let (mut poison, mut big) = (0.0, 0.0f64);
+        for v in m.iter().chain(q) {
+            poison += v * 0.0;
+            big = big.max(v.abs());
+        }
+        if poison != 0.0 {
+            Err(first_non_finite(view.m, view.q))
+        } else if big > MAX_ENTRY {
+            Err(first_out_of_range(view.m, view.q))
+        } else {
+            Ok(view)
+        }
     }
 
     /// The size n of the problem.

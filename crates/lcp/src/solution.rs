@@ -512,6 +512,19 @@ impl Solution {
         self.residual = Residual::INFINITE;
     }
 
+    /// Replaces a candidate whose z or w has an entry beyond f64's range (an overflow, as
+    /// data of extreme range can give) by z = 0, w = q, with status
+    /// [`Status::NumericalFailure`]: a solver never returns NaN or infinity.
+    pub(crate) fn drop_non_finite(&mut self, q: &[f64]) {
+        if self.z.iter().chain(&self.w).all(|v| v.is_finite()) {
+            return;
+        }
+        self.z.fill(0.0);
+        self.w.copy_from_slice(q);
+        self.residual = residual_of_zero(q);
+        self.status = Status::NumericalFailure;
+    }
+
     /// [`Self::prepare`] with z and w zeroed (no allocation once the capacity has been reached).
     pub(crate) fn reset(&mut self, n: usize, method: Method) {
         self.prepare(n, method);
