@@ -72,6 +72,9 @@ pub enum Method {
     /// ([`fc2d::LcpRoute`](crate::fc2d::LcpRoute)); the LCP solver's method is recorded
     /// beside it.
     LcpRoute,
+    /// The nonsmooth Newton method on Alart and Curnier's function for a planar
+    /// frictional-contact problem ([`fc2d::Newton`](crate::fc2d::Newton)).
+    Newton,
 }
 
 impl fmt::Display for Method {
@@ -85,6 +88,7 @@ impl fmt::Display for Method {
             Method::ClosedForm => "closed_form",
             Method::Nsgs => "nsgs",
             Method::LcpRoute => "lcp_route",
+            Method::Newton => "newton",
         })
     }
 }

@@ -2,6 +2,7 @@
 
 mod lcp_route;
 mod local;
+mod newton;
 mod nsgs;
 mod problem;
 mod residual;
@@ -9,6 +10,7 @@ mod solution;
 
 pub use crate::io::{Gfc2d, Reduced, SiconosStorage};
 pub use lcp_route::{LcpRoute, LcpRouteOptions, LcpRouteSolver};
+pub use newton::{Newton, NewtonOptions, Rho};
 pub use nsgs::{Nsgs, NsgsOptions};
 pub use problem::{Fc2d, Fc2dBuilder, Fc2dParts, Fc2dRef, PSD_TOLERANCE};
 pub use residual::Fc2dResidual;
