@@ -1,5 +1,6 @@
 //! Planar frictional contact (FC2D): the problem, its residual and its solvers.
 
+mod auto;
 mod lcp_route;
 mod local;
 mod newton;
@@ -9,6 +10,7 @@ mod residual;
 mod solution;
 
 pub use crate::io::{Gfc2d, Reduced, SiconosStorage};
+pub use auto::{Fc2dAuto, Fc2dAutoOptions};
 pub use lcp_route::{LcpRoute, LcpRouteOptions, LcpRouteSolver};
 pub use newton::{Newton, NewtonOptions, Rho};
 pub use nsgs::{Nsgs, NsgsOptions};

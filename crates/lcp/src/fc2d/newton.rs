@@ -52,6 +52,10 @@ pub struct NewtonOptions {
     /// singular (indeterminate reactions of a dense packing). A failed or non-finite solve
     /// raises it a hundredfold, up to 1e-2. Default 1e-10.
     pub regularization: f64,
+    /// Gain κ >= 0 of the shift that follows the residual: each iteration uses
+    /// `δ = max(δ_min, min(κ ‖Φ‖∞, 1e-2))` (dimensionless, Φ in the ρ-scaled units).
+    /// Default 1.
+    pub regularization_gain: f64,
     /// Keep [`Fc2dResidual::natural`] after every iteration in [`Fc2dSolution::history`].
     /// Default false.
     pub keep_history: bool,
@@ -68,6 +72,7 @@ impl Default for NewtonOptions {
             max_backtracks: 20,
             fallback_sweeps: 10,
             regularization: 1e-10,
+            regularization_gain: 1.0,
             keep_history: false,
         }
     }
@@ -92,7 +97,7 @@ const MAX_REGULARIZATION: f64 = 1e-2;
 /// bilateral rows hold (Alart & Curnier 1991). Φ is piecewise linear in r; on each piece
 /// its Jacobian is `J = A + B W` with A and B block diagonal (2x2 per contact: open,
 /// stick or slip in either direction), so J has the block sparsity of W. Each iteration
-/// solves `(J + δ I) d = -Φ` by faer's sparse LU with partial pivoting, and an Armijo
+/// solves `(J + δ I) d = -Φ` (δ a small shift that follows ‖Φ‖) by faer's sparse LU with partial pivoting, and an Armijo
 /// line search on the merit `ψ = ½ ‖Φ‖²` picks the step. When the line search finds no
 /// decrease, a few sweeps of the nonsmooth Gauss-Seidel method ([`Nsgs`]) are taken from
 /// the current iterate instead, and Newton resumes from their result.
@@ -178,7 +183,8 @@ impl Newton {
     /// # Errors
     /// [`LcpError::InvalidOption`] unless `tolerance` is finite and > 0,
     /// `max_iterations >= 1`, `0 < armijo < 1/2`, `0 < backtrack < 1`, a fixed ρ is
-    /// finite and > 0, and `regularization` is finite, >= 0 and below 1e-2.
+    /// finite and > 0, `regularization` is finite, >= 0 and below 1e-2, and
+    /// `regularization_gain` is finite and >= 0.
     pub fn new(options: NewtonOptions) -> Result<Newton, LcpError> {
         let bad = |name: &'static str, reason: &str| {
             Err(LcpError::InvalidOption { name, reason: reason.to_string() })
@@ -202,6 +208,9 @@ impl Newton {
         }
         if !(options.regularization >= 0.0 && options.regularization < MAX_REGULARIZATION) {
             return bad("regularization", "must be in [0, 1e-2)");
+        }
+        if !(options.regularization_gain >= 0.0 && options.regularization_gain.is_finite()) {
+            return bad("regularization_gain", "must be finite and >= 0");
         }
         let fallback = Nsgs::new(NsgsOptions {
             tolerance: options.tolerance,
@@ -235,6 +244,8 @@ impl Pattern {
             return Ok(());
         }
         self.symbolic = None;
+        // faer's numeric LU keeps the sizes of its last matrix: start afresh.
+        self.numeric = NumericLu::new();
         self.group_start.clear();
         self.group_start.extend_from_slice(p.group_start);
         self.row_ptr.clear();
@@ -481,16 +492,16 @@ impl Fc2dSolver for Newton {
         for iteration in 1..=self.options.max_iterations {
             out.iterations = iteration;
             let w = &mut self.work;
-            let merit = evaluate(
-                problem,
-                &w.rho,
-                &out.r,
-                &w.u,
-                &mut w.phi,
-                Some((&mut w.a, &mut w.b)),
-            );
+            let merit =
+                evaluate(problem, &w.rho, &out.r, &w.u, &mut w.phi, Some((&mut w.a, &mut w.b)));
             // The Newton direction, with the diagonal shift raised until the solve works.
             let mut solved = false;
+            // A shift proportional to ‖Φ‖∞ keeps the step of a nearly singular J (W
+            // singular on a dense packing) near the current iterate, like a proximal
+            // point step, and vanishes as Φ does, which keeps fast local convergence.
+            let phi_norm = w.phi.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            delta =
+                delta.max((self.options.regularization_gain * phi_norm).min(MAX_REGULARIZATION));
             loop {
                 for (d, phi) in w.d.iter_mut().zip(&w.phi) {
                     *d = -phi;
@@ -520,10 +531,6 @@ impl Fc2dSolver for Newton {
                     }
                     t *= self.options.backtrack;
                 }
-            }
-            if std::env::var("NEWTON_DEBUG").is_ok() {
-                let dn = w.d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                eprintln!("it {iteration} merit {merit:.3e} solved {solved} delta {delta:.1e} |d| {dn:.2e} accepted {accepted}");
             }
             if accepted {
                 std::mem::swap(&mut out.r, &mut w.r_trial);
