@@ -105,15 +105,19 @@ fn auto_reaches_1e_8_on_every_file() {
         assert_eq!(out.status, Status::Solved, "{name}: {:?} by {}", out.residual, out.method);
         assert!(out.residual.natural <= 1e-8, "{name}");
         assert_honest(name, &out, 1e-8);
-        let expected = if problem.n_contacts() <= 40 {
-            &[Method::LcpRoute][..]
+        let expected = if problem.n_contacts() == 0 {
+            Method::Trivial
+        } else if name.starts_with("FC2D_SliderCrank") {
+            // Gauss-Seidel needs hundreds of sweeps on these two contacts: pivoting is
+            // quicker.
+            Method::LcpRoute
         } else if name.contains("02020") || name.contains("07002") {
             // Gauss-Seidel alone stalls there: the cluster solves are needed.
-            &[Method::NsgsClusters][..]
+            Method::NsgsClusters
         } else {
-            &[Method::Nsgs][..]
+            Method::Nsgs
         };
-        assert!(expected.contains(&out.method), "{name}: {}", out.method);
+        assert_eq!(out.method, expected, "{name}");
         if out.method == Method::NsgsClusters {
             assert!(out.lcp_method.is_some(), "{name}: a cluster was solved by pivoting");
         }
@@ -121,14 +125,13 @@ fn auto_reaches_1e_8_on_every_file() {
 }
 
 #[test]
-fn auto_at_a_loose_tolerance_is_gauss_seidel_or_the_lcp_route() {
+fn auto_at_a_loose_tolerance_solves_every_file() {
     let mut auto =
         Fc2dAuto::new(Fc2dAutoOptions { tolerance: 1e-4, ..Default::default() }).unwrap();
     for (name, problem) in collection() {
         let s = auto.solve(problem).unwrap();
         assert_eq!(s.status, Status::Solved, "{name}: {:?}", s.residual);
         assert_honest(name, &s, 1e-4);
-        assert!(matches!(s.method, Method::Nsgs | Method::LcpRoute), "{name}: {}", s.method);
     }
 }
 
