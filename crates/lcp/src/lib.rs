@@ -1,4 +1,5 @@
-//! Solvers for the linear complementarity problem (LCP) on faer.
+//! Solvers for the linear complementarity problem (LCP) and for planar frictional contact
+//! (FC2D) on faer.
 //!
 //! Given a dense square matrix M (n x n, n from 1 to a few hundred) and a vector q, the
 //! LCP(M, q) asks for z in R^n with
@@ -12,12 +13,19 @@
 //! auxiliary tangential velocity) and w = (ξ_N; ξ_R; P_L), with M built from W_N, W_T,
 //! the mass matrix and μ; this crate only sees (M, q).
 //!
+//! The [`fc2d`] module solves the planar frictional-contact problem itself, sparse by 2x2
+//! blocks, at any size: find reactions r and velocities u = W r + q with Signorini's and
+//! Coulomb's laws per contact (and bilateral rows for joints), by nonsmooth block
+//! Gauss-Seidel or, for small problems, by its exact LCP reformulation; it reads and
+//! writes Siconos numerics' FC2D and GFC2D files.
+//!
 //! **What it is for:** accurate, allocation-free solves of small dense LCPs in a time
 //! stepper's hot loop, certified residuals, and hard cases (degenerate, infeasible,
-//! exponential) handled with an honest [`Status`].
-//! **What it is not for:** large sparse problems, nonlinear complementarity,
-//! friction cones other than the linearised (LCP) one, or mechanics: building M and q from
-//! a model is the stepper's job.
+//! exponential) handled with an honest [`Status`]; planar frictional contact from one
+//! contact to tens of thousands ([`fc2d`]).
+//! **What it is not for:** large sparse LCPs, nonlinear complementarity, spatial (3D)
+//! friction cones, or mechanics: building M and q (or W and q) from a model is the
+//! stepper's job.
 //!
 //! # Principal types
 //!
@@ -31,6 +39,10 @@
 //! | [`Auto`] ([`AutoOptions`]) | trivial, warm-start basis, Lemke, other covering vectors, enumeration: the robust default |
 //! | [`Solution`], [`Status`], [`Method`], [`Residual`] | result, how it ended, who produced it, how good it is |
 //! | [`LcpError`] | invalid input only; not converging is a [`Status`] |
+//! | [`fc2d::Fc2d`], [`fc2d::Fc2dRef`], [`fc2d::Fc2dBuilder`] | a planar frictional-contact problem, W by 2x2 blocks, with bilateral rows |
+//! | [`fc2d::Nsgs`], [`fc2d::LcpRoute`] ([`fc2d::Fc2dSolver`]) | nonsmooth Gauss-Seidel; the exact LCP reformulation |
+//! | [`fc2d::Fc2dSolution`], [`fc2d::Fc2dResidual`] | r, u, status and the one FC2D residual |
+//! | [`fc2d::Gfc2d`] | Siconos' global form M v = q + H r, u = Hᵀ v + b, reduced to W = Hᵀ M⁻¹ H |
 //!
 //! # The methods
 //!
@@ -75,6 +87,7 @@
 //! | z_0 | | Lemke's artificial variable |
 //! | ω | `PgsOptions::omega` | PGS relaxation factor |
 //! | α | | index set of basic z (z_i > 0 allowed) |
+//! | W, r, u, μ | [`fc2d`] | Delassus matrix, reactions, velocities, friction coefficients of FC2D |
 //!
 //! # Example
 //!
@@ -93,6 +106,32 @@
 //! # }
 //! ```
 //!
+//! # Planar frictional contact
+//!
+//! See the [`fc2d`] module: the problem and its laws, the cases of NSGS's local solver
+//! (open, stick, slip either way), the natural-map residual with De Saxcé's modified
+//! velocity and Siconos' normalised error, and an example.
+//!
+//! ```
+//! use moreau_lcp::fc2d::{Fc2d, Fc2dSolver, Nsgs};
+//!
+//! # fn main() -> Result<(), moreau_lcp::LcpError> {
+//! // Two contacts of W = 2 I coupled by 0.5 in their normal rows, both pushed in.
+//! let w = faer::Mat::from_fn(4, 4, |i, j| match (i, j) {
+//!     _ if i == j => 2.0,
+//!     (0, 2) | (2, 0) => 0.5,
+//!     _ => 0.0,
+//! });
+//! let problem = Fc2d::from_dense(w.as_ref(), &[-1.0, 0.1, -1.0, -0.1], &[0.3, 0.3])?;
+//! let solution = Nsgs::default().solve(&problem)?;
+//! assert!(solution.is_solved() && solution.residual.natural <= 1e-8);
+//! // Both press with r_N = 1 / 2.5 and stick (|q_T| is small).
+//! assert!((solution.r[0] - 0.4).abs() < 1e-8 && (solution.r[2] - 0.4).abs() < 1e-8);
+//! assert!(solution.u.iter().all(|u| u.abs() < 1e-8));
+//! # Ok(())
+//! # }
+//! ```
+//!
 //! # References
 //! - C. E. Lemke, Bimatrix equilibrium points and mathematical programming, Management
 //!   Science 11 (1965) 681-689.
@@ -101,6 +140,14 @@
 //! - J. J. Moreau, Unilateral contact and dry friction in finite freedom dynamics, in
 //!   Nonsmooth Mechanics and Applications, CISM Courses and Lectures 302, Springer, 1988.
 //! - C. Glocker, Set-Valued Force Laws: Dynamics of Non-Smooth Systems, Springer, 2001.
+//! - M. Jean, The non-smooth contact dynamics method, Computer Methods in Applied
+//!   Mechanics and Engineering 177 (1999) 235-257 (NSGS).
+//! - P. Alart, A. Curnier, A mixed formulation for frictional contact problems prone to
+//!   Newton like solution methods, CMAME 92 (1991) 353-375.
+//! - G. De Saxcé, Z.-Q. Feng, The bipotential method, Mathematical and Computer Modelling
+//!   28 (1998) 225-245.
+//! - V. Acary, B. Brogliato, Numerical Methods for Nonsmooth Dynamical Systems, Springer,
+//!   2008.
 //! - P. Flores, Kinematics and Dynamics of Multibody Systems with Imperfect Joints,
 //!   Springer, 2008; Flores et al., Nonlinear Dynamics, 2010 (clearance joints via LCP).
 #![deny(missing_docs)]

@@ -100,6 +100,58 @@ fn larger_lemke_solves_do_not_allocate() {
 }
 
 #[test]
+fn nsgs_with_the_same_sparsity_does_not_allocate() {
+    use moreau_lcp::fc2d::{Fc2d, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions};
+    // A chain of 30 contacts: blocks (i, i - 1), (i, i), (i, i + 1), diagonally dominant,
+    // with q and μ changing from problem to problem.
+    let mut rng = Rng::new(34);
+    let n_c = 30;
+    let w = faer::Mat::from_fn(2 * n_c, 2 * n_c, |i, j| {
+        let (ci, cj) = (i / 2, j / 2);
+        if i == j {
+            4.0
+        } else if ci.abs_diff(cj) == 1 && i % 2 == j % 2 {
+            0.5
+        } else if ci == cj {
+            0.3
+        } else {
+            0.0
+        }
+    });
+    let problems: Vec<Fc2d> = (0..10)
+        .map(|_| {
+            let q: Vec<f64> = (0..2 * n_c).map(|_| rng.uniform(-1.0, 1.0)).collect();
+            let mu: Vec<f64> = (0..n_c).map(|_| rng.uniform(0.0, 0.8)).collect();
+            Fc2d::from_dense(w.as_ref(), &q, &mu).unwrap()
+        })
+        .collect();
+    let mut solver = Nsgs::new(NsgsOptions { tolerance: 1e-10, ..Default::default() }).unwrap();
+    let mut out = Fc2dSolution::new();
+    let warm = vec![0.1; 2 * n_c];
+    solver.solve_into(problems[0].view(), None, &mut out).unwrap();
+    assert!(out.is_solved());
+    let count = allocations(|| {
+        for p in &problems {
+            solver.solve_into(p.view(), None, &mut out).unwrap();
+            assert!(out.is_solved());
+            solver.solve_into(p.view(), Some(&warm), &mut out).unwrap();
+            assert!(out.is_solved());
+        }
+    });
+    assert_eq!(count, 0, "{count} allocations in {} NSGS solves", 2 * problems.len());
+    // Refilling a problem from a dense W of the same size reuses its buffers.
+    let mut problem = problems[0].clone();
+    let q = problems[1].q().to_vec();
+    let mu = problems[1].mu().to_vec();
+    let count = allocations(|| {
+        problem.set_dense(w.as_ref(), &q, &mu).unwrap();
+        solver.solve_into(problem.view(), None, &mut out).unwrap();
+    });
+    assert_eq!(count, 0, "{count} allocations in a refill and a solve");
+    assert_eq!(problem, problems[1]);
+}
+
+#[test]
 fn the_counter_sees_allocations() {
     let count = allocations(|| {
         let v: Vec<u64> = std::hint::black_box(vec![1, 2, 3]);

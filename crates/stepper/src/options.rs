@@ -20,9 +20,12 @@ pub enum SolverChoice {
     Auto,
     /// Lemke's complementary pivoting alone.
     Lemke,
-    /// Projected Gauss-Seidel, warm-started from the previous step's impulses.
+    /// Gauss-Seidel, warm-started from the previous step's impulses: projected Gauss-Seidel
+    /// on the normal LCP when no active contact has friction, else the nonsmooth block
+    /// Gauss-Seidel of `moreau_lcp::fc2d::Nsgs` on the step's contact problem.
     Pgs {
-        /// Tolerance on the scaled natural residual ‖min(z, w)‖∞ (dimensionless).
+        /// Tolerance on the scaled natural residual: ‖min(z, w)‖∞ of the normal LCP, or
+        /// `Fc2dResidual::natural` of the contact problem (dimensionless).
         tolerance: f64,
         /// Over-relaxation factor ω in (0, 2).
         omega: f64,

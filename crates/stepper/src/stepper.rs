@@ -3,6 +3,7 @@
 
 use faer::{ColRef, MatRef};
 use moreau_kinematics::ContactPoint;
+use moreau_lcp::fc2d::{Fc2d, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions};
 use moreau_lcp::{
     Auto, Enumeration, Lcp, LcpRef, Lemke, Method, Pgs, PgsOptions, Solution, Solver, Status,
 };
@@ -190,10 +191,17 @@ struct Workspace {
     /// M⁻¹(w_N − μ w_T) per active contact and M⁻¹ w_T per active frictional contact.
     y_n: Vec<f64>,
     x_t: Vec<f64>,
-    /// The Delassus matrix G = [W_N W_T]ᵀ M⁻¹ [W_N W_T] for projected Gauss-Seidel.
+    /// The Delassus matrix G = [W_N W_T]ᵀ M⁻¹ [W_N W_T] for the nonsmooth Gauss-Seidel.
     g: Vec<f64>,
-    /// Impulses (P_N; P_T) of projected Gauss-Seidel.
-    p: Vec<f64>,
+    /// The contact problem of the nonsmooth Gauss-Seidel: W by contact (rows N, T of each
+    /// active contact, column-major), q and μ, the problem, its solver and solution.
+    fc_w: Vec<f64>,
+    fc_q: Vec<f64>,
+    fc_mu: Vec<f64>,
+    fc_warm: Vec<f64>,
+    fc: Fc2d,
+    nsgs: Option<Nsgs>,
+    fc_solution: Fc2dSolution,
     /// The LCP (A column-major, b).
     a: Vec<f64>,
     b: Vec<f64>,
@@ -368,7 +376,23 @@ impl<M: Mechanism> Stepper<M> {
             y_n: vec![0.0; f * n],
             x_t: vec![0.0; f * n],
             g: vec![0.0; 4 * n * n],
-            p: vec![0.0; 2 * n],
+            fc_w: vec![0.0; 4 * n * n],
+            fc_q: vec![0.0; 2 * n],
+            fc_mu: vec![0.0; n],
+            fc_warm: vec![0.0; 2 * n],
+            fc: Fc2d::default(),
+            nsgs: match &options.solver {
+                SolverChoice::Pgs { tolerance, omega, max_iterations } => {
+                    Some(Nsgs::new(NsgsOptions {
+                        tolerance: *tolerance,
+                        omega: *omega,
+                        max_sweeps: *max_iterations,
+                        ..NsgsOptions::default()
+                    })?)
+                }
+                _ => None,
+            },
+            fc_solution: Fc2dSolution::new(),
             a: vec![0.0; 9 * n * n],
             b: vec![0.0; 3 * n],
             warm: vec![0.0; 3 * n],
@@ -894,12 +918,10 @@ impl Core {
                 &mut ws.solution,
             ) {
             info
-        } else if let (SolverChoice::Pgs { tolerance, omega, max_iterations }, true) =
-            (&options.solver, nf > 0)
-        {
+        } else if let (SolverChoice::Pgs { .. }, true) = (&options.solver, nf > 0) {
             // The LCP of eq. 7.41 has zeros on the diagonal of its ξ_L block, where projected
             // Gauss-Seidel cannot pivot; it is run on the equivalent contact problem instead.
-            let info = nonsmooth_gauss_seidel(ws, laws, *tolerance, *omega, *max_iterations);
+            let info = nonsmooth_gauss_seidel(ws, laws)?;
             if info.status != Status::Solved {
                 return Err(LcpFailure::Status(info.status));
             }
@@ -1194,18 +1216,16 @@ fn one_contact_closed_form(
     })
 }
 
-/// Projected (nonsmooth) Gauss-Seidel on the contact problem in (P_N, P_T), equivalent to
-/// the LCP of eq. 7.41: sweeps over the contacts, projecting P_N onto R+ and P_T onto
-/// [−μP_N, μP_N] with the diagonal of the Delassus matrix G, warm-started from the previous
-/// step's impulses. Writes z = (P_N; P_R; ξ_L) of eq. 7.41 into `ws.solution.z` and checks it
-/// with the LCP's own residual.
+/// The nonsmooth Gauss-Seidel of `moreau_lcp` on the contact problem in (P_N, P_T),
+/// equivalent to the LCP of eq. 7.41: W is the Delassus matrix G = [W_N W_T]ᵀ M⁻¹ [W_N W_T]
+/// ordered by contact, q = (b_N, b_R) and μ per contact; a frictionless contact gets μ = 0
+/// and a tangential row of its own scale coupled to nothing, which keeps its P_T at zero.
+/// Warm-started from the previous step's impulses. Writes z = (P_N; P_R; ξ_L) of eq. 7.41
+/// into `ws.solution.z` and checks it with the LCP's own residual.
 fn nonsmooth_gauss_seidel(
     ws: &mut Workspace,
     laws: &[moreau_setvalued::ContactLaw],
-    tolerance: f64,
-    omega: f64,
-    max_iterations: usize,
-) -> LcpInfo {
+) -> Result<LcpInfo, LcpFailure> {
     let f = ws.q_m.len();
     let na = ws.active.len();
     let nf = ws.frictional.len();
@@ -1239,60 +1259,63 @@ fn nonsmooth_gauss_seidel(
         }
     }
     ws.tmp = x;
-    let mu_of = |k: usize| laws[ws.active[ws.frictional[k]]].mu();
-    let (g, b, p) = (&ws.g[..m * m], &ws.b, &mut ws.p[..m]);
+    // The row (and column) of G of each contact's tangential impulse, if it has one.
+    let g = &ws.g[..m * m];
+    let tangent = |a: usize| ws.frictional.iter().position(|&c| c == a).map(|k| na + k);
+    let n = 2 * na;
+    let w = &mut ws.fc_w[..n * n];
+    w.fill(0.0);
     for a in 0..na {
-        p[a] = ws.prev[ws.active[a]][0];
-    }
-    for k in 0..nf {
-        let [p_n, p_r, _] = ws.prev[ws.active[ws.frictional[k]]];
-        p[na + k] = p_r - mu_of(k) * p_n;
-    }
-    let xi = |p: &[f64], r: usize| -> f64 {
-        let mut v = b[r];
-        for c in 0..m {
-            v += g[r + c * m] * p[c];
+        let (ra, ta) = (a, tangent(a));
+        for c in 0..na {
+            let (rc, tc) = (c, tangent(c));
+            w[2 * a + 2 * c * n] = g[ra + rc * m];
+            if let Some(tc) = tc {
+                w[2 * a + (2 * c + 1) * n] = g[ra + tc * m];
+            }
+            if let Some(ta) = ta {
+                w[2 * a + 1 + 2 * c * n] = g[ta + rc * m];
+                if let Some(tc) = tc {
+                    w[2 * a + 1 + (2 * c + 1) * n] = g[ta + tc * m];
+                }
+            }
         }
-        v
-    };
-    let scale = b[..na + nf].iter().fold(1.0f64, |acc, v| acc.max(v.abs()));
-    let mut iterations = 0;
-    let mut converged = false;
-    while iterations < max_iterations {
-        iterations += 1;
-        for a in 0..na {
-            let d = g[a + a * m];
-            p[a] = (p[a] - omega * xi(p, a) / d).max(0.0);
-        }
-        for k in 0..nf {
-            let r = na + k;
-            let bound = mu_of(k) * p[ws.frictional[k]];
-            let d = g[r + r * m];
-            p[r] = (p[r] - omega * xi(p, r) / d).clamp(-bound, bound);
-        }
-        // Natural residual of the contact laws at the new impulses.
-        let mut res = 0.0f64;
-        for a in 0..na {
-            res = res.max((p[a] - (p[a] - xi(p, a)).max(0.0)).abs());
-        }
-        for k in 0..nf {
-            let r = na + k;
-            let bound = mu_of(k) * p[ws.frictional[k]];
-            res = res.max((p[r] - (p[r] - xi(p, r)).clamp(-bound, bound)).abs());
-        }
-        if res <= tolerance * scale {
-            converged = true;
-            break;
+        let law = laws[ws.active[a]];
+        let [p_n, p_r, _] = ws.prev[ws.active[a]];
+        ws.fc_q[2 * a] = ws.b[a];
+        ws.fc_warm[2 * a] = p_n;
+        match ta {
+            Some(t) => {
+                ws.fc_q[2 * a + 1] = ws.b[t];
+                ws.fc_mu[a] = law.mu();
+                ws.fc_warm[2 * a + 1] = p_r - law.mu() * p_n;
+            }
+            None => {
+                let d = g[a + a * m];
+                w[2 * a + 1 + (2 * a + 1) * n] = if d > 0.0 { d } else { 1.0 };
+                ws.fc_q[2 * a + 1] = 0.0;
+                ws.fc_mu[a] = 0.0;
+                ws.fc_warm[2 * a + 1] = 0.0;
+            }
         }
     }
+    ws.fc
+        .set_dense(MatRef::from_column_major_slice(w, n, n), &ws.fc_q[..n], &ws.fc_mu[..na])
+        .map_err(LcpFailure::Input)?;
+    let nsgs = ws.nsgs.as_mut().expect("a stepper with the Gauss-Seidel choice holds its solver");
+    nsgs.solve_into(ws.fc.view(), Some(&ws.fc_warm[..n]), &mut ws.fc_solution)
+        .map_err(LcpFailure::Solver)?;
     // z = (P_N; P_R = P_T + μ P_N; ξ_L = max(0, −ξ_T)) of eq. 7.41, and its residual.
+    let (r, u) = (&ws.fc_solution.r, &ws.fc_solution.u);
     let z = &mut ws.solution.z;
     z.clear();
     z.resize(s, 0.0);
-    z[..na].copy_from_slice(&p[..na]);
-    for k in 0..nf {
-        z[na + k] = p[na + k] + mu_of(k) * p[ws.frictional[k]];
-        z[na + nf + k] = (-xi(p, na + k)).max(0.0);
+    for a in 0..na {
+        z[a] = r[2 * a];
+    }
+    for (k, &a) in ws.frictional.iter().enumerate() {
+        z[na + k] = r[2 * a + 1] + ws.fc_mu[a] * r[2 * a];
+        z[na + nf + k] = (-u[2 * a + 1]).max(0.0);
     }
     let w = &mut ws.solution.w;
     w.clear();
@@ -1312,8 +1335,12 @@ fn nonsmooth_gauss_seidel(
         Ok(lcp) => moreau_lcp::Residual::compute(lcp, z, w).max(),
         Err(_) => f64::INFINITY,
     };
-    let status = if converged { Status::Solved } else { Status::IterationLimit };
-    LcpInfo { method: Method::Pgs, status, iterations, residual }
+    Ok(LcpInfo {
+        method: Method::Nsgs,
+        status: ws.fc_solution.status,
+        iterations: ws.fc_solution.iterations,
+        residual,
+    })
 }
 
 /// Internal failure of a contact step, turned into a [`StepError`] with context.

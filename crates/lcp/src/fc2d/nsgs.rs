@@ -102,17 +102,20 @@ impl Nsgs {
         let parts = problem.parts();
         let n_c = parts.n_contacts;
         let omega = self.options.omega;
-        let x = &mut self.x[..];
-        let q = &self.q[..];
-        let mut lagged = 0.0f64;
+        // Pairs: one bounds check per block instead of two.
+        let (x, _) = self.x.as_chunks_mut::<2>();
+        let (q, _) = self.q.as_chunks::<2>();
+        // Squared norms for the contacts (a square root per contact would cost more than
+        // its blocks), plain values for the bilateral rows.
+        let mut lagged_sq = 0.0f64;
+        let mut lagged_bilateral = 0.0f64;
         for g in 0..problem.n_groups() {
             let (start, end) = (parts.row_ptr[g], parts.row_ptr[g + 1]);
-            let mut v0 = q[2 * g];
-            let mut v1 = q[2 * g + 1];
+            let [mut v0, mut v1] = q[g];
             let mut diagonal = &[0.0; 4];
             for (b, &j) in parts.blocks[start..end].iter().zip(&parts.col[start..end]) {
                 let j = j as usize;
-                let (x0, x1) = (x[2 * j], x[2 * j + 1]);
+                let [x0, x1] = x[j];
                 v0 += b[0] * x0 + b[1] * x1;
                 v1 += b[2] * x0 + b[3] * x1;
                 if j == g {
@@ -120,36 +123,35 @@ impl Nsgs {
                 }
             }
             let d = diagonal;
-            let (old0, old1) = (x[2 * g], x[2 * g + 1]);
+            let [old0, old1] = x[g];
             // (v0, v1) is u_g at the current iterate; remove the group's own part.
             let (u0, u1) = (v0, v1);
             v0 -= d[0] * old0 + d[1] * old1;
             v1 -= d[2] * old0 + d[3] * old1;
-            let (new0, new1) = if g < n_c {
+            x[g] = if g < n_c {
                 let mu = parts.mu[g];
                 let (e0, e1) = natural_map(old0, old1, u0, u1, mu);
-                lagged = lagged.max((e0 * e0 + e1 * e1).sqrt());
+                lagged_sq = lagged_sq.max(e0 * e0 + e1 * e1);
                 let (r0, r1) = solve_contact(d, v0, v1, mu);
                 if omega == 1.0 {
-                    (r0, r1)
+                    [r0, r1]
                 } else {
-                    project_cone(
+                    let (a, b) = project_cone(
                         omega * r0 + (1.0 - omega) * old0,
                         omega * r1 + (1.0 - omega) * old1,
                         mu,
-                    )
+                    );
+                    [a, b]
                 }
             } else {
                 let rows = parts.group_start[g + 1] - parts.group_start[g];
                 let e = if rows == 2 { u0.abs().max(u1.abs()) } else { u0.abs() };
-                lagged = lagged.max(e);
+                lagged_bilateral = lagged_bilateral.max(e);
                 let (r0, r1) = solve_bilateral(d, (v0, v1), rows, (old0, old1));
-                (omega * r0 + (1.0 - omega) * old0, omega * r1 + (1.0 - omega) * old1)
+                [omega * r0 + (1.0 - omega) * old0, omega * r1 + (1.0 - omega) * old1]
             };
-            x[2 * g] = new0;
-            x[2 * g + 1] = new1;
         }
-        lagged
+        lagged_sq.sqrt().max(lagged_bilateral)
     }
 
     /// Copies the padded iterate into r (problem layout) and certifies it.
