@@ -575,6 +575,10 @@ mod tests {
             (NewtonOptions { backtrack: 1.0, ..Default::default() }, "backtrack"),
             (NewtonOptions { rho: Rho::Fixed(0.0), ..Default::default() }, "rho"),
             (NewtonOptions { regularization: f64::NAN, ..Default::default() }, "regularization"),
+            (
+                NewtonOptions { regularization_gain: -1.0, ..Default::default() },
+                "regularization_gain",
+            ),
         ] {
             assert!(
                 matches!(Newton::new(options), Err(LcpError::InvalidOption { name: n, .. }) if n == name)
