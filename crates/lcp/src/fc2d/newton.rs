@@ -201,10 +201,10 @@ impl Newton {
         if !(options.backtrack > 0.0 && options.backtrack < 1.0) {
             return bad("backtrack", "must be in (0, 1)");
         }
-        if let Rho::Fixed(rho) = options.rho {
-            if !(rho.is_finite() && rho > 0.0) {
-                return bad("rho", "a fixed ρ must be finite and > 0");
-            }
+        if let Rho::Fixed(rho) = options.rho
+            && !(rho.is_finite() && rho > 0.0)
+        {
+            return bad("rho", "a fixed ρ must be finite and > 0");
         }
         if !(options.regularization >= 0.0 && options.regularization < MAX_REGULARIZATION) {
             return bad("regularization", "must be in [0, 1e-2)");
@@ -356,6 +356,9 @@ impl Pattern {
     }
 }
 
+/// The 2x2 blocks A and B of `J = A + B W`, one of each per group, to be written.
+type Coefficients<'a> = (&'a mut [[f64; 4]], &'a mut [[f64; 4]]);
+
 /// Evaluates Φ(r) into `phi` (u must be W r + q) and returns the merit `½ ‖Φ‖²`; with
 /// `coefficients`, also writes the 2x2 blocks A and B of the Jacobian `J = A + B W` of
 /// each group.
@@ -365,7 +368,7 @@ fn evaluate(
     r: &[f64],
     u: &[f64],
     phi: &mut [f64],
-    mut coefficients: Option<(&mut [[f64; 4]], &mut [[f64; 4]])>,
+    mut coefficients: Option<Coefficients<'_>>,
 ) -> f64 {
     let p = problem.parts();
     let n_c = p.n_contacts;
@@ -513,7 +516,7 @@ impl Fc2dSolver for Newton {
                 if delta >= MAX_REGULARIZATION {
                     break;
                 }
-                delta = (delta * 100.0).max(1e-8).min(MAX_REGULARIZATION);
+                delta = (delta * 100.0).clamp(1e-8, MAX_REGULARIZATION);
             }
             let mut accepted = false;
             if solved {
