@@ -300,7 +300,8 @@ fn an_iteration_limit_is_an_honest_status() {
 fn auto_options_are_checked() {
     for (options, name) in [
         (Fc2dAutoOptions { tolerance: 0.0, ..Default::default() }, "tolerance"),
-        (Fc2dAutoOptions { window: 0, ..Default::default() }, "max_sweeps"),
+        (Fc2dAutoOptions { window: 0, ..Default::default() }, "window"),
+        (Fc2dAutoOptions { max_sweeps: 0, ..Default::default() }, "max_sweeps"),
         (Fc2dAutoOptions { stall_factor: 1.0, ..Default::default() }, "stall_factor"),
         (Fc2dAutoOptions { omega: 2.0, ..Default::default() }, "omega"),
     ] {

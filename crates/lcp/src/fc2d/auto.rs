@@ -154,7 +154,8 @@ impl Fc2dAuto {
     ///
     /// # Errors
     /// [`LcpError::InvalidOption`] unless `tolerance` is finite and > 0, `max_sweeps`,
-    /// `window` and `max_cluster_contacts` are >= 1 and `stall_factor > 1`.
+    /// `window` and `max_cluster_contacts` are >= 1, `stall_factor > 1` and
+    /// `0 < omega < 2`.
     pub fn new(options: Fc2dAutoOptions) -> Result<Fc2dAuto, LcpError> {
         let bad = |name: &'static str, reason: &str| {
             Err(LcpError::InvalidOption { name, reason: reason.to_string() })
@@ -162,8 +163,11 @@ impl Fc2dAuto {
         if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
             return bad("tolerance", "must be finite and > 0");
         }
-        if options.max_sweeps == 0 || options.window == 0 {
-            return bad("max_sweeps", "max_sweeps and window must be >= 1");
+        if options.max_sweeps == 0 {
+            return bad("max_sweeps", "must be >= 1");
+        }
+        if options.window == 0 {
+            return bad("window", "must be >= 1");
         }
         if !(options.stall_factor > 1.0) {
             return bad("stall_factor", "must be > 1");
