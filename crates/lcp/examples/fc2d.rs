@@ -12,13 +12,11 @@
 use std::process::ExitCode;
 use std::time::Instant;
 
+use moreau_lcp::LcpError;
 use moreau_lcp::fc2d::{
-    Fc2d, Fc2dSolution, Fc2dSolver, Gfc2d, LcpRoute, LcpRouteOptions, Nsgs, NsgsOptions,
+    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dSolution, Fc2dSolver, Gfc2d, LcpRoute, LcpRouteOptions,
+    Newton, NewtonOptions, Nsgs, NsgsOptions,
 };
-use moreau_lcp::{LcpError, Status};
-
-/// Largest problem the `auto` choice hands to the LCP route; NSGS beyond it.
-const AUTO_LCP_CONTACTS: usize = 40;
 
 struct Args {
     solver: String,
@@ -54,37 +52,33 @@ fn parse_args() -> Result<Args, String> {
     Ok(args)
 }
 
-/// Runs the chosen solver once; returns its name as reported.
-fn solve(
+/// The chosen solver, made once so that repeated solves reuse its workspace; returns its
+/// name as reported.
+fn make_solver(
     solver: &str,
     tolerance: f64,
-    problem: &Fc2d,
-    out: &mut Fc2dSolution,
-) -> Result<&'static str, String> {
+) -> Result<(Box<dyn Fc2dSolver>, &'static str), String> {
     let err = |e: LcpError| e.to_string();
-    let nsgs = |out: &mut Fc2dSolution| -> Result<(), String> {
-        let options = NsgsOptions { tolerance, max_sweeps: 100_000, ..Default::default() };
-        Nsgs::new(options).map_err(err)?.solve_into(problem.view(), None, out).map_err(err)
-    };
-    let lcp = |out: &mut Fc2dSolution| -> Result<(), String> {
-        let options = LcpRouteOptions { tolerance, max_contacts: usize::MAX, ..Default::default() };
-        LcpRoute::new(options).map_err(err)?.solve_into(problem.view(), None, out).map_err(err)
-    };
-    match solver {
-        "nsgs" => nsgs(out).map(|_| "nsgs"),
-        "lcp" => lcp(out).map(|_| "lcp"),
-        "auto" => {
-            if problem.n_contacts() <= AUTO_LCP_CONTACTS {
-                lcp(out)?;
-                if out.status == Status::Solved {
-                    return Ok("lcp");
-                }
-            }
-            nsgs(out).map(|_| "nsgs")
+    Ok(match solver {
+        "nsgs" => {
+            let options = NsgsOptions { tolerance, max_sweeps: 100_000, ..Default::default() };
+            (Box::new(Nsgs::new(options).map_err(err)?), "nsgs")
         }
-        "newton" => Err("the nonsmooth Newton solver is not part of this build".into()),
-        other => Err(format!("unknown solver '{other}' (auto, nsgs, lcp, newton)")),
-    }
+        "lcp" => {
+            let options =
+                LcpRouteOptions { tolerance, max_contacts: usize::MAX, ..Default::default() };
+            (Box::new(LcpRoute::new(options).map_err(err)?), "lcp")
+        }
+        "auto" => {
+            let options = Fc2dAutoOptions { tolerance, ..Default::default() };
+            (Box::new(Fc2dAuto::new(options).map_err(err)?), "auto")
+        }
+        "newton" => {
+            let options = NewtonOptions { tolerance, ..Default::default() };
+            (Box::new(Newton::new(options).map_err(err)?), "newton")
+        }
+        other => return Err(format!("unknown solver '{other}' (auto, nsgs, lcp, newton)")),
+    })
 }
 
 fn run() -> Result<(), String> {
@@ -101,7 +95,8 @@ fn run() -> Result<(), String> {
         (Fc2d::read_siconos(file).map_err(|e| e.to_string())?, None)
     };
     let mut out = Fc2dSolution::new();
-    let name = solve(&args.solver, args.tolerance, &problem, &mut out)?;
+    let (mut solver, name) = make_solver(&args.solver, args.tolerance)?;
+    solver.solve_into(problem.view(), None, &mut out).map_err(|e| e.to_string())?;
     let mut json = serde_json::json!({
         "solver": name,
         "status": out.status.to_string(),
@@ -119,7 +114,7 @@ fn run() -> Result<(), String> {
         let start = Instant::now();
         let mut again = Fc2dSolution::new();
         for _ in 0..args.repeat {
-            solve(&args.solver, args.tolerance, &problem, &mut again)?;
+            solver.solve_into(problem.view(), None, &mut again).map_err(|e| e.to_string())?;
         }
         json["seconds_per_solve"] =
             serde_json::json!(start.elapsed().as_secs_f64() / args.repeat as f64);

@@ -41,6 +41,7 @@
 //! | [`LcpError`] | invalid input only; not converging is a [`Status`] |
 //! | [`fc2d::Fc2d`], [`fc2d::Fc2dRef`], [`fc2d::Fc2dBuilder`] | a planar frictional-contact problem, W by 2x2 blocks, with bilateral rows |
 //! | [`fc2d::Nsgs`], [`fc2d::LcpRoute`] ([`fc2d::Fc2dSolver`]) | nonsmooth Gauss-Seidel; the exact LCP reformulation |
+//! | [`fc2d::Newton`], [`fc2d::Fc2dAuto`] | nonsmooth Newton with sparse LU; the robust FC2D default |
 //! | [`fc2d::Fc2dSolution`], [`fc2d::Fc2dResidual`] | r, u, status and the one FC2D residual |
 //! | [`fc2d::Gfc2d`] | Siconos' global form M v = q + H r, u = Hᵀ v + b, reduced to W = Hᵀ M⁻¹ H |
 //!

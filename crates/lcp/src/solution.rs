@@ -72,6 +72,13 @@ pub enum Method {
     /// ([`fc2d::LcpRoute`](crate::fc2d::LcpRoute)); the LCP solver's method is recorded
     /// beside it.
     LcpRoute,
+    /// The nonsmooth Newton method on Alart and Curnier's function for a planar
+    /// frictional-contact problem ([`fc2d::Newton`](crate::fc2d::Newton)).
+    Newton,
+    /// Nonsmooth Gauss-Seidel on a planar frictional-contact problem completed by exact
+    /// solves (LCP route) of the clusters of contacts where it stalled
+    /// ([`fc2d::Fc2dAuto`](crate::fc2d::Fc2dAuto)).
+    NsgsClusters,
 }
 
 impl fmt::Display for Method {
@@ -85,6 +92,8 @@ impl fmt::Display for Method {
             Method::ClosedForm => "closed_form",
             Method::Nsgs => "nsgs",
             Method::LcpRoute => "lcp_route",
+            Method::Newton => "newton",
+            Method::NsgsClusters => "nsgs_clusters",
         })
     }
 }

@@ -151,6 +151,60 @@ fn nsgs_with_the_same_sparsity_does_not_allocate() {
     assert_eq!(problem, problems[1]);
 }
 
+/// Ten chains of 30 contacts with the same blocks of W and different q and μ.
+fn fc2d_chains(seed: u64) -> Vec<moreau_lcp::fc2d::Fc2d> {
+    let mut rng = Rng::new(seed);
+    let n_c = 30;
+    let w = faer::Mat::from_fn(2 * n_c, 2 * n_c, |i, j| {
+        let (ci, cj) = (i / 2, j / 2);
+        if i == j {
+            4.0
+        } else if ci.abs_diff(cj) == 1 && i % 2 == j % 2 {
+            0.5
+        } else if ci == cj {
+            0.3
+        } else {
+            0.0
+        }
+    });
+    (0..10)
+        .map(|_| {
+            let q: Vec<f64> = (0..2 * n_c).map(|_| rng.uniform(-1.0, 1.0)).collect();
+            let mu: Vec<f64> = (0..n_c).map(|_| rng.uniform(0.0, 0.8)).collect();
+            moreau_lcp::fc2d::Fc2d::from_dense(w.as_ref(), &q, &mu).unwrap()
+        })
+        .collect()
+}
+
+#[test]
+fn newton_and_auto_with_the_same_sparsity_do_not_allocate() {
+    use moreau_lcp::fc2d::{Fc2dAuto, Fc2dSolution, Fc2dSolver, Newton, NewtonOptions};
+    let problems = fc2d_chains(35);
+    let mut out = Fc2dSolution::new();
+    let mut newton = Newton::new(NewtonOptions { tolerance: 1e-10, ..Default::default() }).unwrap();
+    // Warm-up: the pattern of J, its symbolic LU and faer's numeric LU storage are sized.
+    for p in &problems {
+        newton.solve_into(p.view(), None, &mut out).unwrap();
+        assert!(out.is_solved());
+    }
+    let count = allocations(|| {
+        for p in &problems {
+            newton.solve_into(p.view(), None, &mut out).unwrap();
+            assert!(out.is_solved());
+        }
+    });
+    assert_eq!(count, 0, "{count} allocations in {} Newton solves", problems.len());
+    let mut auto = Fc2dAuto::default();
+    auto.solve_into(problems[0].view(), None, &mut out).unwrap();
+    let count = allocations(|| {
+        for p in &problems {
+            auto.solve_into(p.view(), None, &mut out).unwrap();
+            assert!(out.is_solved());
+        }
+    });
+    assert_eq!(count, 0, "{count} allocations in {} Auto solves", problems.len());
+}
+
 #[test]
 fn the_counter_sees_allocations() {
     let count = allocations(|| {

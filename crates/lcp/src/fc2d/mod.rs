@@ -38,6 +38,8 @@
 //! |---|---|
 //! | [`Nsgs`] | any size: block Gauss-Seidel with the exact local solution per contact, ω, warm start, no allocation on repeated solves |
 //! | [`LcpRoute`] | small problems (up to about 100 contacts): the exact LCP reformulation solved by pivoting, the certified answer |
+//! | [`Newton`] | nonsmooth Newton on Alart and Curnier's function with sparse LU and a line search: fast local convergence from a good start; stalls on dense packings whose W is nearly singular |
+//! | [`Fc2dAuto`] | the default: Gauss-Seidel, the LCP route for small problems it does not finish, exact solves of the clusters where it stalls |
 //!
 //! **The local problem of NSGS.** With the others' reactions fixed, contact i sees
 //! `u_i = W_ii r_i + v_i` and its solution is one of four cases, tried in turn:
@@ -77,6 +79,8 @@
 //! | u = (u_N, u_T) | `Fc2dSolution::u` | velocities u = W r + q (ξ in a step) |
 //! | K | | Coulomb cone {\|r_T\| <= μ r_N} |
 //! | ω | `NsgsOptions::omega` | relaxation factor |
+//! | ρ_N, ρ_T | `NewtonOptions::rho` | Alart and Curnier's augmentation parameters |
+//! | Φ, J | | Alart and Curnier's function and its generalised Jacobian |
 //! | M, H, b | `Gfc2d` | global form: M v = q + H r, u = Hᵀ v + b |
 //!
 //! # Example
@@ -114,15 +118,19 @@
 //!   2008.
 //! - C. Glocker, Set-Valued Force Laws: Dynamics of Non-Smooth Systems, Springer, 2001.
 
+mod auto;
 mod lcp_route;
 mod local;
+mod newton;
 mod nsgs;
 mod problem;
 mod residual;
 mod solution;
 
 pub use crate::io::{Gfc2d, Reduced, SiconosStorage};
+pub use auto::{Fc2dAuto, Fc2dAutoOptions};
 pub use lcp_route::{LcpRoute, LcpRouteOptions, LcpRouteSolver};
+pub use newton::{Newton, NewtonOptions, Rho};
 pub use nsgs::{Nsgs, NsgsOptions};
 pub use problem::{Fc2d, Fc2dBuilder, Fc2dParts, Fc2dRef, PSD_TOLERANCE};
 pub use residual::Fc2dResidual;

@@ -1,0 +1,314 @@
+//! The FC2D Newton and Auto solvers on Siconos' collection, on planted problems with
+//! bilateral rows, and against the LCP route.
+
+mod common;
+
+use std::fs::File;
+use std::path::PathBuf;
+
+use common::Rng;
+use faer::Mat;
+use moreau_lcp::fc2d::{
+    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dBuilder, Fc2dResidual, Fc2dSolution, Fc2dSolver, Gfc2d,
+    LcpRoute, Newton, NewtonOptions, Rho,
+};
+use moreau_lcp::{Method, Status};
+
+const DATA: &str = "tests/data/siconos/fc2d";
+
+/// Every FC2D and GFC2D file of the collection (GFC2D reduced to the contact space).
+fn collection() -> &'static [(String, Fc2d)] {
+    static FILES: std::sync::OnceLock<Vec<(String, Fc2d)>> = std::sync::OnceLock::new();
+    FILES.get_or_init(|| {
+        let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(DATA);
+        let mut files: Vec<PathBuf> = std::fs::read_dir(root)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "dat"))
+            .collect();
+        files.sort();
+        files
+            .into_iter()
+            .map(|path| {
+                let name = path.file_name().unwrap().to_string_lossy().into_owned();
+                let file = File::open(&path).unwrap();
+                let problem = if name.starts_with("gfc2d") {
+                    Gfc2d::read_siconos(file).unwrap().reduce().unwrap().problem
+                } else {
+                    Fc2d::read_siconos(file).unwrap()
+                };
+                (name, problem)
+            })
+            .collect()
+    })
+}
+
+/// Files on which Newton from r = 0 does not reach 1e-8, and why.
+const NEWTON_FAILURES: &[(&str, &str)] = &[
+    (
+        "fc2d_granularflowonwall_02020_00213.dat",
+        "dense packing: W (printed with six digits) is nearly singular, the Newton steps of \
+         the stick contacts leave the region where they are valid and the line search stalls \
+         (1.6e-5 after 50 iterations)",
+    ),
+    (
+        "fc2d_granularflowonwall_07002_00801.dat",
+        "dense packing: as on 2,020 contacts (5e-4 after 50 iterations)",
+    ),
+];
+
+/// Iterations Newton is given on the files it solves (the most used: 45, on 367
+/// contacts) and on the listed failures (enough to show the stall, few enough for a debug
+/// build).
+const NEWTON_ITERATIONS: usize = 100;
+const NEWTON_FAILURE_ITERATIONS: usize = 8;
+
+fn assert_honest(name: &str, s: &Fc2dSolution, tolerance: f64) {
+    assert_eq!(s.status == Status::Solved, s.residual.natural <= tolerance, "{name}: {s:?}");
+}
+
+#[test]
+fn newton_solves_the_collection_or_says_why() {
+    for (name, problem) in collection() {
+        let failure = NEWTON_FAILURES.iter().find(|f| f.0 == name.as_str());
+        let max_iterations =
+            if failure.is_some() { NEWTON_FAILURE_ITERATIONS } else { NEWTON_ITERATIONS };
+        let mut newton =
+            Newton::new(NewtonOptions { max_iterations, ..Default::default() }).unwrap();
+        let s = newton.solve(problem).unwrap();
+        assert_honest(name, &s, 1e-8);
+        let mut u = vec![0.0; problem.n_rows()];
+        let residual = Fc2dResidual::compute(problem.view(), &s.r, &mut u);
+        assert_eq!(residual, s.residual, "{name}: the reported residual is the residual of r");
+        match failure {
+            Some((_, why)) => {
+                assert_eq!(s.status, Status::IterationLimit, "{name} ({why})");
+                assert!(s.residual.natural > 1e-8, "{name}: {:?}", s.residual);
+            }
+            None => {
+                assert_eq!(s.status, Status::Solved, "{name}: {:?}", s.residual);
+                assert!(s.residual.natural <= 1e-8);
+                if problem.n_contacts() > 0 && s.iterations > 0 {
+                    assert_eq!(s.method, Method::Newton);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn auto_reaches_1e_8_on_every_file() {
+    let mut auto = Fc2dAuto::default();
+    let mut out = Fc2dSolution::new();
+    for (name, problem) in collection() {
+        auto.solve_into(problem.view(), None, &mut out).unwrap();
+        assert_eq!(out.status, Status::Solved, "{name}: {:?} by {}", out.residual, out.method);
+        assert!(out.residual.natural <= 1e-8, "{name}");
+        assert_honest(name, &out, 1e-8);
+        let expected = if problem.n_contacts() == 0 {
+            Method::Trivial
+        } else if name.starts_with("FC2D_SliderCrank") {
+            // Gauss-Seidel needs hundreds of sweeps on these two contacts: pivoting is
+            // quicker.
+            Method::LcpRoute
+        } else if name.contains("02020") || name.contains("07002") {
+            // Gauss-Seidel alone stalls there: the cluster solves are needed.
+            Method::NsgsClusters
+        } else {
+            Method::Nsgs
+        };
+        assert_eq!(out.method, expected, "{name}");
+        if out.method == Method::NsgsClusters {
+            assert!(out.lcp_method.is_some(), "{name}: a cluster was solved by pivoting");
+        }
+    }
+}
+
+#[test]
+fn auto_at_a_loose_tolerance_solves_every_file() {
+    let mut auto =
+        Fc2dAuto::new(Fc2dAutoOptions { tolerance: 1e-4, ..Default::default() }).unwrap();
+    for (name, problem) in collection() {
+        let s = auto.solve(problem).unwrap();
+        assert_eq!(s.status, Status::Solved, "{name}: {:?}", s.residual);
+        assert_honest(name, &s, 1e-4);
+    }
+}
+
+#[test]
+fn newton_agrees_with_the_lcp_route_on_the_small_files() {
+    let mut compared = 0;
+    for (name, problem) in collection() {
+        if problem.n_contacts() == 0 || problem.n_contacts() > 100 {
+            continue;
+        }
+        let lcp = LcpRoute::default().solve(problem).unwrap();
+        let newton = Newton::new(NewtonOptions { tolerance: 1e-12, ..Default::default() })
+            .unwrap()
+            .solve(problem)
+            .unwrap();
+        assert_eq!(lcp.status, Status::Solved, "{name}");
+        assert_eq!(newton.status, Status::Solved, "{name}: {:?}", newton.residual);
+        let scale = lcp.r.iter().fold(1e-300f64, |m, v| m.max(v.abs()));
+        let diff = lcp.r.iter().zip(&newton.r).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        // These problems have unique reactions: both methods find the same ones.
+        assert!(diff <= 1e-6 * scale + 1e-12, "{name}: reactions differ by {diff:e} of {scale:e}");
+        compared += 1;
+    }
+    assert_eq!(compared, 7);
+}
+
+/// A planted problem on a chain of bodies with a two-row joint between the first two
+/// bodies: W = H M⁻¹ Hᵀ + ε I from a random Jacobian H, reactions and velocities chosen
+/// per contact (open, stick, slip either way) and the joint's multipliers free, q set so
+/// that they solve it.
+struct Planted {
+    problem: Fc2d,
+    r: Vec<f64>,
+}
+
+fn planted(n_c: usize, mu_max: f64, rng: &mut Rng) -> Planted {
+    let bodies = n_c + 1;
+    let rows = 2 * n_c + 2;
+    // Contact i touches bodies i and i + 1; the joint (rows 2 n_c, 2 n_c + 1) bodies 0, 1.
+    let h = Mat::from_fn(rows, 3 * bodies, |row, col| {
+        let b = col / 3;
+        let touches = if row < 2 * n_c { b == row / 2 || b == row / 2 + 1 } else { b <= 1 };
+        if touches { rng.uniform(-1.0, 1.0) } else { 0.0 }
+    });
+    let mass: Vec<f64> = (0..3 * bodies).map(|_| rng.uniform(0.5, 2.0)).collect();
+    let w = Mat::from_fn(rows, rows, |i, j| {
+        let coupling: f64 = (0..3 * bodies).map(|k| h[(i, k)] * h[(j, k)] / mass[k]).sum();
+        coupling + if i == j { 0.05 } else { 0.0 }
+    });
+    let mu: Vec<f64> = (0..n_c).map(|_| rng.uniform(0.0, mu_max)).collect();
+    let mut r = vec![0.0; rows];
+    let mut u = vec![0.0; rows];
+    for i in 0..n_c {
+        match rng.below(4) {
+            0 => {
+                u[2 * i] = rng.uniform(0.1, 1.0);
+                u[2 * i + 1] = rng.uniform(-1.0, 1.0);
+            }
+            1 => {
+                r[2 * i] = rng.uniform(0.1, 1.0);
+                r[2 * i + 1] = rng.uniform(-0.9, 0.9) * mu[i] * r[2 * i];
+            }
+            k => {
+                let s = if k == 2 { 1.0 } else { -1.0 };
+                r[2 * i] = rng.uniform(0.1, 1.0);
+                r[2 * i + 1] = -s * mu[i] * r[2 * i];
+                u[2 * i + 1] = s * rng.uniform(0.1, 1.0);
+            }
+        }
+    }
+    r[2 * n_c] = rng.uniform(-1.0, 1.0);
+    r[2 * n_c + 1] = rng.uniform(-1.0, 1.0);
+    let q: Vec<f64> =
+        (0..rows).map(|i| u[i] - (0..rows).map(|j| w[(i, j)] * r[j]).sum::<f64>()).collect();
+    let mut builder = Fc2dBuilder::new(n_c);
+    builder.bilateral_group(2);
+    for i in 0..rows {
+        for j in 0..rows {
+            if w[(i, j)] != 0.0 {
+                builder.add_entry(i, j, w[(i, j)]);
+            }
+        }
+    }
+    Planted { problem: builder.build(&q, &mu).unwrap(), r }
+}
+
+#[test]
+fn planted_solutions_with_a_joint_are_found() {
+    let mut rng = Rng::new(41);
+    let mut newton = Newton::new(NewtonOptions { tolerance: 1e-12, ..Default::default() }).unwrap();
+    let mut fixed =
+        Newton::new(NewtonOptions { tolerance: 1e-12, rho: Rho::Fixed(1.0), ..Default::default() })
+            .unwrap();
+    let mut out = Fc2dSolution::new();
+    for case in 0..30 {
+        let n_c = 1 + case % 10;
+        let p = planted(n_c, 0.6, &mut rng);
+        let mut u = vec![0.0; p.r.len()];
+        assert!(Fc2dResidual::compute(p.problem.view(), &p.r, &mut u).natural < 1e-13);
+        for solver in [&mut newton, &mut fixed] {
+            solver.solve_into(p.problem.view(), None, &mut out).unwrap();
+            assert_eq!(out.status, Status::Solved, "case {case}: {:?}", out.residual);
+            assert_eq!(out.method, Method::Newton);
+            // The joint holds and the planted reactions are found (W is positive
+            // definite, so they are unique).
+            let bound = 1e-12 * p.problem.view().q_norm_inf().max(1.0);
+            let joint = out.u[2 * n_c].abs().max(out.u[2 * n_c + 1].abs());
+            assert!(joint <= bound, "case {case}: joint velocity {joint:e}");
+            let diff = out.r.iter().zip(&p.r).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(diff < 1e-9, "case {case}: {:?} vs {:?}", out.r, p.r);
+        }
+        let auto = Fc2dAuto::default().solve(&p.problem).unwrap();
+        assert_eq!(auto.status, Status::Solved, "case {case}");
+    }
+}
+
+#[test]
+fn newton_from_the_solution_takes_no_iteration_and_keeps_its_history() {
+    let mut rng = Rng::new(43);
+    let p = planted(8, 0.5, &mut rng);
+    let mut newton =
+        Newton::new(NewtonOptions { tolerance: 1e-12, keep_history: true, ..Default::default() })
+            .unwrap();
+    let mut out = Fc2dSolution::new();
+    newton.solve_into(p.problem.view(), None, &mut out).unwrap();
+    assert_eq!(out.status, Status::Solved);
+    assert_eq!(out.history.len(), out.iterations);
+    assert_eq!(*out.history.last().unwrap(), out.residual.natural);
+    // Semismooth Newton converges fast once the contact modes are right: the last step
+    // gains many digits at once.
+    let n = out.history.len();
+    assert!(n >= 2 && out.history[n - 1] < 1e-3 * out.history[n - 2], "{:?}", out.history);
+    let r = out.r.clone();
+    newton.solve_into(p.problem.view(), Some(&r), &mut out).unwrap();
+    assert_eq!((out.status, out.iterations), (Status::Solved, 0));
+    // A wrong warm start is an error.
+    assert!(newton.solve_into(p.problem.view(), Some(&r[1..]), &mut out).is_err());
+}
+
+#[test]
+fn an_iteration_limit_is_an_honest_status() {
+    let mut rng = Rng::new(47);
+    let p = planted(10, 0.8, &mut rng);
+    let s =
+        Newton::new(NewtonOptions { max_iterations: 1, tolerance: 1e-14, ..Default::default() })
+            .unwrap()
+            .solve(&p.problem)
+            .unwrap();
+    assert_eq!((s.status, s.iterations), (Status::IterationLimit, 1));
+    assert!(s.residual.natural > 1e-14);
+    // A zero W with an approaching contact has no solution: never reported solved.
+    let problem = Fc2d::from_dense(Mat::<f64>::zeros(2, 2).as_ref(), &[-1.0, 0.0], &[0.5]).unwrap();
+    let s = Newton::new(NewtonOptions { max_iterations: 20, ..Default::default() })
+        .unwrap()
+        .solve(&problem)
+        .unwrap();
+    assert_ne!(s.status, Status::Solved);
+    let s = Fc2dAuto::new(Fc2dAutoOptions { max_sweeps: 200, ..Default::default() })
+        .unwrap()
+        .solve(&problem)
+        .unwrap();
+    assert_ne!(s.status, Status::Solved);
+}
+
+#[test]
+fn auto_options_are_checked() {
+    for (options, name) in [
+        (Fc2dAutoOptions { tolerance: 0.0, ..Default::default() }, "tolerance"),
+        (Fc2dAutoOptions { window: 0, ..Default::default() }, "window"),
+        (Fc2dAutoOptions { max_sweeps: 0, ..Default::default() }, "max_sweeps"),
+        (Fc2dAutoOptions { stall_factor: 1.0, ..Default::default() }, "stall_factor"),
+        (Fc2dAutoOptions { omega: 2.0, ..Default::default() }, "omega"),
+    ] {
+        let result = Fc2dAuto::new(options);
+        assert!(
+            matches!(result, Err(moreau_lcp::LcpError::InvalidOption { name: n, .. }) if n == name),
+            "{name}: {result:?}"
+        );
+    }
+}
