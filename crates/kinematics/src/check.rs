@@ -433,6 +433,12 @@ impl SplitMix64 {
     pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.next_f64()
     }
+
+    /// A pseudo-random integer in `0..k` (`k >= 1`), by the remainder of [`Self::next_u64`]:
+    /// its bias, below k / 2^64, does not matter for test data.
+    pub fn below(&mut self, k: u64) -> u64 {
+        self.next_u64() % k
+    }
 }
 
 /// Options of [`sample_states`].

@@ -1,6 +1,6 @@
 //! Time per solve of each solver on contact-like problems of size 3, 9, 30 and 90.
 //!
-//! - `friction_3`, `friction_9`: the step LCP with friction (EQUATIONS.md section 5) of
+//! - `friction_3`, `friction_9`: the step LCP with friction (docs/theory.md section 5) of
 //!   1 and 3 contacts, from random W_N, W_T, SPD mass matrix and μ;
 //! - `spd_N`: random symmetric positive definite M with planted solutions (the
 //!   frictionless step LCP `W_N' M^-1 W_N` is of this kind).

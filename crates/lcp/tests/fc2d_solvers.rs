@@ -156,7 +156,7 @@ fn planted(n_c: usize, mu_max: f64, rng: &mut Rng) -> Planted {
     let mut r = vec![0.0; 2 * n_c];
     let mut u = vec![0.0; 2 * n_c];
     for i in 0..n_c {
-        match rng.next_u64() % 4 {
+        match rng.below(4) {
             0 => {
                 u[2 * i] = rng.uniform(0.1, 1.0);
                 u[2 * i + 1] = rng.uniform(-1.0, 1.0);

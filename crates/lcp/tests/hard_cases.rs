@@ -239,7 +239,7 @@ fn friction_lcps_are_solved_and_agree_with_enumeration() {
 #[test]
 fn friction_lcp_zero_impulse_when_separating() {
     // Normal entries of b >= 0 and tangential ones negative: q is not >= 0, but
-    // P_N = P_R = 0, ξ_L = max(0, -b_R) solves (EQUATIONS.md section 5).
+    // P_N = P_R = 0, ξ_L = max(0, -b_R) solves (docs/theory.md section 5).
     let mut rng = Rng::new(13);
     let f = friction(2, 4, &mut rng);
     let nc = 2;

@@ -35,7 +35,7 @@ pub fn rel_dist(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale
 }
 
-/// The data of one step LCP with friction (EQUATIONS.md section 5).
+/// The data of one step LCP with friction (docs/theory.md section 5).
 pub struct Friction {
     pub lcp: Lcp,
     pub nc: usize,
