@@ -125,15 +125,18 @@ impl Lcp {
     /// Siconos text is Siconos.
     ///
     /// # Errors
+    /// When the text has the plain layout but its data fail validation ([`Lcp::new`]: a
+    /// non-finite entry or one out of range) and it is no Siconos file either, that
+    /// validation error, since the format was recognised; otherwise
     /// [`LcpError::UnknownFormat`] with the reason of each format when neither parses.
     pub fn read_any(text: &str) -> Result<Lcp, LcpError> {
         let plain = match parse_plain(text) {
             Ok(lcp) => return Ok(lcp),
             Err(e) => e,
         };
-        parse_siconos(text).map_err(|siconos| LcpError::UnknownFormat {
-            plain: Box::new(plain),
-            siconos: Box::new(siconos),
+        parse_siconos(text).map_err(|siconos| match plain {
+            LcpError::NonFinite { .. } | LcpError::OutOfRange { .. } => plain,
+            _ => LcpError::UnknownFormat { plain: Box::new(plain), siconos: Box::new(siconos) },
         })
     }
 }
