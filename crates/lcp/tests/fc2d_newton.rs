@@ -3,45 +3,13 @@
 
 mod common;
 
-use std::fs::File;
-use std::path::PathBuf;
-
-use common::Rng;
+use common::{Rng, fc2d_collection, planted_fc2d};
 use faer::Mat;
 use moreau_lcp::fc2d::{
-    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dBuilder, Fc2dResidual, Fc2dSolution, Fc2dSolver, Gfc2d,
-    LcpRoute, Newton, NewtonOptions, Rho,
+    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dResidual, Fc2dSolution, Fc2dSolver, LcpRoute, Newton,
+    NewtonOptions, Rho,
 };
 use moreau_lcp::{Method, Status};
-
-const DATA: &str = "tests/data/siconos/fc2d";
-
-/// Every FC2D and GFC2D file of the collection (GFC2D reduced to the contact space).
-fn collection() -> &'static [(String, Fc2d)] {
-    static FILES: std::sync::OnceLock<Vec<(String, Fc2d)>> = std::sync::OnceLock::new();
-    FILES.get_or_init(|| {
-        let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(DATA);
-        let mut files: Vec<PathBuf> = std::fs::read_dir(root)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|e| e == "dat"))
-            .collect();
-        files.sort();
-        files
-            .into_iter()
-            .map(|path| {
-                let name = path.file_name().unwrap().to_string_lossy().into_owned();
-                let file = File::open(&path).unwrap();
-                let problem = if name.starts_with("gfc2d") {
-                    Gfc2d::read_siconos(file).unwrap().reduce().unwrap().problem
-                } else {
-                    Fc2d::read_siconos(file).unwrap()
-                };
-                (name, problem)
-            })
-            .collect()
-    })
-}
 
 /// Files on which Newton from r = 0 does not reach 1e-8, and why.
 const NEWTON_FAILURES: &[(&str, &str)] = &[
@@ -69,7 +37,7 @@ fn assert_honest(name: &str, s: &Fc2dSolution, tolerance: f64) {
 
 #[test]
 fn newton_solves_the_collection_or_says_why() {
-    for (name, problem) in collection() {
+    for (name, problem) in fc2d_collection() {
         let failure = NEWTON_FAILURES.iter().find(|f| f.0 == name.as_str());
         let max_iterations =
             if failure.is_some() { NEWTON_FAILURE_ITERATIONS } else { NEWTON_ITERATIONS };
@@ -100,7 +68,7 @@ fn newton_solves_the_collection_or_says_why() {
 fn auto_reaches_1e_8_on_every_file() {
     let mut auto = Fc2dAuto::default();
     let mut out = Fc2dSolution::new();
-    for (name, problem) in collection() {
+    for (name, problem) in fc2d_collection() {
         auto.solve_into(problem.view(), None, &mut out).unwrap();
         assert_eq!(out.status, Status::Solved, "{name}: {:?} by {}", out.residual, out.method);
         assert!(out.residual.natural <= 1e-8, "{name}");
@@ -128,7 +96,7 @@ fn auto_reaches_1e_8_on_every_file() {
 fn auto_at_a_loose_tolerance_solves_every_file() {
     let mut auto =
         Fc2dAuto::new(Fc2dAutoOptions { tolerance: 1e-4, ..Default::default() }).unwrap();
-    for (name, problem) in collection() {
+    for (name, problem) in fc2d_collection() {
         let s = auto.solve(problem).unwrap();
         assert_eq!(s.status, Status::Solved, "{name}: {:?}", s.residual);
         assert_honest(name, &s, 1e-4);
@@ -138,7 +106,7 @@ fn auto_at_a_loose_tolerance_solves_every_file() {
 #[test]
 fn newton_agrees_with_the_lcp_route_on_the_small_files() {
     let mut compared = 0;
-    for (name, problem) in collection() {
+    for (name, problem) in fc2d_collection() {
         if problem.n_contacts() == 0 || problem.n_contacts() > 100 {
             continue;
         }
@@ -158,66 +126,6 @@ fn newton_agrees_with_the_lcp_route_on_the_small_files() {
     assert_eq!(compared, 7);
 }
 
-/// A planted problem on a chain of bodies with a two-row joint between the first two
-/// bodies: W = H M⁻¹ Hᵀ + ε I from a random Jacobian H, reactions and velocities chosen
-/// per contact (open, stick, slip either way) and the joint's multipliers free, q set so
-/// that they solve it.
-struct Planted {
-    problem: Fc2d,
-    r: Vec<f64>,
-}
-
-fn planted(n_c: usize, mu_max: f64, rng: &mut Rng) -> Planted {
-    let bodies = n_c + 1;
-    let rows = 2 * n_c + 2;
-    // Contact i touches bodies i and i + 1; the joint (rows 2 n_c, 2 n_c + 1) bodies 0, 1.
-    let h = Mat::from_fn(rows, 3 * bodies, |row, col| {
-        let b = col / 3;
-        let touches = if row < 2 * n_c { b == row / 2 || b == row / 2 + 1 } else { b <= 1 };
-        if touches { rng.uniform(-1.0, 1.0) } else { 0.0 }
-    });
-    let mass: Vec<f64> = (0..3 * bodies).map(|_| rng.uniform(0.5, 2.0)).collect();
-    let w = Mat::from_fn(rows, rows, |i, j| {
-        let coupling: f64 = (0..3 * bodies).map(|k| h[(i, k)] * h[(j, k)] / mass[k]).sum();
-        coupling + if i == j { 0.05 } else { 0.0 }
-    });
-    let mu: Vec<f64> = (0..n_c).map(|_| rng.uniform(0.0, mu_max)).collect();
-    let mut r = vec![0.0; rows];
-    let mut u = vec![0.0; rows];
-    for i in 0..n_c {
-        match rng.below(4) {
-            0 => {
-                u[2 * i] = rng.uniform(0.1, 1.0);
-                u[2 * i + 1] = rng.uniform(-1.0, 1.0);
-            }
-            1 => {
-                r[2 * i] = rng.uniform(0.1, 1.0);
-                r[2 * i + 1] = rng.uniform(-0.9, 0.9) * mu[i] * r[2 * i];
-            }
-            k => {
-                let s = if k == 2 { 1.0 } else { -1.0 };
-                r[2 * i] = rng.uniform(0.1, 1.0);
-                r[2 * i + 1] = -s * mu[i] * r[2 * i];
-                u[2 * i + 1] = s * rng.uniform(0.1, 1.0);
-            }
-        }
-    }
-    r[2 * n_c] = rng.uniform(-1.0, 1.0);
-    r[2 * n_c + 1] = rng.uniform(-1.0, 1.0);
-    let q: Vec<f64> =
-        (0..rows).map(|i| u[i] - (0..rows).map(|j| w[(i, j)] * r[j]).sum::<f64>()).collect();
-    let mut builder = Fc2dBuilder::new(n_c);
-    builder.bilateral_group(2);
-    for i in 0..rows {
-        for j in 0..rows {
-            if w[(i, j)] != 0.0 {
-                builder.add_entry(i, j, w[(i, j)]);
-            }
-        }
-    }
-    Planted { problem: builder.build(&q, &mu).unwrap(), r }
-}
-
 #[test]
 fn planted_solutions_with_a_joint_are_found() {
     let mut rng = Rng::new(41);
@@ -228,7 +136,7 @@ fn planted_solutions_with_a_joint_are_found() {
     let mut out = Fc2dSolution::new();
     for case in 0..30 {
         let n_c = 1 + case % 10;
-        let p = planted(n_c, 0.6, &mut rng);
+        let p = planted_fc2d(n_c, 0.6, true, &mut rng);
         let mut u = vec![0.0; p.r.len()];
         assert!(Fc2dResidual::compute(p.problem.view(), &p.r, &mut u).natural < 1e-13);
         for solver in [&mut newton, &mut fixed] {
@@ -251,7 +159,7 @@ fn planted_solutions_with_a_joint_are_found() {
 #[test]
 fn newton_from_the_solution_takes_no_iteration_and_keeps_its_history() {
     let mut rng = Rng::new(43);
-    let p = planted(8, 0.5, &mut rng);
+    let p = planted_fc2d(8, 0.5, true, &mut rng);
     let mut newton =
         Newton::new(NewtonOptions { tolerance: 1e-12, keep_history: true, ..Default::default() })
             .unwrap();
@@ -274,7 +182,7 @@ fn newton_from_the_solution_takes_no_iteration_and_keeps_its_history() {
 #[test]
 fn an_iteration_limit_is_an_honest_status() {
     let mut rng = Rng::new(47);
-    let p = planted(10, 0.8, &mut rng);
+    let p = planted_fc2d(10, 0.8, true, &mut rng);
     let s =
         Newton::new(NewtonOptions { max_iterations: 1, tolerance: 1e-14, ..Default::default() })
             .unwrap()

@@ -2,46 +2,13 @@
 
 mod common;
 
-use std::fs::File;
-use std::path::PathBuf;
-
-use common::Rng;
+use common::{Rng, chain_w, fc2d_collection, planted_fc2d};
 use faer::Mat;
 use moreau_lcp::fc2d::{
-    Fc2d, Fc2dBuilder, Fc2dResidual, Fc2dSolution, Fc2dSolver, Gfc2d, LcpRoute, LcpRouteOptions,
+    Fc2d, Fc2dBuilder, Fc2dResidual, Fc2dSolution, Fc2dSolver, LcpRoute, LcpRouteOptions,
     LcpRouteSolver, Nsgs, NsgsOptions,
 };
 use moreau_lcp::{Method, Status};
-
-const DATA: &str = "tests/data/siconos/fc2d";
-
-/// Every FC2D and GFC2D file of the collection (GFC2D reduced to the contact space), read
-/// once for all tests.
-fn collection() -> &'static [(String, Fc2d)] {
-    static FILES: std::sync::OnceLock<Vec<(String, Fc2d)>> = std::sync::OnceLock::new();
-    FILES.get_or_init(read_collection)
-}
-
-fn read_collection() -> Vec<(String, Fc2d)> {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(DATA);
-    let mut files: Vec<PathBuf> =
-        std::fs::read_dir(root).unwrap().map(|e| e.unwrap().path()).collect();
-    files.sort();
-    files
-        .into_iter()
-        .map(|path| {
-            let name = path.file_name().unwrap().to_string_lossy().into_owned();
-            let file = File::open(&path).unwrap();
-            let problem = if name.starts_with("gfc2d") {
-                Gfc2d::read_siconos(file).unwrap().reduce().unwrap().problem
-            } else {
-                Fc2d::read_siconos(file).unwrap()
-            };
-            (name, problem)
-        })
-        .filter(|(name, _)| name.ends_with(".dat"))
-        .collect()
-}
 
 /// Sweep limit within which NSGS reaches 1e-4 on every file (the most measured: 628
 /// sweeps, on 7,002 contacts).
@@ -74,7 +41,7 @@ fn assert_honest(name: &str, s: &Fc2dSolution, tolerance: f64) {
 
 #[test]
 fn nsgs_reaches_a_loose_tolerance_on_every_file() {
-    for (name, problem) in collection() {
+    for (name, problem) in fc2d_collection() {
         let s = nsgs(1e-4, LOOSE_SWEEPS).solve(problem).unwrap();
         assert_eq!(s.status, Status::Solved, "{name}: {:?} after {}", s.residual, s.iterations);
         assert!(s.residual.natural <= 1e-4);
@@ -84,7 +51,7 @@ fn nsgs_reaches_a_loose_tolerance_on_every_file() {
 
 #[test]
 fn nsgs_at_a_tight_tolerance_fails_only_where_listed() {
-    for (name, problem) in collection() {
+    for (name, problem) in fc2d_collection() {
         let s = nsgs(1e-8, TIGHT_SWEEPS).solve(problem).unwrap();
         assert_honest(name, &s, 1e-8);
         match NSGS_TIGHT_FAILURES.iter().find(|f| f.0 == name.as_str()) {
@@ -100,7 +67,7 @@ fn nsgs_at_a_tight_tolerance_fails_only_where_listed() {
 #[test]
 fn lcp_route_solves_the_small_files_and_agrees_with_nsgs() {
     let mut compared = 0;
-    for (name, problem) in collection() {
+    for (name, problem) in fc2d_collection() {
         if problem.n_contacts() > LCP_MAX_CONTACTS {
             continue;
         }
@@ -124,66 +91,12 @@ fn lcp_route_solves_the_small_files_and_agrees_with_nsgs() {
     assert_eq!(compared, 8);
 }
 
-/// A random problem of `n_c` contacts on a chain of bodies (contact i touches bodies i and
-/// i + 1), so that W has the block structure of a contact problem, with a planted solution
-/// in a chosen mode per contact.
-struct Planted {
-    problem: Fc2d,
-    r: Vec<f64>,
-}
-
-/// W = H M⁻¹ Hᵀ for a chain: each contact has a 2x3 Jacobian on each of its two bodies.
-fn chain_w(n_c: usize, rng: &mut Rng) -> Mat<f64> {
-    let bodies = n_c + 1;
-    let h = Mat::from_fn(2 * n_c, 3 * bodies, |row, col| {
-        let (c, b) = (row / 2, col / 3);
-        if b == c || b == c + 1 { rng.uniform(-1.0, 1.0) } else { 0.0 }
-    });
-    let mass: Vec<f64> = (0..3 * bodies).map(|_| rng.uniform(0.5, 2.0)).collect();
-    let mut w = Mat::<f64>::zeros(2 * n_c, 2 * n_c);
-    for i in 0..2 * n_c {
-        for j in 0..2 * n_c {
-            w[(i, j)] = (0..3 * bodies).map(|k| h[(i, k)] * h[(j, k)] / mass[k]).sum();
-        }
-        w[(i, i)] += 0.05;
-    }
-    w
-}
-
-fn planted(n_c: usize, mu_max: f64, rng: &mut Rng) -> Planted {
-    let w = chain_w(n_c, rng);
-    let mu: Vec<f64> = (0..n_c).map(|_| rng.uniform(0.0, mu_max)).collect();
-    let mut r = vec![0.0; 2 * n_c];
-    let mut u = vec![0.0; 2 * n_c];
-    for i in 0..n_c {
-        match rng.below(4) {
-            0 => {
-                u[2 * i] = rng.uniform(0.1, 1.0);
-                u[2 * i + 1] = rng.uniform(-1.0, 1.0);
-            }
-            1 => {
-                r[2 * i] = rng.uniform(0.1, 1.0);
-                r[2 * i + 1] = rng.uniform(-0.9, 0.9) * mu[i] * r[2 * i];
-            }
-            k => {
-                let s = if k == 2 { 1.0 } else { -1.0 };
-                r[2 * i] = rng.uniform(0.1, 1.0);
-                r[2 * i + 1] = -s * mu[i] * r[2 * i];
-                u[2 * i + 1] = s * rng.uniform(0.1, 1.0);
-            }
-        }
-    }
-    let q: Vec<f64> =
-        (0..2 * n_c).map(|i| u[i] - (0..2 * n_c).map(|j| w[(i, j)] * r[j]).sum::<f64>()).collect();
-    Planted { problem: Fc2d::from_dense(w.as_ref(), &q, &mu).unwrap(), r }
-}
-
 #[test]
 fn planted_solutions_are_found() {
     let mut rng = Rng::new(7);
     for case in 0..40 {
         let n_c = 1 + case % 12;
-        let p = planted(n_c, 0.5, &mut rng);
+        let p = planted_fc2d(n_c, 0.5, false, &mut rng);
         let mut u = vec![0.0; 2 * n_c];
         assert!(Fc2dResidual::compute(p.problem.view(), &p.r, &mut u).natural < 1e-14);
         for solver in [&mut nsgs(1e-10, 100_000) as &mut dyn Fc2dSolver, &mut LcpRoute::default()] {
@@ -200,7 +113,7 @@ fn frictionless_contacts_are_the_normal_lcp() {
     let mut rng = Rng::new(11);
     for _ in 0..10 {
         let n_c = 5;
-        let w = chain_w(n_c, &mut rng);
+        let w = chain_w(n_c, false, &mut rng);
         let q: Vec<f64> = (0..2 * n_c).map(|_| rng.uniform(-1.0, 1.0)).collect();
         let problem = Fc2d::from_dense(w.as_ref(), &q, &vec![0.0; n_c]).unwrap();
         let s = nsgs(1e-12, 100_000).solve(&problem).unwrap();
@@ -251,7 +164,7 @@ fn bilateral_rows_hold_and_both_solvers_agree() {
 #[test]
 fn warm_start_from_a_solution_takes_one_sweep_and_history_is_kept() {
     let mut rng = Rng::new(3);
-    let p = planted(8, 0.4, &mut rng);
+    let p = planted_fc2d(8, 0.4, false, &mut rng);
     let mut solver = Nsgs::new(NsgsOptions {
         tolerance: 1e-12,
         max_sweeps: 100_000,
@@ -282,7 +195,7 @@ fn warm_start_from_a_solution_takes_one_sweep_and_history_is_kept() {
 #[test]
 fn a_sweep_limit_is_an_honest_status() {
     let mut rng = Rng::new(5);
-    let p = planted(12, 0.5, &mut rng);
+    let p = planted_fc2d(12, 0.5, false, &mut rng);
     let s = nsgs(1e-14, 2).solve(&p.problem).unwrap();
     assert_eq!((s.status, s.iterations), (Status::IterationLimit, 2));
     assert!(s.residual.natural > 1e-14);
@@ -294,7 +207,7 @@ fn a_sweep_limit_is_an_honest_status() {
 #[test]
 fn lcp_route_reports_size_and_certified_infeasibility() {
     let mut rng = Rng::new(9);
-    let p = planted(6, 0.5, &mut rng);
+    let p = planted_fc2d(6, 0.5, false, &mut rng);
     let small = LcpRoute::new(LcpRouteOptions { max_contacts: 5, ..Default::default() }).unwrap();
     let s = { small }.solve(&p.problem).unwrap();
     assert_eq!(s.status, Status::TooLarge);
@@ -321,7 +234,7 @@ mod properties {
         #[test]
         fn nsgs_and_the_lcp_route_both_solve_random_chains(seed in 0u64..1_000_000, n_c in 1usize..9, mu_max in 0.0f64..1.0) {
             let mut rng = common::Rng::new(seed);
-            let p = planted(n_c, mu_max, &mut rng);
+            let p = planted_fc2d(n_c, mu_max, false, &mut rng);
             let gs = nsgs(1e-10, 200_000).solve(&p.problem).unwrap();
             prop_assert_eq!(gs.status, Status::Solved);
             let lcp = LcpRoute::default().solve(&p.problem).unwrap();

@@ -5,6 +5,7 @@
 
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Col, Mat};
+use moreau_lcp::fc2d::{Fc2d, Fc2dBuilder, Gfc2d};
 use moreau_lcp::{Auto, Lcp, Solution, Solver};
 // Each test file takes the part of these it needs.
 #[allow(unused_imports)]
@@ -155,4 +156,104 @@ pub fn bench_set(name: &str) -> Option<Vec<Lcp>> {
         "spd_90" => spd_set(90, 6),
         _ => return None,
     })
+}
+
+/// Every FC2D and GFC2D file of Siconos' collection in `tests/data/siconos/fc2d` (GFC2D
+/// reduced to the contact space), by file name, read once per test binary.
+pub fn fc2d_collection() -> &'static [(String, Fc2d)] {
+    static FILES: std::sync::OnceLock<Vec<(String, Fc2d)>> = std::sync::OnceLock::new();
+    FILES.get_or_init(|| {
+        let root =
+            std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/siconos/fc2d");
+        let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(root)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "dat"))
+            .collect();
+        files.sort();
+        files
+            .into_iter()
+            .map(|path| {
+                let name = path.file_name().unwrap().to_string_lossy().into_owned();
+                let file = std::fs::File::open(&path).unwrap();
+                let problem = if name.starts_with("gfc2d") {
+                    Gfc2d::read_siconos(file).unwrap().reduce().unwrap().problem
+                } else {
+                    Fc2d::read_siconos(file).unwrap()
+                };
+                (name, problem)
+            })
+            .collect()
+    })
+}
+
+/// A planted FC2D problem and the reactions r that solve it.
+pub struct PlantedFc2d {
+    /// The problem.
+    pub problem: Fc2d,
+    /// Its planted solution (contacts' (r_N, r_T), then the joint's multipliers).
+    pub r: Vec<f64>,
+}
+
+/// W = H M⁻¹ Hᵀ + 0.05 I of a chain of n_c + 1 bodies: contact i touches bodies i and i + 1
+/// (a random 2x3 Jacobian on each), random diagonal masses, and with `joint` two more rows of
+/// a joint between the first two bodies.
+pub fn chain_w(n_c: usize, joint: bool, rng: &mut Rng) -> Mat<f64> {
+    let bodies = n_c + 1;
+    let rows = 2 * n_c + if joint { 2 } else { 0 };
+    let h = Mat::from_fn(rows, 3 * bodies, |row, col| {
+        let b = col / 3;
+        let touches = if row < 2 * n_c { b == row / 2 || b == row / 2 + 1 } else { b <= 1 };
+        if touches { rng.uniform(-1.0, 1.0) } else { 0.0 }
+    });
+    let mass: Vec<f64> = (0..3 * bodies).map(|_| rng.uniform(0.5, 2.0)).collect();
+    Mat::from_fn(rows, rows, |i, j| {
+        let coupling: f64 = (0..3 * bodies).map(|k| h[(i, k)] * h[(j, k)] / mass[k]).sum();
+        coupling + if i == j { 0.05 } else { 0.0 }
+    })
+}
+
+/// A planted problem with the W of [`chain_w`], each contact's mode chosen at random (open, stick, slip
+/// either way), the joint's multipliers free, and q set so that r solves it.
+pub fn planted_fc2d(n_c: usize, mu_max: f64, joint: bool, rng: &mut Rng) -> PlantedFc2d {
+    let w = chain_w(n_c, joint, rng);
+    let rows = w.nrows();
+    let mu: Vec<f64> = (0..n_c).map(|_| rng.uniform(0.0, mu_max)).collect();
+    let mut r = vec![0.0; rows];
+    let mut u = vec![0.0; rows];
+    for i in 0..n_c {
+        match rng.below(4) {
+            0 => {
+                u[2 * i] = rng.uniform(0.1, 1.0);
+                u[2 * i + 1] = rng.uniform(-1.0, 1.0);
+            }
+            1 => {
+                r[2 * i] = rng.uniform(0.1, 1.0);
+                r[2 * i + 1] = rng.uniform(-0.9, 0.9) * mu[i] * r[2 * i];
+            }
+            k => {
+                let s = if k == 2 { 1.0 } else { -1.0 };
+                r[2 * i] = rng.uniform(0.1, 1.0);
+                r[2 * i + 1] = -s * mu[i] * r[2 * i];
+                u[2 * i + 1] = s * rng.uniform(0.1, 1.0);
+            }
+        }
+    }
+    for v in &mut r[2 * n_c..] {
+        *v = rng.uniform(-1.0, 1.0);
+    }
+    let q: Vec<f64> =
+        (0..rows).map(|i| u[i] - (0..rows).map(|j| w[(i, j)] * r[j]).sum::<f64>()).collect();
+    let mut builder = Fc2dBuilder::new(n_c);
+    if joint {
+        builder.bilateral_group(2);
+    }
+    for i in 0..rows {
+        for j in 0..rows {
+            if w[(i, j)] != 0.0 {
+                builder.add_entry(i, j, w[(i, j)]);
+            }
+        }
+    }
+    PlantedFc2d { problem: builder.build(&q, &mu).unwrap(), r }
 }
