@@ -83,6 +83,7 @@ mod error;
 mod mechanism;
 mod observer;
 mod options;
+mod report;
 mod rows;
 mod stepper;
 
