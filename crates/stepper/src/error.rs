@@ -41,6 +41,15 @@ pub enum StepError {
         /// What failed (asymmetry or a non-positive pivot).
         reason: String,
     },
+    /// The bilateral constraints' matrix S = W_Bᵀ M⁻¹ W_B is not positive definite: some
+    /// constraints repeat others, or a joint links two bodies that cannot move.
+    #[error("bilateral constraints are redundant or singular at t = {t} (W_B' M^-1 W_B: {reason})")]
+    RedundantConstraints {
+        /// Time of the midpoint where they were evaluated (s).
+        t: f64,
+        /// Why the factorisation failed.
+        reason: String,
+    },
     /// The active-set threshold is negative or not finite.
     #[error("gap tolerance {value} must be finite and >= 0")]
     InvalidGapTolerance {

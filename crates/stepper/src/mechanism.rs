@@ -32,6 +32,25 @@ pub trait Mechanism: ContactKinematics {
         false
     }
 
+    /// The number n_B of bilateral constraints g_B(q, t) = 0 (the equations of joints): 0 by
+    /// default. Their impulses are free in sign and are found in the same step problem as the
+    /// contacts' (docs/theory.md section 9).
+    fn num_bilaterals(&self) -> usize {
+        0
+    }
+
+    /// Bilateral constraint `i` at (q, t): writes its force direction w_B = (∂g_B/∂q)ᵀ into `w`
+    /// (length f; every entry must be written) and returns g_B and ŵ_B = ∂g_B/∂t.
+    ///
+    /// Called only for `i < num_bilaterals()`. The default, for mechanisms without bilateral
+    /// constraints, writes zeros and returns non-finite values, so that a mechanism that
+    /// states constraints but does not write them fails with a typed error at its first step.
+    fn bilateral(&self, i: usize, q: &[f64], t: f64, w: &mut [f64]) -> BilateralPoint {
+        let _ = (i, q, t);
+        w.fill(0.0);
+        BilateralPoint { g: f64::NAN, w_hat: f64::NAN }
+    }
+
     /// Everything the stepper evaluates at the midpoint of a step, in one call: M(q, t) into
     /// `mass` (skipped when `None`, as when a constant M is already factorised), h(q, u, t)
     /// into `h` and the normal gaps of all contacts into `gaps`.
@@ -95,6 +114,16 @@ pub trait Mechanism: ContactKinematics {
     {
         op.run(self)
     }
+}
+
+/// The scalars of one bilateral constraint at (q, t), besides its force direction w_B.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BilateralPoint {
+    /// The constraint's value g_B(q, t): zero on the constraint, its drift otherwise (m or rad).
+    pub g: f64,
+    /// The rheonomic term ŵ_B = ∂g_B/∂t, non-zero for a driven joint such as a motor (m/s or
+    /// rad/s).
+    pub w_hat: f64,
 }
 
 /// An operation generic over the concrete mechanism type, for [`Mechanism::with_concrete`].

@@ -82,6 +82,12 @@ pub struct StepReport<'a> {
     pub lcp_size: usize,
     /// How the LCP was solved, if there was one.
     pub lcp: Option<LcpInfo>,
+    /// The largest penetration max(0, −g_N) among the contacts at the step's midpoint q_M
+    /// (m); 0 when none penetrates.
+    pub penetration: f64,
+    /// The largest |g_B| of the bilateral constraints at the step's midpoint q_M (m or rad):
+    /// how far the positions have drifted off the joints; 0 without joints.
+    pub joint_drift: f64,
     /// M_M, column-major, and the impulse-free velocity ũ, for [`Self::impulse_dissipation`].
     pub(crate) mass: &'a [f64],
     pub(crate) u_free: &'a [f64],

@@ -13,8 +13,10 @@ use crate::observer::{Observer, Recorder};
 pub use crate::report::{ContactReport, ContactState, LcpInfo, RunSummary, StepReport};
 use crate::{ConcreteOp, Mechanism, Record, SolverChoice, StepError, StepperOptions};
 
+mod joints;
 mod solve;
 mod step;
+use joints::Joints;
 use solve::{nonsmooth_gauss_seidel, one_contact_closed_form};
 
 /// The LCP solver held by a stepper.
@@ -130,6 +132,12 @@ struct Workspace {
     lcp_solves: u64,
     /// The contacts whose reports hold an active contact (to be cleared next step).
     reported: Vec<usize>,
+    /// The bilateral constraints (joints), evaluated at the midpoint.
+    joints: Joints,
+    /// The largest penetration max(0, −g_N) among the contacts at the last midpoint (m).
+    penetration: f64,
+    /// The largest |g_B| at the last midpoint (m or rad).
+    joint_drift: f64,
     /// Buffers of the optional position projection.
     proj_active: Vec<usize>,
     proj_w: Vec<f64>,
@@ -316,6 +324,9 @@ impl<M: Mechanism> Stepper<M> {
             lcp_info: None,
             lcp_solves: 0,
             reported: Vec::with_capacity(n),
+            joints: Joints::new(mechanism.num_bilaterals(), f),
+            penetration: 0.0,
+            joint_drift: 0.0,
             proj_active: Vec::with_capacity(n),
             proj_w: vec![0.0; f * n],
             proj_x: vec![0.0; f * n],

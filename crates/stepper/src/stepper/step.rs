@@ -17,6 +17,8 @@ impl Core {
             lcp_size: self.ws.lcp_size,
             // Set only by steps with contacts.
             lcp: if self.ws.lcp_size > 0 { self.ws.lcp_info } else { None },
+            penetration: self.ws.penetration,
+            joint_drift: self.ws.joint_drift,
             mass: &self.ws.mass,
             u_free: &self.ws.u_free,
         }
@@ -69,17 +71,27 @@ impl Core {
         }
         // A non-finite h gives a non-finite ũ, which the check of u_E below reports as h.
         ws.chol.solve_scaled_add::<N>(&mut ws.h[..f], dt, &self.u[..f], &mut ws.u_free[..f]);
+        if ws.joints.n > 0 {
+            // ũ becomes ũ', which satisfies the bilateral constraints; every M⁻¹ w below
+            // becomes M̂⁻¹ w (joints.rs).
+            ws.joints.assemble(mech, &ws.q_m[..f], t_m, &ws.chol)?;
+            ws.joints.constrain(&mut ws.u_free[..f], true);
+            ws.joint_drift = ws.joints.drift();
+        }
 
         ws.last_size = 0;
         ws.active.clear();
         let mut poison = 0.0;
+        let mut lowest = 0.0f64;
         for (i, &g) in ws.gaps.iter().enumerate() {
             // x · 0 is 0 for a finite x and NaN otherwise: one test after the loop.
             poison += g * 0.0;
+            lowest = lowest.min(g);
             if g <= self.options.gap_tolerance {
                 ws.active.push(i);
             }
         }
+        ws.penetration = -lowest;
         if poison != 0.0 {
             check_finite("h", &ws.h, t_m)?;
             check_finite("g_N", &ws.gaps, t_m)?;
@@ -219,6 +231,9 @@ impl Core {
     pub(super) fn project<K: Mechanism>(&mut self, mech: &K, t_e: f64) -> Result<(), StepError> {
         let f = self.q.len();
         let ws = &mut self.ws;
+        if ws.joints.n > 0 {
+            ws.joints.project(mech, &mut self.q, t_e, &ws.chol)?;
+        }
         for _ in 0..4 {
             // Every contact enters the projection LCP once one penetrates: pushing a corner
             // out can push its neighbour on the same face in, and complementarity keeps the
@@ -242,6 +257,7 @@ impl Core {
                 mech.contact(i, &self.q, t_e, w_n, &mut ws.tmp);
                 x.copy_from_slice(w_n);
                 ws.chol.solve(x);
+                ws.joints.constrain(x, false);
             }
             for c in 0..k {
                 for r in 0..k {
@@ -355,12 +371,15 @@ impl Core {
 
         // Columns M⁻¹ w_T of the frictional contacts and M⁻¹ (w_N − μ w_T) of all.
         for (k, &a) in ws.frictional.iter().enumerate() {
-            ws.chol.solve_into::<N>(&ws.w_t[a * f..][..f], &mut ws.x_t[k * f..][..f]);
+            let x = &mut ws.x_t[k * f..][..f];
+            ws.chol.solve_into::<N>(&ws.w_t[a * f..][..f], x);
+            ws.joints.constrain(x, false);
         }
         let mut k = 0;
         for a in 0..na {
             let y = &mut ws.y_n[a * f..][..f];
             ws.chol.solve_into::<N>(&ws.w_n[a * f..][..f], y);
+            ws.joints.constrain(y, false);
             if k < nf && ws.frictional[k] == a {
                 let mu = ws.mu_f[k];
                 for (yj, xj) in y.iter_mut().zip(&ws.x_t[k * f..][..f]) {
@@ -511,6 +530,7 @@ impl Core {
         }
         let y = &mut ws.y_n[..f];
         ws.chol.solve_into::<N>(w_n, y);
+        ws.joints.constrain(y, false);
         let a = dot(w_n, y);
         let p_n = -b / a;
         if !(a > 0.0 && p_n.is_finite()) {

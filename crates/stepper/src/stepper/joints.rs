@@ -1,0 +1,162 @@
+//! Bilateral constraints (joints) in the step: the constrained inverse mass, which the contact
+//! problem then uses in place of M⁻¹, and the projection of the positions back onto the
+//! constraints.
+//!
+//! With n_B bilateral constraints g_B(q, t) = 0, force directions W_B = (∂g_B/∂q)ᵀ and
+//! rheonomic terms ŵ_B = ∂g_B/∂t, the step asks γ_B,E = W_Bᵀ u_E + ŵ_B = 0 with free
+//! impulses Λ_B. Eliminating Λ_B by the Schur complement S = W_Bᵀ M⁻¹ W_B (docs/theory.md
+//! section 9) leaves the contact problem of the unilateral contacts alone, with
+//! * the free velocity ũ' = ũ − M⁻¹ W_B S⁻¹ (W_Bᵀ ũ + ŵ_B), which satisfies the constraints;
+//! * M̂⁻¹ w = M⁻¹ w − M⁻¹ W_B S⁻¹ W_Bᵀ M⁻¹ w in place of M⁻¹ w for each contact direction w.
+//!
+//! M̂⁻¹ is symmetric positive semidefinite, so the contact problem keeps the structure every
+//! solver expects, and u_E = ũ' + M̂⁻¹ (W_N P_N + W_T P_T) satisfies the constraints whatever
+//! the contact impulses are.
+#![allow(non_snake_case)]
+
+use crate::dense::{Cholesky, dot};
+use crate::{Mechanism, StepError};
+
+/// Largest number of Newton corrections of the positions per step.
+const PROJECTION_ITERATIONS: usize = 4;
+
+/// The bilateral constraints' part of a stepper's workspace.
+pub(super) struct Joints {
+    /// Number of bilateral constraints n_B.
+    pub(super) n: usize,
+    /// Number of coordinates f.
+    f: usize,
+    /// W_B, one column of length f per constraint.
+    w: Vec<f64>,
+    /// M⁻¹ W_B, one column of length f per constraint.
+    x: Vec<f64>,
+    /// ŵ_B and g_B of each constraint at the last assembly.
+    w_hat: Vec<f64>,
+    g: Vec<f64>,
+    /// S = W_Bᵀ M⁻¹ W_B (column-major) and its factor.
+    s: Vec<f64>,
+    s_chol: Cholesky,
+    /// Scratch of length n_B.
+    y: Vec<f64>,
+}
+
+impl Joints {
+    /// The workspace for `n` constraints on `f` coordinates.
+    pub(super) fn new(n: usize, f: usize) -> Self {
+        Self {
+            n,
+            f,
+            w: vec![0.0; f * n],
+            x: vec![0.0; f * n],
+            w_hat: vec![0.0; n],
+            g: vec![0.0; n],
+            s: vec![0.0; n * n],
+            s_chol: Cholesky::new(n),
+            y: vec![0.0; n],
+        }
+    }
+
+    /// The largest |g_B| at the last assembly (m or rad, as the constraints are written).
+    pub(super) fn drift(&self) -> f64 {
+        self.g.iter().fold(0.0, |d, g| d.max(g.abs()))
+    }
+
+    /// Evaluates the constraints at (q, t), forms S with the factor `chol` of M and factorises
+    /// it.
+    ///
+    /// # Errors
+    /// [`StepError::NonFinite`] for non-finite g_B, ŵ_B or W_B, and
+    /// [`StepError::RedundantConstraints`] when S is not positive definite (constraints that
+    /// repeat each other, or a joint whose two bodies are both fixed).
+    pub(super) fn assemble<K: Mechanism>(
+        &mut self,
+        mech: &K,
+        q: &[f64],
+        t: f64,
+        chol: &Cholesky,
+    ) -> Result<(), StepError> {
+        let (f, n) = (self.f, self.n);
+        for i in 0..n {
+            let w = &mut self.w[i * f..][..f];
+            let point = mech.bilateral(i, q, t, w);
+            self.g[i] = point.g;
+            self.w_hat[i] = point.w_hat;
+            let finite = point.g.is_finite() && point.w_hat.is_finite();
+            if !finite || w.iter().any(|v| !v.is_finite()) {
+                return Err(StepError::NonFinite { what: "bilateral constraint", index: i, t });
+            }
+            let x = &mut self.x[i * f..][..f];
+            x.copy_from_slice(w);
+            chol.solve(x);
+        }
+        for c in 0..n {
+            for r in c..n {
+                let v = dot(&self.w[r * f..][..f], &self.x[c * f..][..f]);
+                self.s[r + c * n] = v;
+                self.s[c + r * n] = v;
+            }
+        }
+        self.s_chol
+            .factor::<0>(&self.s)
+            .map_err(|e| StepError::RedundantConstraints { t, reason: e.to_string() })
+    }
+
+    /// Applies the constraints to `v` (length f): v ← v − M⁻¹ W_B S⁻¹ (W_Bᵀ v + ŵ_B) when
+    /// `rheonomic` (a velocity, such as ũ), and v ← v − M⁻¹ W_B S⁻¹ W_Bᵀ v otherwise (a
+    /// column M⁻¹ w, which becomes M̂⁻¹ w).
+    #[inline(always)]
+    pub(super) fn constrain(&mut self, v: &mut [f64], rheonomic: bool) {
+        if self.n > 0 {
+            self.apply(v, rheonomic);
+        }
+    }
+
+    /// [`Self::constrain`] with at least one constraint.
+    #[inline(never)]
+    fn apply(&mut self, v: &mut [f64], rheonomic: bool) {
+        let (f, n) = (self.f, self.n);
+        for i in 0..n {
+            let w_hat = if rheonomic { self.w_hat[i] } else { 0.0 };
+            self.y[i] = dot(&self.w[i * f..][..f], v) + w_hat;
+        }
+        self.s_chol.solve(&mut self.y);
+        for i in 0..n {
+            let yi = self.y[i];
+            for (vj, xj) in v.iter_mut().zip(&self.x[i * f..][..f]) {
+                *vj -= xj * yi;
+            }
+        }
+    }
+
+    /// Moves q back onto g_B(q, t) = 0 by Newton's method along M⁻¹ W_B (the correction of
+    /// least kinetic metric): q ← q − M⁻¹ W_B S⁻¹ g_B, at most [`PROJECTION_ITERATIONS`]
+    /// times, until |g_B| ≤ 1e-12 (1 + |q|∞). Leaves the constraints assembled at the final q,
+    /// so that a contact projection that follows keeps them to first order.
+    ///
+    /// # Errors
+    /// Those of [`Self::assemble`].
+    pub(super) fn project<K: Mechanism>(
+        &mut self,
+        mech: &K,
+        q: &mut [f64],
+        t: f64,
+        chol: &Cholesky,
+    ) -> Result<(), StepError> {
+        let f = self.f;
+        for _ in 0..PROJECTION_ITERATIONS {
+            self.assemble(mech, q, t, chol)?;
+            let scale = q.iter().fold(1.0f64, |s, v| s.max(v.abs()));
+            if self.drift() <= 1e-12 * scale {
+                return Ok(());
+            }
+            self.y.copy_from_slice(&self.g);
+            self.s_chol.solve(&mut self.y);
+            for (i, yi) in self.y.iter().enumerate() {
+                for (qj, xj) in q.iter_mut().zip(&self.x[i * f..][..f]) {
+                    *qj -= xj * yi;
+                }
+            }
+        }
+        self.assemble(mech, q, t, chol)
+    }
+}
