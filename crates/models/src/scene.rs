@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use moreau_stepper::{
     Observer, Record, Recorder, RunSummary, SolverChoice, StepReport, Stepper, StepperOptions,
+    UnknownSolver,
 };
 use serde::{Deserialize, Serialize};
 
@@ -214,7 +215,7 @@ impl Scene {
 
     /// The stepper's options: Δt and the solver.
     pub fn stepper_options(&self) -> StepperOptions {
-        StepperOptions::new(self.dt).with_solver(self.solver.clone())
+        StepperOptions::new(self.dt).with_solver(self.solver)
     }
 
     /// A stepper at the model's initial state and t = 0, for stepping by hand.
@@ -370,7 +371,7 @@ impl Scene {
             reason,
         };
         if key == "solver" {
-            self.solver = SolverChoice::parse(value.trim()).map_err(|e| bad(e.to_string()))?;
+            self.solver = value.trim().parse().map_err(|e: UnknownSolver| bad(e.to_string()))?;
             return Ok(());
         }
         let targets = self.targets(key)?;

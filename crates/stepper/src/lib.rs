@@ -91,6 +91,6 @@ pub use check::{EvaluateMismatch, check_evaluate};
 pub use error::StepError;
 pub use mechanism::{BilateralPoint, ConcreteOp, Mechanism};
 pub use observer::{Impact, Observer, Record, Recorder};
-pub use options::{SolverChoice, StepperOptions};
+pub use options::{SolverChoice, StepperOptions, UnknownSolver};
 pub use rows::{RowIter, Rows};
 pub use stepper::{ContactReport, ContactState, LcpInfo, RunSummary, StepReport, Stepper};
