@@ -53,7 +53,8 @@ impl Core {
         }
         let new_mass = !(ws.factored && mech.constant_mass_matrix());
         let mass = new_mass.then_some(&mut ws.mass[..f * f]);
-        mech.evaluate(
+        crate::mechanism::evaluate(
+            mech,
             &ws.q_m[..f],
             &self.u[..f],
             t_m,
@@ -304,7 +305,8 @@ impl Core {
         }
         ws.frictional.clear();
         let na = ws.active.len();
-        mech.midpoint_contacts(
+        crate::mechanism::midpoint_contacts(
+            mech,
             &ws.active,
             &ws.q_m,
             t_m,
