@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 /// Which LCP solver a step uses when contacts are closed.
 ///
 /// Whatever the choice, a step whose LCP solution fails the residual test stops the run with
-/// [`StepError::LcpFailed`]; the choice trades robustness for speed, never correctness.
+/// [`crate::StepError::LcpFailed`]; the choice trades robustness for speed, never correctness.
 ///
 /// Read from a table such as `{ kind = "pgs", tolerance = 1e-10, omega = 1.0,
 /// max_iterations = 10000 }`: a field the kind does not have is refused for every kind, and
