@@ -271,15 +271,23 @@ fn parry_pair(
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) {
-    let (pa, sa) = parry_shape(a, pose_a);
-    let (pb, sb) = parry_shape(b, pose_b);
+    // parry2d-f64 0.31.1 answers a shape against a half-space with the relative pose of the
+    // reverse order (`contact_support_map_halfspace` does not invert `pos12`), so the
+    // half-space is always passed first and the answer flipped back.
+    let flip = matches!(b, Shape::HalfPlane { .. });
+    let (first, first_pose, second, second_pose) =
+        if flip { (b, pose_b, a, pose_a) } else { (a, pose_a, b, pose_b) };
+    let (p1, s1) = parry_shape(first, first_pose);
+    let (p2, s2) = parry_shape(second, second_pose);
     // Every pair routed here is one that parry's dispatcher supports, so `Err` cannot occur.
-    if let Ok(Some(c)) = query::contact(&pa, sa.as_dyn(), &pb, sb.as_dyn(), margin) {
+    if let Ok(Some(c)) = query::contact(&p1, s1.as_dyn(), &p2, s2.as_dyn(), margin) {
+        let (on_a, on_b, normal) =
+            if flip { (c.point2, c.point1, -c.normal1) } else { (c.point1, c.point2, c.normal1) };
         out.push(ManifoldPoint {
             feature: 0,
-            point_a: [c.point1.x, c.point1.y],
-            point_b: [c.point2.x, c.point2.y],
-            normal: [c.normal1.x, c.normal1.y],
+            point_a: [on_a.x, on_a.y],
+            point_b: [on_b.x, on_b.y],
+            normal: [normal.x, normal.y],
             gap: c.dist,
         });
     }
