@@ -541,3 +541,76 @@ fn shapes_round_trip_through_serde() {
         serde_json::from_str(r#"{"type":"half_plane","point":[0,0],"normal":[0,1]}"#).unwrap();
     assert_eq!(back, floor());
 }
+
+/// parry2d-f64's contact of two shapes given in its own types (shape 1 first).
+fn parry_contact(
+    s1: &dyn parry2d_f64::shape::Shape,
+    p1: Pose,
+    s2: &dyn parry2d_f64::shape::Shape,
+    p2: Pose,
+) -> parry2d_f64::query::Contact {
+    use parry2d_f64::math::{Pose as P, Vector as V};
+    let pose = |p: Pose| P::new(V::new(p.x, p.y), p.theta);
+    parry2d_f64::query::contact(&pose(p1), s1, &pose(p2), s2, 10.0)
+        .expect("supported by parry")
+        .expect("within the prediction")
+}
+
+#[test]
+fn smooth_pairs_and_polygon_distances_agree_with_parry() {
+    use parry2d_f64::math::Vector as V;
+    use parry2d_f64::shape::{Ball, Capsule, ConvexPolygon, HalfSpace};
+    let mut rng = SplitMix64::new(9);
+    let verts = [[-0.2, -0.1], [0.25, -0.12], [0.3, 0.1], [-0.1, 0.2]];
+    let poly = Shape::Polygon { vertices: verts.to_vec() };
+    let parry_poly =
+        ConvexPolygon::from_convex_polyline(verts.iter().map(|v| V::new(v[0], v[1])).collect())
+            .unwrap();
+    let cap = Shape::Capsule { a: [-0.2, 0.05], b: [0.2, -0.05], radius: 0.07 };
+    let parry_cap = Capsule::new(V::new(-0.2, 0.05), V::new(0.2, -0.05), 0.07);
+    // A half-plane through the body origin, as parry's half-space is.
+    let plane = Shape::HalfPlane { point: [0.0, 0.0], normal: [0.6, 0.8] };
+    let parry_plane = HalfSpace::new(V::new(0.6, 0.8));
+    let d = disk(0.0, 0.0, 0.1);
+    let ball = Ball::new(0.1);
+    let mut compared = 0;
+    for _ in 0..200 {
+        let pa = Pose::new(rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4), rng.uniform(-PI, PI));
+        let pb = Pose::new(rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4), rng.uniform(-PI, PI));
+        let cases: [(
+            &Shape,
+            &Shape,
+            &dyn parry2d_f64::shape::Shape,
+            &dyn parry2d_f64::shape::Shape,
+        ); 4] = [
+            (&d, &d, &ball, &ball),
+            (&cap, &d, &parry_cap, &ball),
+            (&plane, &d, &parry_plane, &ball),
+            (&poly, &d, &parry_poly, &ball),
+        ];
+        for (a, b, s1, s2) in cases {
+            let ours = points(a, pa, b, pb, 10.0);
+            let theirs = parry_contact(s1, pa, s2, pb);
+            assert_eq!(ours.len(), 1);
+            assert_relative_eq!(ours[0].gap, theirs.dist, epsilon = 1e-9);
+            if theirs.dist > 1e-6 {
+                assert_relative_eq!(ours[0].normal[0], theirs.normal1.x, epsilon = 1e-9);
+                assert_relative_eq!(ours[0].normal[1], theirs.normal1.y, epsilon = 1e-9);
+                assert_relative_eq!(ours[0].point_b[0], theirs.point2.x, epsilon = 1e-9);
+            }
+            compared += 1;
+        }
+        // Two polygons: the smallest gap of our points is parry's signed distance, apart (two
+        // faces, two corners or a corner and a face) or overlapping by a little (the least
+        // penetration; deep overlaps, which a time-stepper never reaches, may list deeper
+        // vertex points).
+        let ours = points(&poly, pa, &poly, pb, 10.0);
+        let theirs = parry_contact(&parry_poly, pa, &parry_poly, pb);
+        let smallest = ours.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
+        if theirs.dist > -0.02 {
+            assert_relative_eq!(smallest, theirs.dist, epsilon = 1e-9);
+            compared += 1;
+        }
+    }
+    assert!(compared > 850, "{compared}");
+}

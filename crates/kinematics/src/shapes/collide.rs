@@ -1,12 +1,8 @@
 //! The narrow phase: which method each pair of shapes gets, and the ids of its points.
 
-use parry2d_f64::math::{Pose as ParryPose, Vector as ParryVector};
-use parry2d_f64::query;
-use parry2d_f64::shape::{Ball, Capsule, HalfSpace, Shape as ParryShape};
-
 use super::convex::{Core, CorePoint, Feature, point_contact, polygon_contacts};
 use super::nonconvex::{convex_chain, half_plane_chain};
-use super::shape::{Frame, V};
+use super::shape::Frame;
 use super::{ManifoldPoint, Pose, Shape};
 use crate::KinematicsError;
 
@@ -84,11 +80,6 @@ pub fn collide(
     }
     let unsupported = || KinematicsError::UnsupportedPair { a: a.name(), b: b.name() };
     match (a, b) {
-        (Disk { .. }, Disk { .. } | Capsule { .. } | HalfPlane { .. })
-        | (Capsule { .. } | HalfPlane { .. }, Disk { .. }) => {
-            parry_pair(a, pose_a, b, pose_b, margin, out);
-            Ok(())
-        }
         (HalfPlane { .. }, HalfPlane { .. }) => Err(unsupported()),
         (Polyline { .. } | Profile { .. }, Polyline { .. } | Profile { .. }) => Err(unsupported()),
         (HalfPlane { point, normal }, other) => {
@@ -126,17 +117,14 @@ pub fn collide(
 fn with_core<R>(shape: &Shape, pose: &Pose, f: impl FnOnce(&Core<'_>) -> R) -> R {
     let frame = Frame::new(pose);
     match shape {
-        Shape::Disk { center, radius } => f(&Core {
-            vertices: std::slice::from_ref(center),
-            frame,
-            radius: *radius,
-            one_sided: false,
-        }),
+        Shape::Disk { center, radius } => {
+            f(&Core::new(std::slice::from_ref(center), frame, *radius, false))
+        }
         Shape::Capsule { a, b, radius } => {
             let ends = [*a, *b];
-            f(&Core { vertices: &ends, frame, radius: *radius, one_sided: false })
+            f(&Core::new(&ends, frame, *radius, false))
         }
-        Shape::Polygon { vertices } => f(&Core { vertices, frame, radius: 0.0, one_sided: false }),
+        Shape::Polygon { vertices } => f(&Core::new(vertices, frame, 0.0, false)),
         _ => unreachable!("only disks, capsules and polygons have a convex core"),
     }
 }
@@ -214,81 +202,5 @@ fn half_plane(
                 }
             }
         }),
-    }
-}
-
-/// parry2d-f64's shape of a disk, capsule or half-plane, and its pose in parry's types.
-fn parry_shape(shape: &Shape, pose: &Pose) -> (ParryPose, ParryShapeOf) {
-    let frame = Frame::new(pose);
-    let at = |p: V| ParryPose::new(ParryVector::new(p.x, p.y), pose.theta);
-    match shape {
-        Shape::Disk { center, radius } => {
-            (at(frame.point(*center)), ParryShapeOf::Ball(Ball::new(*radius)))
-        }
-        Shape::Capsule { a, b, radius } => (
-            at(frame.origin),
-            ParryShapeOf::Capsule(Capsule::new(
-                ParryVector::new(a[0], a[1]),
-                ParryVector::new(b[0], b[1]),
-                *radius,
-            )),
-        ),
-        Shape::HalfPlane { point, normal } => {
-            let n = V::from(*normal).normalize();
-            (
-                at(frame.point(*point)),
-                ParryShapeOf::HalfSpace(HalfSpace::new(ParryVector::new(n.x, n.y))),
-            )
-        }
-        _ => unreachable!("only disks, capsules and half-planes go to parry"),
-    }
-}
-
-/// The parry shapes used here, held by value so that no call allocates.
-enum ParryShapeOf {
-    Ball(Ball),
-    Capsule(Capsule),
-    HalfSpace(HalfSpace),
-}
-
-impl ParryShapeOf {
-    fn as_dyn(&self) -> &dyn ParryShape {
-        match self {
-            ParryShapeOf::Ball(s) => s,
-            ParryShapeOf::Capsule(s) => s,
-            ParryShapeOf::HalfSpace(s) => s,
-        }
-    }
-}
-
-/// A disk against a disk, a capsule or a half-plane: parry's closest points, which for these
-/// smooth convex pairs are exact in f64 and allocate nothing.
-fn parry_pair(
-    a: &Shape,
-    pose_a: &Pose,
-    b: &Shape,
-    pose_b: &Pose,
-    margin: f64,
-    out: &mut Vec<ManifoldPoint>,
-) {
-    // parry2d-f64 0.31.1 answers a shape against a half-space with the relative pose of the
-    // reverse order (`contact_support_map_halfspace` does not invert `pos12`), so the
-    // half-space is always passed first and the answer flipped back.
-    let flip = matches!(b, Shape::HalfPlane { .. });
-    let (first, first_pose, second, second_pose) =
-        if flip { (b, pose_b, a, pose_a) } else { (a, pose_a, b, pose_b) };
-    let (p1, s1) = parry_shape(first, first_pose);
-    let (p2, s2) = parry_shape(second, second_pose);
-    // Every pair routed here is one that parry's dispatcher supports, so `Err` cannot occur.
-    if let Ok(Some(c)) = query::contact(&p1, s1.as_dyn(), &p2, s2.as_dyn(), margin) {
-        let (on_a, on_b, normal) =
-            if flip { (c.point2, c.point1, -c.normal1) } else { (c.point1, c.point2, c.normal1) };
-        out.push(ManifoldPoint {
-            feature: 0,
-            point_a: [on_a.x, on_a.y],
-            point_b: [on_b.x, on_b.y],
-            normal: [normal.x, normal.y],
-            gap: c.dist,
-        });
     }
 }

@@ -23,14 +23,19 @@ fn outward(e: V) -> V {
 /// to give one point, not two or none.
 const EDGE_SLACK: f64 = 1e-9;
 
-/// A convex core in the world: its vertices (body frame, mapped on use), its radius, and
-/// whether, as a segment, it is touched from its outward side only (an edge of a profile).
+/// How many world vertices a core keeps at hand; larger polygons map theirs on each use.
+const CACHED: usize = 8;
+
+/// A convex core in the world: its vertices (body frame), its radius, and whether, as a
+/// segment, it is touched from its outward side only (an edge of a profile). The world
+/// vertices of a small core are mapped once, since every method below visits them many times.
 #[derive(Clone, Copy)]
 pub(crate) struct Core<'a> {
-    pub vertices: &'a [[f64; 2]],
-    pub frame: Frame,
+    vertices: &'a [[f64; 2]],
+    frame: Frame,
     pub radius: f64,
-    pub one_sided: bool,
+    one_sided: bool,
+    world: [V; CACHED],
 }
 
 /// A feature of a core: a vertex, or an edge (edge i runs from vertex i to vertex i + 1; a
@@ -53,13 +58,32 @@ pub(crate) struct CorePoint {
 }
 
 impl<'a> Core<'a> {
+    pub fn new(vertices: &'a [[f64; 2]], frame: Frame, radius: f64, one_sided: bool) -> Self {
+        let mut world = [V::zeros(); CACHED];
+        if vertices.len() <= CACHED {
+            for (w, v) in world.iter_mut().zip(vertices) {
+                *w = frame.point(*v);
+            }
+        }
+        Self { vertices, frame, radius, one_sided, world }
+    }
+
+    /// The core made of vertex i alone (a corner, as a point).
+    fn single(&self, i: usize) -> Core<'a> {
+        Core::new(&self.vertices[i..i + 1], self.frame, self.radius, false)
+    }
+
     pub fn len(&self) -> usize {
         self.vertices.len()
     }
 
     #[inline]
     pub fn vertex(&self, i: usize) -> V {
-        self.frame.point(self.vertices[i])
+        if self.vertices.len() <= CACHED {
+            self.world[i]
+        } else {
+            self.frame.point(self.vertices[i])
+        }
     }
 
     /// The number of faces that can be touched: a polygon's edges, a segment's two sides or
@@ -301,7 +325,21 @@ pub(crate) fn polygon_contacts(
     let inc_face = incident_face(incident, normal);
     let (i0, i1) = incident.face_vertices(inc_face);
     let (r0, r1) = reference.face_vertices(ref_face);
+    // Cores apart: their closest pair always counts, whether or not it is a vertex on one of
+    // the two faces below (two corners facing each other are not). Points of the same vertex
+    // below would repeat it.
+    let closest = if sep_a.max(sep_b) > 0.0 { closest_features(a, b, margin) } else { None };
     let mut found = 0;
+    if let Some(p) = closest {
+        emit(p);
+        found += 1;
+    }
+    let mut emit_new = |p: CorePoint, found: &mut usize| {
+        if closest.is_none_or(|c| vertex_key(&c) != vertex_key(&p)) {
+            emit(p);
+            *found += 1;
+        }
+    };
     // The incident face's ends on the reference face, closed at both ends; then the reference
     // face's ends on the incident face, open at both ends, so that two coincident corners
     // give one point.
@@ -310,20 +348,29 @@ pub(crate) fn polygon_contacts(
     for v in [i0, i1] {
         if let Some(p) = vertex_on_face(reference, ref_face, incident, v, ref_is_a, closed, margin)
         {
-            emit(p);
-            found += 1;
+            emit_new(p, &mut found);
         }
     }
     for v in [r0, r1] {
         if let Some(p) = vertex_on_face(incident, inc_face, reference, v, !ref_is_a, open, margin) {
-            emit(p);
-            found += 1;
+            emit_new(p, &mut found);
         }
     }
+    // Cores that overlap with no vertex inside the other's face: the deepest pair of closest
+    // features still holds them apart.
     if found == 0
         && let Some(p) = closest_features(a, b, margin)
     {
         emit(p);
+    }
+}
+
+/// The vertex that names a point: A's if the point is at a vertex of A, else B's.
+fn vertex_key(p: &CorePoint) -> (bool, usize) {
+    match (p.on_a, p.on_b) {
+        (Feature::Vertex(i), _) => (true, i),
+        (_, Feature::Vertex(j)) => (false, j),
+        (Feature::Edge(_), Feature::Edge(_)) => unreachable!("a point has a vertex"),
     }
 }
 
@@ -334,7 +381,7 @@ fn closest_features(a: &Core<'_>, b: &Core<'_>, margin: f64) -> Option<CorePoint
     let mut best: Option<CorePoint> = None;
     let mut consider = |vertex_core: &Core<'_>, other: &Core<'_>, vertex_is_a: bool| {
         for i in 0..vertex_core.len() {
-            let single = Core { vertices: &vertex_core.vertices[i..i + 1], ..*vertex_core };
+            let single = vertex_core.single(i);
             if let Some(mut p) = point_contact(&single, other, vertex_is_a, f64::INFINITY) {
                 if vertex_is_a {
                     p.on_a = Feature::Vertex(i);

@@ -36,12 +36,15 @@
 //! non-convex surfaces, whose contact a mechanism declares with a simpler shape on one side.
 //!
 //! # Where the geometry comes from
-//! The bounding-volume hierarchy of the broad phase and the contacts of a disk with a disk, a
-//! capsule or a half-plane are parry2d-f64's. The other pairs are written here, for reasons
-//! given where they are computed: parry's polygon manifolds give a clipped point the reference
-//! face's normal even when the faces are not parallel (which breaks the rate above), keep state
-//! between calls and allocate; its polylines and polygons own their vertices, so that building
-//! them from a [`Shape`] on every call would allocate.
+//! The broad phase is parry2d-f64's bounding-volume hierarchy. The narrow phase is written
+//! here, for reasons given where each part is computed: parry's polygon manifolds give a
+//! clipped point the reference face's normal even when the faces are not parallel (which
+//! breaks the rate above), keep state between calls and allocate; its polygons and polylines
+//! own their vertices, so that building them from a [`Shape`] on every call would allocate;
+//! its chains have no solid inside; and for the smooth pairs, where its closest points are
+//! exact, a call through its shape dispatcher costs about 125 ns for a disk on a half-plane,
+//! where the closed form costs tens of ns. The tests compare the smooth pairs and the
+//! distances of polygons with parry's answers.
 //!
 //! # References
 //! * Ericson, C. (2005). *Real-Time Collision Detection*. Morgan Kaufmann.

@@ -42,7 +42,7 @@ pub(crate) fn convex_chain(
         let mut best: Option<(V, V, f64, usize, Feature)> = None;
         for k in 0..m {
             let ends = [points[k], points[(k + 1) % p]];
-            let seg = Core { vertices: &ends, frame, radius: 0.0, one_sided: true };
+            let seg = Core::new(&ends, frame, 0.0, true);
             let (q, dir, d, feature) = closest_to_point(&seg, c);
             if best.is_none_or(|b| d < b.2) {
                 best = Some((q, dir, d, k, feature));
@@ -61,8 +61,10 @@ pub(crate) fn convex_chain(
         return;
     }
 
+    let mut p1 = point(0);
     for k in 0..m {
-        let (p0, p1) = (point(k), point(k + 1));
+        let p0 = p1;
+        p1 = point(k + 1);
         let grow = margin + 1e-12;
         if p0.x.max(p1.x) < x_box.min[0] - grow
             || p0.x.min(p1.x) > x_box.max[0] + grow
@@ -72,7 +74,7 @@ pub(crate) fn convex_chain(
             continue;
         }
         let ends = [points[k], points[(k + 1) % p]];
-        let seg = Core { vertices: &ends, frame, radius: 0.0, one_sided: closed };
+        let seg = Core::new(&ends, frame, 0.0, closed);
         let mut emit = |cp: CorePoint| {
             let id = match cp.on_b {
                 Feature::Edge(_) => match cp.on_a {
