@@ -38,6 +38,21 @@ fn narrow(c: &mut Criterion) {
         Shape::Polygon { vertices: vec![[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]] };
     let origin = Pose::default();
     bench_pair(c, "collide/disk-halfplane", &disk, Pose::new(0.3, 0.099, 0.2), &floor, origin);
+    // The same pair through parry2d-f64's shape dispatcher, measured in the same run: the
+    // peer that the closed form was chosen over.
+    {
+        use parry2d_f64::math::{Pose as P, Vector as V};
+        use parry2d_f64::shape::{Ball, HalfSpace};
+        let (plane, ball) = (HalfSpace::new(V::new(0.0, 1.0)), Ball::new(0.1));
+        let (p1, p2) = (P::new(V::new(0.0, 0.0), 0.0), P::new(V::new(0.3, 0.099), 0.2));
+        assert!(parry2d_f64::query::contact(&p1, &plane, &p2, &ball, 0.01).unwrap().is_some());
+        c.bench_function("collide/disk-halfplane (parry dispatcher)", |bench| {
+            bench.iter(|| {
+                let (a, b) = (black_box(&p1), black_box(&p2));
+                black_box(parry2d_f64::query::contact(a, &plane, b, &ball, 0.01).unwrap())
+            })
+        });
+    }
     bench_pair(c, "collide/box-halfplane", &square, Pose::new(0.3, 0.099, 0.0), &floor, origin);
     bench_pair(c, "collide/box-box", &square, origin, &square, Pose::new(0.05, 0.199, 0.01));
     // A wavy road of 100 segments with the disk resting in one of its troughs.

@@ -21,7 +21,8 @@ pub(crate) struct Frame {
 
 impl Frame {
     pub fn new(pose: &Pose) -> Self {
-        let (sin, cos) = pose.theta.sin_cos();
+        // Fixed bodies (floors, walls) are mostly unturned: their frame costs no sine.
+        let (sin, cos) = if pose.theta == 0.0 { (0.0, 1.0) } else { pose.theta.sin_cos() };
         Self { cos, sin, origin: V::new(pose.x, pose.y) }
     }
 
