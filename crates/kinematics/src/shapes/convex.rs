@@ -398,3 +398,59 @@ fn closest_features(a: &Core<'_>, b: &Core<'_>, margin: f64) -> Option<CorePoint
     consider(b, a, false);
     best.filter(|p| p.gap <= margin)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::Pose;
+
+    fn square() -> [[f64; 2]; 4] {
+        [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+    }
+
+    #[test]
+    fn closest_point_of_a_polygon_outside_at_a_corner_and_inside() {
+        let v = square();
+        let c = Core::new(&v, Frame::new(&Pose::default()), 0.0, false);
+        // Beside a face: its interior, at distance 0.5.
+        let (q, dir, s, f) = closest_to_point(&c, V::new(1.5, 0.2));
+        assert_eq!(f, Feature::Edge(1));
+        assert!((q - V::new(1.0, 0.2)).norm() < 1e-15 && (dir - V::new(1.0, 0.0)).norm() < 1e-15);
+        assert!((s - 0.5).abs() < 1e-15);
+        // Beyond a corner: the corner, at distance 5.
+        let (q, _, s, f) = closest_to_point(&c, V::new(4.0, 5.0));
+        assert_eq!((q, s, f), (V::new(1.0, 1.0), 5.0, Feature::Vertex(2)));
+        // Inside: the face of least penetration, negative.
+        let (q, dir, s, f) = closest_to_point(&c, V::new(0.1, -0.7));
+        assert_eq!((dir, f), (V::new(0.0, -1.0), Feature::Edge(0)));
+        assert!((s + 0.3).abs() < 1e-15 && (q - V::new(0.1, -1.0)).norm() < 1e-15);
+    }
+
+    #[test]
+    fn a_one_sided_segment_has_one_face_and_a_two_sided_one_two() {
+        let ends = [[0.0, 0.0], [1.0, 0.0]];
+        let frame = Frame::new(&Pose::default());
+        let one = Core::new(&ends, frame, 0.0, true);
+        let two = Core::new(&ends, frame, 0.0, false);
+        assert_eq!((one.faces(), two.faces()), (1, 2));
+        // Edge 0 of a segment from (0, 0) to (1, 0) faces −y (outward of a CCW chain).
+        assert_eq!(one.face(0).2, V::new(0.0, -1.0));
+        assert_eq!(two.face(1).2, V::new(0.0, 1.0));
+        assert_eq!(two.face_vertices(1), (1, 0));
+    }
+
+    #[test]
+    fn corners_facing_each_other_give_their_closest_pair() {
+        // Two unit squares, the second moved by (3, 4) from the first's corner (1, 1).
+        let v = square();
+        let a = Core::new(&v, Frame::new(&Pose::default()), 0.0, false);
+        let b = Core::new(&v, Frame::new(&Pose::new(5.0, 6.0, 0.0)), 0.0, false);
+        let mut points = Vec::new();
+        polygon_contacts(&a, &b, 10.0, &mut |p| points.push(p));
+        let closest = points.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
+        assert!((closest - 5.0).abs() < 1e-14);
+        let p = points.iter().find(|p| p.gap == closest).unwrap();
+        assert!((p.normal - V::new(0.6, 0.8)).norm() < 1e-15);
+        assert_eq!((p.on_a, p.on_b), (Feature::Vertex(2), Feature::Vertex(0)));
+    }
+}
