@@ -614,3 +614,56 @@ fn smooth_pairs_and_polygon_distances_agree_with_parry() {
     }
     assert!(compared > 850, "{compared}");
 }
+
+#[test]
+fn cam_profile_against_a_flat_follower_and_a_roller() {
+    // A circular cam of radius R sampled every degree, a sample at its top (ψ = 90°).
+    let r_cam = 0.3;
+    let cam = Shape::profile_polar(|_| r_cam, 360).unwrap();
+    assert_relative_eq!(
+        cam.area(),
+        180.0 * r_cam * r_cam * (2.0 * PI / 360.0).sin(),
+        epsilon = 1e-12
+    );
+    // A flat-faced follower 1 mm above the top: one point, the top sample, its gap exact.
+    let follower = rect(0.4, 0.1);
+    let p =
+        points(&cam, Pose::default(), &follower, Pose::new(0.0, r_cam + 0.05 + 1e-3, 0.0), 0.01);
+    assert_eq!(p.len(), 1, "{p:?}");
+    assert_relative_eq!(p[0].gap, 1e-3, epsilon = 1e-12);
+    assert_relative_eq!(p[0].point_a[1], r_cam, epsilon = 1e-12);
+    assert_relative_eq!(p[0].normal[1], 1.0, epsilon = 1e-12);
+    // The cam turned by half a degree: the follower rests on the two samples astride the top.
+    let half = 0.5f64.to_radians();
+    let p =
+        points(&cam, Pose::new(0.0, 0.0, half), &follower, Pose::new(0.0, r_cam + 0.05, 0.0), 0.01);
+    let lift = r_cam * half.cos();
+    assert_eq!(p.len(), 2, "{p:?}");
+    for q in &p {
+        assert_relative_eq!(q.gap, r_cam - lift, epsilon = 1e-12);
+    }
+    // The same cam on a floor: one point at a sample, two astride the bottom.
+    let p = points(&floor(), Pose::default(), &cam, Pose::new(0.1, r_cam, 0.0), 0.01);
+    assert_eq!(p.len(), 1);
+    assert_relative_eq!(p[0].gap, 0.0, epsilon = 1e-12);
+    assert_eq!(p[0].feature, 270);
+    let p = points(&floor(), Pose::default(), &cam, Pose::new(0.1, r_cam, half), 0.01);
+    assert_eq!(p.iter().map(|q| q.feature).collect::<Vec<_>>(), vec![269, 270]);
+    for q in &p {
+        assert_relative_eq!(q.gap, r_cam - lift, epsilon = 1e-12);
+    }
+    // A roller of radius r on the cam at 40°, off the samples: the chord's distance.
+    let (r, psi) = (0.05, 40.5f64.to_radians());
+    let d = r_cam + r + 2e-3;
+    let p = points(
+        &disk(0.0, 0.0, r),
+        Pose::new(d * psi.cos(), d * psi.sin(), 0.0),
+        &cam,
+        Pose::default(),
+        0.01,
+    );
+    assert_eq!(p.len(), 1);
+    let chord = r_cam * 0.5f64.to_radians().cos();
+    assert_relative_eq!(p[0].gap, d - chord - r, epsilon = 1e-12);
+    assert_eq!(p[0].feature, 40, "segment 40 runs from 40° to 41°");
+}

@@ -14,6 +14,9 @@ use super::convex::{Core, CorePoint, Feature, closest_to_point, point_pair, poly
 use super::shape::{Frame, V};
 use super::{Aabb, ManifoldPoint, Pose};
 
+/// The slope, relative to a segment's length, below which two chain points count as level.
+const LEVEL: f64 = 1e-9;
+
 /// A convex shape `x` (its world box `x_box`) against the chain through `points` (closed for a
 /// profile) at `pose`; `x_is_a` tells which of A and B the convex shape is.
 pub(crate) fn convex_chain(
@@ -127,7 +130,12 @@ fn local_minimum(
             t <= 0.0
         })
     } else {
-        neighbours.into_iter().flatten().all(|q| cp.normal.dot(&(q - here)) >= 0.0)
+        // A neighbour level with v to rounding (both ends of a chord that lies flat on a
+        // face) does not disqualify it: the flat chord touches at both ends.
+        neighbours.into_iter().flatten().all(|q| {
+            let e = q - here;
+            cp.normal.dot(&e) >= -LEVEL * e.norm()
+        })
     }
 }
 
@@ -162,14 +170,18 @@ pub(crate) fn half_plane_chain(
 ) {
     let frame = Frame::new(pose);
     let p = points.len();
-    let height = |v: usize| n.dot(&(frame.point(points[v % p]) - origin));
+    let point = |v: usize| frame.point(points[v % p]);
+    let height = |v: usize| n.dot(&(point(v) - origin));
+    // As low as neighbour w, or level with it to rounding.
+    let not_above =
+        |v: usize, h: f64, w: usize| h <= height(w) + LEVEL * (point(w) - point(v)).norm();
     for v in 0..p {
         let h = height(v);
         if h > margin {
             continue;
         }
-        let lower_than_previous = !(closed || v > 0) || h <= height(v + p - 1);
-        let lower_than_next = !(closed || v + 1 < p) || h <= height(v + 1);
+        let lower_than_previous = !(closed || v > 0) || not_above(v, h, v + p - 1);
+        let lower_than_next = !(closed || v + 1 < p) || not_above(v, h, v + 1);
         if lower_than_previous && lower_than_next {
             let w = frame.point(points[v]);
             let cp = CorePoint {
