@@ -70,7 +70,7 @@ fn warm_detection_allocates_nothing() {
     found.reserve(found.len());
     let before = allocations();
     let mut points = 0;
-    for step in 0..50 {
+    for step in 0..100 {
         let y = 0.05 + 0.001 * step as f64;
         for (a, b) in pairs {
             out.clear();
