@@ -350,6 +350,16 @@ fn unsupported_pairs_and_bad_margins_are_refused() {
     let err = collide(&zigzag(), &o, &cam(), &o, 0.0, &mut out).unwrap_err();
     assert_eq!(err, KinematicsError::UnsupportedPair { a: "polyline", b: "profile" });
     assert_eq!(max_points(&zigzag(), &cam()), 0);
+    let empty = Shape::Polygon { vertices: vec![] };
+    assert!(matches!(
+        collide(&empty, &o, &floor(), &o, 0.0, &mut out),
+        Err(KinematicsError::InvalidShape { shape: "polygon", problem: "too few points", .. })
+    ));
+    let dot = Shape::Capsule { a: [0.0, 0.0], b: [0.0, 0.0], radius: 1.0 };
+    assert!(matches!(
+        collide(&disk(0.0, 0.0, 1.0), &o, &dot, &o, 0.0, &mut out),
+        Err(KinematicsError::InvalidShape { shape: "capsule", .. })
+    ));
     assert!(matches!(
         collide(&disk(0.0, 0.0, 1.0), &o, &floor(), &o, f64::NAN, &mut out),
         Err(KinematicsError::InvalidOption { name: "margin", .. })

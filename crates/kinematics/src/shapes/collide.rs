@@ -22,7 +22,7 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
         _ => 0,
     };
     let chain = |s: &Shape| match s {
-        Polyline { points } => Some((points.len() - 1, points.len())),
+        Polyline { points } => Some((points.len().saturating_sub(1), points.len())),
         Profile { points } => Some((points.len(), points.len())),
         _ => None,
     };
@@ -50,8 +50,9 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
 /// * a disk with a disk, a capsule, a half-plane or a polygon: the one pair of closest points
 ///   (inside a polygon, the face of least penetration), feature 0;
 /// * two polygons or capsules: the vertex-on-edge points of the two faces that separate them
-///   most, at most two (a box resting on a face gives its two corners), or the closest pair of
-///   vertices; feature i for vertex i of A, nA + j for vertex j of B;
+///   most (two for a face on a face: a box resting on a face gives its two corners; one for a
+///   corner on a face) and, when they are apart, their closest pair (two corners facing each
+///   other); feature i for vertex i of A, nA + j for vertex j of B;
 /// * a polygon or capsule on a half-plane: each vertex (a capsule's ends) within the margin,
 ///   feature the vertex;
 /// * a polyline or profile on a half-plane: each point that is a local minimum of the height
@@ -65,7 +66,10 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
 ///
 /// # Errors
 /// [`KinematicsError::UnsupportedPair`] for two half-planes, or two shapes among polylines
-/// and profiles; [`KinematicsError::InvalidOption`] for a negative or NaN margin.
+/// and profiles; [`KinematicsError::InvalidOption`] for a negative or NaN margin;
+/// [`KinematicsError::InvalidShape`] for a shape with too few points, a capsule whose ends
+/// coincide or a half-plane with a zero normal (the checks that cost nothing; the others are
+/// [`Shape::validate`]'s).
 pub fn collide(
     a: &Shape,
     pose_a: &Pose,
@@ -78,6 +82,10 @@ pub fn collide(
     if !(margin >= 0.0) {
         return Err(KinematicsError::InvalidOption { name: "margin", value: margin });
     }
+    // The checks of `Shape::validate` that would otherwise end in a panic or a NaN, at the
+    // cost of a comparison each; the rest (convexity, orientation) is validation's job.
+    usable(a)?;
+    usable(b)?;
     let unsupported = || KinematicsError::UnsupportedPair { a: a.name(), b: b.name() };
     match (a, b) {
         (HalfPlane { .. }, HalfPlane { .. }) => Err(unsupported()),
@@ -110,6 +118,23 @@ pub fn collide(
             });
             Ok(())
         }
+    }
+}
+
+/// Refuses a shape with too few points, a capsule whose ends coincide or a zero normal.
+fn usable(shape: &Shape) -> Result<(), KinematicsError> {
+    let (enough, problem) = match shape {
+        Shape::Polygon { vertices } => (vertices.len() >= 3, "too few points"),
+        Shape::Profile { points } => (points.len() >= 3, "too few points"),
+        Shape::Polyline { points } => (points.len() >= 2, "too few points"),
+        Shape::Capsule { a, b, .. } => (a != b, "its two ends coincide (a disk has one centre)"),
+        Shape::HalfPlane { normal, .. } => (*normal != [0.0, 0.0], "zero normal"),
+        Shape::Disk { .. } => (true, ""),
+    };
+    if enough {
+        Ok(())
+    } else {
+        Err(KinematicsError::InvalidShape { shape: shape.name(), problem, index: None })
     }
 }
 

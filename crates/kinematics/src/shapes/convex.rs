@@ -36,6 +36,7 @@ pub(crate) struct Core<'a> {
     pub radius: f64,
     one_sided: bool,
     world: [V; CACHED],
+    normals: [V; CACHED],
 }
 
 /// A feature of a core: a vertex, or an edge (edge i runs from vertex i to vertex i + 1; a
@@ -59,13 +60,22 @@ pub(crate) struct CorePoint {
 
 impl<'a> Core<'a> {
     pub fn new(vertices: &'a [[f64; 2]], frame: Frame, radius: f64, one_sided: bool) -> Self {
+        let n = vertices.len();
         let mut world = [V::zeros(); CACHED];
-        if vertices.len() <= CACHED {
+        let mut normals = [V::zeros(); CACHED];
+        if n <= CACHED {
             for (w, v) in world.iter_mut().zip(vertices) {
                 *w = frame.point(*v);
             }
+            if n >= 2 {
+                // A segment's second face is its first reversed, computed on use.
+                let faces = if n == 2 { 1 } else { n };
+                for i in 0..faces {
+                    normals[i] = outward(world[(i + 1) % n] - world[i]).normalize();
+                }
+            }
         }
-        Self { vertices, frame, radius, one_sided, world }
+        Self { vertices, frame, radius, one_sided, world, normals }
     }
 
     /// The core made of vertex i alone (a corner, as a point).
@@ -106,7 +116,12 @@ impl<'a> Core<'a> {
         } else {
             (self.vertex(i), self.vertex((i + 1) % n))
         };
-        (p, q, outward(q - p).normalize())
+        let normal = match (n <= CACHED, n == 2 && i == 1) {
+            (true, false) => self.normals[i],
+            (true, true) => -self.normals[0],
+            (false, _) => outward(q - p).normalize(),
+        };
+        (p, q, normal)
     }
 
     /// The indices of the vertices of face i, in the order of [`Self::face`].
@@ -302,8 +317,9 @@ fn vertex_on_face(
 }
 
 /// The contact points of two cores of at least two vertices each (segments, polygons) whose
-/// gaps are at most `margin`, passed to `emit`: at most two vertex-on-edge points from the
-/// pair of faces that separates them most, or else one pair of closest points.
+/// gaps are at most `margin`, passed to `emit`: the vertex-on-edge points of the pair of faces
+/// that separates them most (two for a face on a face), the closest pair when they are apart,
+/// and, if none of these, the pair of closest features.
 pub(crate) fn polygon_contacts(
     a: &Core<'_>,
     b: &Core<'_>,

@@ -25,8 +25,8 @@
 //! | A \ B | disk | polygon | capsule | half-plane | polyline | profile |
 //! |---|---|---|---|---|---|---|
 //! | disk | 1 | 1 | 1 | 1 | per segment and vertex | per segment and vertex |
-//! | polygon | | ≤ 2 | ≤ 2 | per vertex | per vertex and segment | per vertex and segment |
-//! | capsule | | | ≤ 2 | per end | per end and segment | per end and segment |
+//! | polygon | | 2 (face on face), 1 (corner) | 2, 1 | per vertex | per vertex and segment | per vertex and segment |
+//! | capsule | | | 2, 1 | per end | per end and segment | per end and segment |
 //! | half-plane | | | | — | per local minimum | per local minimum |
 //! | polyline | | | | | — | — |
 //! | profile | | | | | | — |
