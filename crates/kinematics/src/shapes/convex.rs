@@ -37,6 +37,7 @@ pub(crate) struct Core<'a> {
     one_sided: bool,
     world: [V; CACHED],
     normals: [V; CACHED],
+    has_normals: bool,
 }
 
 /// A feature of a core: a vertex, or an edge (edge i runs from vertex i to vertex i + 1; a
@@ -60,22 +61,30 @@ pub(crate) struct CorePoint {
 
 impl<'a> Core<'a> {
     pub fn new(vertices: &'a [[f64; 2]], frame: Frame, radius: f64, one_sided: bool) -> Self {
-        let n = vertices.len();
         let mut world = [V::zeros(); CACHED];
-        let mut normals = [V::zeros(); CACHED];
-        if n <= CACHED {
+        if vertices.len() <= CACHED {
             for (w, v) in world.iter_mut().zip(vertices) {
                 *w = frame.point(*v);
             }
-            if n >= 2 {
-                // A segment's second face is its first reversed, computed on use.
-                let faces = if n == 2 { 1 } else { n };
-                for i in 0..faces {
-                    normals[i] = outward(world[(i + 1) % n] - world[i]).normalize();
-                }
-            }
         }
-        Self { vertices, frame, radius, one_sided, world, normals }
+        let normals = [V::zeros(); CACHED];
+        Self { vertices, frame, radius, one_sided, world, normals, has_normals: false }
+    }
+
+    /// The same core with the unit normals of its faces at hand, for the methods that visit
+    /// each face many times (a half-plane or a point needs none of them).
+    fn with_normals(&self) -> Self {
+        let n = self.len();
+        let mut core = *self;
+        if (2..=CACHED).contains(&n) {
+            // A segment's second face is its first reversed.
+            let faces = if n == 2 { 1 } else { n };
+            for i in 0..faces {
+                core.normals[i] = outward(self.world[(i + 1) % n] - self.world[i]).normalize();
+            }
+            core.has_normals = true;
+        }
+        core
     }
 
     /// The core made of vertex i alone (a corner, as a point).
@@ -116,7 +125,7 @@ impl<'a> Core<'a> {
         } else {
             (self.vertex(i), self.vertex((i + 1) % n))
         };
-        let normal = match (n <= CACHED, n == 2 && i == 1) {
+        let normal = match (self.has_normals, n == 2 && i == 1) {
             (true, false) => self.normals[i],
             (true, true) => -self.normals[0],
             (false, _) => outward(q - p).normalize(),
@@ -326,6 +335,7 @@ pub(crate) fn polygon_contacts(
     margin: f64,
     emit: &mut impl FnMut(CorePoint),
 ) {
+    let (a, b) = (&a.with_normals(), &b.with_normals());
     let radii = a.radius + b.radius;
     let (sep_a, face_a) = max_separation(a, b);
     let (sep_b, face_b) = max_separation(b, a);
