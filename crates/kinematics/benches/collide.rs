@@ -1,5 +1,6 @@
 //! The cost of contact detection: `collide` for a disk on a half-plane, a box on a half-plane,
-//! two boxes and a disk on a polyline of 100 segments, and the broad phase over 10⁴ disks of radius 5 mm.
+//! two boxes and a disk on a polyline of 100 segments, and the broad phase over 10⁴ disks of
+//! radius 5 mm.
 //!
 //! Run with `cargo bench -p moreau-kinematics --bench collide -- --warm-up-time 1
 //! --measurement-time 3`.

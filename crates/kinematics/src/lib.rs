@@ -99,7 +99,8 @@
 //!
 //! # fn main() -> Result<(), KinematicsError> {
 //! let floor = Shape::HalfPlane { point: [0.0, 0.0], normal: [0.0, 1.0] };
-//! let block = Shape::Polygon { vertices: vec![[-0.2, -0.1], [0.2, -0.1], [0.2, 0.1], [-0.2, 0.1]] };
+//! let corners = vec![[-0.2, -0.1], [0.2, -0.1], [0.2, 0.1], [-0.2, 0.1]];
+//! let block = Shape::Polygon { vertices: corners };
 //! block.validate()?;
 //! let mut points = Vec::new();
 //! // The block's centre 0.101 m above the floor: its two lower corners are 1 mm above it.

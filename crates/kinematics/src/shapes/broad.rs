@@ -13,9 +13,9 @@ use super::Aabb;
 /// calls with the same boxes (so that, once warm, a call allocates nothing); it is rebuilt
 /// when the set of finite boxes changes. A refit keeps the grouping of the last build, which
 /// stays good while bodies move about their places (a mechanism, a pile); parry's rebuild and
-/// incremental optimisation allocate, so they are not run on every call. Boxes with an infinite side (half-planes) are few and
-/// are tested against every box directly, since a hierarchy cannot split an infinite box. A box
-/// with a NaN coordinate overlaps nothing.
+/// incremental optimisation allocate, so they are not run on every call. Boxes with an
+/// infinite side (half-planes) are few and are tested against every box directly, since a
+/// hierarchy cannot split an infinite box. A box with a NaN coordinate overlaps nothing.
 #[derive(Clone, Default)]
 pub struct BroadPhase {
     tree: Bvh,
