@@ -12,12 +12,20 @@
 //!   against a guide line, each returning a [`ContactGeometry`] with the Jacobian rows, and the
 //!   chain rule from body pose coordinates to q ([`ContactGeometry::chain`]);
 //! * a finite-difference checker ([`check_jacobians`], [`assert_consistent`]) that verifies
-//!   w_N, w_T, ŵ_N, ŵ_T against the gaps, with seeded sample states ([`sample_states`]).
+//!   w_N, w_T, ŵ_N, ŵ_T against the gaps, with seeded sample states ([`sample_states`]);
+//! * for mechanisms declared by bodies and shapes, the geometry of [`shapes`]: disks, convex
+//!   polygons, capsules, half-planes, polylines and sampled profiles ([`Shape`]) placed by a
+//!   body [`Pose`], their contact points with normals, gaps and persistent feature ids
+//!   ([`collide`], [`ManifoldPoint`], [`max_points`]), and a broad phase ([`BroadPhase`]) over
+//!   their bounding boxes ([`Aabb`]); each point's gap changes at the rate of the normal
+//!   relative velocity of its two material points, from which w_N follows.
 //!
 //! # What it is not for
-//! It does not detect collisions between arbitrary shapes, integrate motion, or evaluate
-//! contact laws: the set-valued laws (Upr, Sgn, Newton's impact law) are in
-//! `moreau-setvalued`, the time-stepping in `moreau-stepper`.
+//! It does not integrate motion or evaluate contact laws: the set-valued laws (Upr, Sgn,
+//! Newton's impact law) are in `moreau-setvalued`, the time-stepping in `moreau-stepper`.
+//! Its contact detection is for the planar mechanisms and granular assemblies of the method,
+//! not a general physics engine: no continuous collision detection, no shapes beyond the six,
+//! no pairs of two unbounded or non-convex surfaces.
 //!
 //! # Notation
 //! | symbol | identifier | meaning |
@@ -31,6 +39,8 @@
 //! | γ_N, γ_T | [`relative_velocity`] | relative velocities wᵀu + ŵ |
 //! | p, ∂p/∂q, ∂p/∂t | [`PointMotion`] | a point with its Jacobian and time derivative |
 //! | (x, y, θ) | [`PoseMotion`] | a body frame |
+//! | (x, y, θ) of a body | [`Pose`] | where a shape's body frame is |
+//! | n, p_A, p_B, g_N of a shape pair | [`ManifoldPoint`] | normal from A to B, surface points, gap |
 //! | n, t, s | [`LineMotion::normal`], [`LineMotion::tangent`], [`Side::sign`] | a surface line's normal, tangent, open side |
 //!
 //! # Example
@@ -83,7 +93,26 @@
 //! # }
 //! ```
 //!
+//! A box resting on a floor, detected as two corner contacts:
+//! ```
+//! use moreau_kinematics::{collide, KinematicsError, Pose, Shape};
+//!
+//! # fn main() -> Result<(), KinematicsError> {
+//! let floor = Shape::HalfPlane { point: [0.0, 0.0], normal: [0.0, 1.0] };
+//! let corners = vec![[-0.2, -0.1], [0.2, -0.1], [0.2, 0.1], [-0.2, 0.1]];
+//! let block = Shape::Polygon { vertices: corners };
+//! block.validate()?;
+//! let mut points = Vec::new();
+//! // The block's centre 0.101 m above the floor: its two lower corners are 1 mm above it.
+//! collide(&block, &Pose::new(0.0, 0.101, 0.0), &floor, &Pose::default(), 0.01, &mut points)?;
+//! assert_eq!(points.len(), 2);
+//! assert!(points.iter().all(|p| (p.gap - 0.001).abs() < 1e-12 && p.normal == [0.0, -1.0]));
+//! # Ok(())
+//! # }
+//! ```
+//!
 //! # References
+//! * Ericson, C. (2005). *Real-Time Collision Detection*. Morgan Kaufmann.
 //! * Glocker, Ch. (2001). *Set-Valued Force Laws: Dynamics of Non-Smooth Systems*. Springer.
 //! * Pfeiffer, F., & Glocker, Ch. (1996). *Multibody Dynamics with Unilateral Contacts*. Wiley.
 //! * Flores, P. (2010). *Application of the non-smooth dynamics approach to model and analyze
@@ -94,6 +123,7 @@
 mod check;
 mod error;
 pub mod planar;
+pub mod shapes;
 
 pub use check::{
     Component, FdOptions, FdReport, Mismatch, SampleOptions, SplitMix64, assert_consistent,
@@ -104,6 +134,7 @@ pub use planar::{
     Circle, ContactGeometry, LineMotion, PointMotion, PoseMotion, ScalarMotion, Side, chain_rule,
     circle_circle, circle_line, corner_line, point_line, rectangle_corners,
 };
+pub use shapes::{Aabb, BroadPhase, ManifoldPoint, Pose, Shape, collide, max_points};
 
 /// Kinematic quantities of one contact at `(q, t)`, besides its force directions.
 ///

@@ -1,0 +1,231 @@
+//! The narrow phase: which method each pair of shapes gets, and the ids of its points.
+
+use super::convex::{Core, CorePoint, Feature, point_contact, polygon_contacts};
+use super::nonconvex::{convex_chain, half_plane_chain};
+use super::shape::Frame;
+use super::{ManifoldPoint, Pose, Shape};
+use crate::KinematicsError;
+
+/// The upper bound of the number of points of the pair (a, b) and of their `feature` + 1, a
+/// fixed number for the pair whatever the poses: 1 for a disk with a disk, polygon, capsule or
+/// half-plane; nA + nB for two polygons or capsules (nA, nB their vertices, a capsule's two
+/// ends counted as vertices); n for a polygon or capsule on a half-plane; the number of points
+/// of a polyline or profile on a half-plane; m·n + p for a disk (n = 1), capsule (n = 2) or
+/// polygon (n vertices) against a polyline or profile of p points and m segments. 0 for the
+/// pairs that [`collide`] does not support.
+pub fn max_points(a: &Shape, b: &Shape) -> usize {
+    use Shape::*;
+    let core_len = |s: &Shape| match s {
+        Disk { .. } => 1,
+        Capsule { .. } => 2,
+        Polygon { vertices } => vertices.len(),
+        _ => 0,
+    };
+    let chain = |s: &Shape| match s {
+        Polyline { points } => Some((points.len().saturating_sub(1), points.len())),
+        Profile { points } => Some((points.len(), points.len())),
+        _ => None,
+    };
+    match (a, b) {
+        (HalfPlane { .. }, HalfPlane { .. }) => 0,
+        (HalfPlane { .. }, other) | (other, HalfPlane { .. }) => match chain(other) {
+            Some((_, points)) => points,
+            None => core_len(other),
+        },
+        _ => match (chain(a), chain(b)) {
+            (Some(_), Some(_)) => 0,
+            (Some((m, p)), None) => m * core_len(b) + p,
+            (None, Some((m, p))) => m * core_len(a) + p,
+            (None, None) if matches!(a, Disk { .. }) || matches!(b, Disk { .. }) => 1,
+            (None, None) => core_len(a) + core_len(b),
+        },
+    }
+}
+
+/// Appends to `out` the points of the contact between shape A at `pose_a` and shape B at
+/// `pose_b` whose gap is at most `margin` (m); clears nothing and allocates nothing beyond
+/// `out`'s growth. The shapes must have passed [`Shape::validate`].
+///
+/// The pairs and their points (see the [module](crate::shapes) table):
+/// * a disk with a disk, a capsule, a half-plane or a polygon: the one pair of closest points
+///   (inside a polygon, the face of least penetration), feature 0;
+/// * two polygons or capsules: the vertex-on-edge points of the two faces that separate them
+///   most (two for a face on a face: a box resting on a face gives its two corners; one for a
+///   corner on a face) and, when they are apart, their closest pair (two corners facing each
+///   other); feature i for vertex i of A, nA + j for vertex j of B;
+/// * a polygon or capsule on a half-plane: each vertex (a capsule's ends) within the margin,
+///   feature the vertex;
+/// * a polyline or profile on a half-plane: each point that is a local minimum of the height
+///   above the boundary (all of a flat run), feature the point;
+/// * a disk, capsule or polygon (n core vertices) against a polyline or profile of m
+///   segments: per segment k, the points of the convex pair, vertex i of the convex shape on
+///   segment k having feature k·n + i and point v of the chain m·n + v, each chain point at
+///   most once and only where it is a local minimum of the distance; a disk in a concave corner
+///   touches both segments. A polyline is touched from both sides; a profile is a solid, so a
+///   disk whose centre has entered it gets one point on the nearest segment with gap −(d + r).
+///
+/// # Errors
+/// [`KinematicsError::UnsupportedPair`] for two half-planes, or two shapes among polylines
+/// and profiles; [`KinematicsError::InvalidOption`] for a negative or NaN margin;
+/// [`KinematicsError::InvalidShape`] for a shape with too few points, a capsule whose ends
+/// coincide or a half-plane with a zero normal (the checks that cost nothing; the others are
+/// [`Shape::validate`]'s).
+pub fn collide(
+    a: &Shape,
+    pose_a: &Pose,
+    b: &Shape,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<ManifoldPoint>,
+) -> Result<(), KinematicsError> {
+    use Shape::*;
+    if !(margin >= 0.0) {
+        return Err(KinematicsError::InvalidOption { name: "margin", value: margin });
+    }
+    // The checks of `Shape::validate` that would otherwise end in a panic or a NaN, at the
+    // cost of a comparison each; the rest (convexity, orientation) is validation's job.
+    usable(a)?;
+    usable(b)?;
+    let unsupported = || KinematicsError::UnsupportedPair { a: a.name(), b: b.name() };
+    match (a, b) {
+        (HalfPlane { .. }, HalfPlane { .. }) => Err(unsupported()),
+        (Polyline { .. } | Profile { .. }, Polyline { .. } | Profile { .. }) => Err(unsupported()),
+        (HalfPlane { point, normal }, other) => {
+            half_plane(point, normal, pose_a, other, pose_b, true, margin, out);
+            Ok(())
+        }
+        (other, HalfPlane { point, normal }) => {
+            half_plane(point, normal, pose_b, other, pose_a, false, margin, out);
+            Ok(())
+        }
+        (Polyline { points }, convex) | (Profile { points }, convex) => {
+            let closed = matches!(a, Profile { .. });
+            with_core(convex, pose_b, |x| {
+                convex_chain(x, convex.aabb(pose_b), points, closed, pose_a, false, margin, out)
+            });
+            Ok(())
+        }
+        (convex, Polyline { points }) | (convex, Profile { points }) => {
+            let closed = matches!(b, Profile { .. });
+            with_core(convex, pose_a, |x| {
+                convex_chain(x, convex.aabb(pose_a), points, closed, pose_b, true, margin, out)
+            });
+            Ok(())
+        }
+        _ => {
+            with_core(a, pose_a, |ca| {
+                with_core(b, pose_b, |cb| convex_pair(ca, cb, margin, out));
+            });
+            Ok(())
+        }
+    }
+}
+
+/// Refuses a shape with too few points, a capsule whose ends coincide or a zero normal.
+fn usable(shape: &Shape) -> Result<(), KinematicsError> {
+    let (enough, problem) = match shape {
+        Shape::Polygon { vertices } => (vertices.len() >= 3, "too few points"),
+        Shape::Profile { points } => (points.len() >= 3, "too few points"),
+        Shape::Polyline { points } => (points.len() >= 2, "too few points"),
+        Shape::Capsule { a, b, .. } => (a != b, "its two ends coincide (a disk has one centre)"),
+        Shape::HalfPlane { normal, .. } => (*normal != [0.0, 0.0], "zero normal"),
+        Shape::Disk { .. } => (true, ""),
+    };
+    if enough {
+        Ok(())
+    } else {
+        Err(KinematicsError::InvalidShape { shape: shape.name(), problem, index: None })
+    }
+}
+
+/// Calls `f` with the convex core of a disk, capsule or polygon at `pose`.
+fn with_core<R>(shape: &Shape, pose: &Pose, f: impl FnOnce(&Core<'_>) -> R) -> R {
+    let frame = Frame::new(pose);
+    match shape {
+        Shape::Disk { center, radius } => {
+            f(&Core::new(std::slice::from_ref(center), frame, *radius, false))
+        }
+        Shape::Capsule { a, b, radius } => {
+            let ends = [*a, *b];
+            f(&Core::new(&ends, frame, *radius, false))
+        }
+        Shape::Polygon { vertices } => f(&Core::new(vertices, frame, 0.0, false)),
+        _ => unreachable!("only disks, capsules and polygons have a convex core"),
+    }
+}
+
+/// The world contact point of a core point with id `feature`, its A and B swapped when `flip`.
+pub(crate) fn manifold_point(p: &CorePoint, feature: usize, flip: bool) -> ManifoldPoint {
+    let (point_a, point_b, normal) =
+        if flip { (p.point_b, p.point_a, -p.normal) } else { (p.point_a, p.point_b, p.normal) };
+    ManifoldPoint {
+        feature: feature as u32,
+        point_a: point_a.into(),
+        point_b: point_b.into(),
+        normal: normal.into(),
+        gap: p.gap,
+    }
+}
+
+/// Two convex cores: one closest pair when either is a point, else vertex-on-edge points.
+fn convex_pair(a: &Core<'_>, b: &Core<'_>, margin: f64, out: &mut Vec<ManifoldPoint>) {
+    if a.len() == 1 || b.len() == 1 {
+        let p = if a.len() == 1 {
+            point_contact(a, b, true, margin)
+        } else {
+            point_contact(b, a, false, margin)
+        };
+        out.extend(p.map(|p| manifold_point(&p, 0, false)));
+        return;
+    }
+    let n_a = a.len();
+    polygon_contacts(a, b, margin, &mut |p| {
+        let feature = match (p.on_a, p.on_b) {
+            (Feature::Vertex(i), _) => i,
+            (_, Feature::Vertex(j)) => n_a + j,
+            (Feature::Edge(_), Feature::Edge(_)) => unreachable!("a point has a vertex"),
+        };
+        out.push(manifold_point(&p, feature, false));
+    });
+}
+
+/// A half-plane (boundary through `point`, outward `normal`, body at `pose`) against `other`
+/// at `other_pose`; `plane_is_a` tells which of A and B the half-plane is.
+fn half_plane(
+    point: &[f64; 2],
+    normal: &[f64; 2],
+    pose: &Pose,
+    other: &Shape,
+    other_pose: &Pose,
+    plane_is_a: bool,
+    margin: f64,
+    out: &mut Vec<ManifoldPoint>,
+) {
+    let frame = Frame::new(pose);
+    let origin = frame.point(*point);
+    let n = frame.vector(*normal).normalize();
+    match other {
+        Shape::Polyline { points } | Shape::Profile { points } => {
+            let closed = matches!(other, Shape::Profile { .. });
+            half_plane_chain(origin, n, points, closed, other_pose, plane_is_a, margin, out);
+        }
+        _ => with_core(other, other_pose, |c| {
+            for i in 0..c.len() {
+                let v = c.vertex(i);
+                let height = n.dot(&(v - origin));
+                let gap = height - c.radius;
+                if gap <= margin {
+                    let p = CorePoint {
+                        on_a: Feature::Edge(0),
+                        on_b: Feature::Vertex(i),
+                        point_a: v - height * n,
+                        point_b: v - c.radius * n,
+                        normal: n,
+                        gap,
+                    };
+                    out.push(manifold_point(&p, i, !plane_is_a));
+                }
+            }
+        }),
+    }
+}
