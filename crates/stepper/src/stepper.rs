@@ -17,7 +17,7 @@ mod joints;
 mod solve;
 mod step;
 use joints::Joints;
-use solve::{nonsmooth_gauss_seidel, one_contact_closed_form};
+use solve::{closed_form_residual, nonsmooth_gauss_seidel, one_contact_closed_form};
 
 /// The LCP solver held by a stepper.
 ///
@@ -531,6 +531,25 @@ mod tests {
         // Rows (N; R; L), columns (P_N; P_R; ξ_L), column-major.
         let a = vec![nn - mu * nt, nt - mu * tt, 2.0 * mu, nt, tt, -1.0, 0.0, 1.0, 0.0];
         (a, vec![b[0], b[1], 0.0])
+    }
+
+    #[test]
+    fn the_scalar_closed_form_residual_is_the_shared_relative_residual() {
+        let mut rng = SplitMix64::new(11);
+        for _ in 0..1000 {
+            let a = 10f64.powf(rng.uniform(-6.0, 6.0));
+            let b = -10f64.powf(rng.uniform(-6.0, 6.0));
+            // The closed form's z, and neighbours a few roundings away.
+            let z = -b / a * (1.0 + rng.uniform(-1e-12, 1e-12));
+            let w = a * z + b;
+            let shared = moreau_lcp::Residual::compute_column_major(1, &[a], &[b], &[z], &[w]);
+            let ours = closed_form_residual(a, b, z);
+            assert!(
+                (ours - shared.relative).abs() <= 1e-15 * (1.0 + shared.relative),
+                "{a} {b} {z}: {ours} {}",
+                shared.relative
+            );
+        }
     }
 
     #[test]

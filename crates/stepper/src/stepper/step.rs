@@ -544,15 +544,11 @@ impl Core {
             *u_e = u + y * p_n;
         }
         ws.prev[i] = [p_n, 0.0, 0.0];
-        // z = −b/A > 0 and w = A z + b = 0 up to one rounding: the shared residual reduces to
-        // the equation error, scaled as `moreau_lcp::Residual::relative` scales it.
-        let w = a * p_n + b;
-        let residual = moreau_lcp::Residual::compute_column_major(1, &[a], &[b], &[p_n], &[w]);
         let info = LcpInfo {
             method: Method::ClosedForm,
             status: Status::Solved,
             iterations: 0,
-            residual: residual.relative,
+            residual: closed_form_residual(a, b, p_n),
         };
         Ok(Some((1, info)))
     }
