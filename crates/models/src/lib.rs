@@ -65,6 +65,7 @@
 #![deny(missing_docs)]
 
 mod ball;
+pub mod bodies;
 mod cam;
 mod draw;
 mod error;
@@ -82,7 +83,7 @@ pub use draw::{Bounds, Circle, Drawing, Polyline, Role};
 pub use error::ModelError;
 pub use painleve::{PainleveInit, PainleveParams, PainleveRod};
 pub use params::LawParams;
-pub use registry::{AnyModel, ModelKind, ModelParams};
+pub use registry::{AnyModel, ModelKind, ModelParams, Names};
 pub use scene::{Scene, Simulation, StopRule};
 pub use slider_crank::{SliderCrank, SliderCrankInit, SliderCrankParams};
 pub use slider_crank_ideal::{SliderCrankIdeal, SliderCrankIdealInit, SliderCrankIdealParams};
