@@ -65,4 +65,38 @@ pub enum KinematicsError {
     /// The finite-difference checker was given no sample state, so it could check nothing.
     #[error("no sample states to check")]
     NoSamples,
+    /// A shape that fails [`crate::Shape::validate`]: a non-finite coordinate, a negative
+    /// radius, a polygon that is not convex and counter-clockwise, too few points, ...
+    #[error("invalid {shape}: {problem}{}", at_index(*.index))]
+    InvalidShape {
+        /// The shape's name (`disk`, `polygon`, `capsule`, `half_plane`, `polyline`, `profile`).
+        shape: &'static str,
+        /// What is wrong, e.g. "vertices turn clockwise".
+        problem: &'static str,
+        /// The vertex, point or edge concerned, if one is.
+        index: Option<usize>,
+    },
+    /// A pair of shapes for which [`crate::collide`] has no contact method, such as two
+    /// half-planes or two polylines.
+    #[error("no contact method for the pair ({a}, {b})")]
+    UnsupportedPair {
+        /// The name of shape A.
+        a: &'static str,
+        /// The name of shape B.
+        b: &'static str,
+    },
+    /// A mass property asked of a shape that has none: a half-plane (infinite) or a polyline
+    /// (no area).
+    #[error("a {shape} has no {what}")]
+    NoMassProperties {
+        /// The shape's name.
+        shape: &'static str,
+        /// The property asked for (`unit inertia`, ...).
+        what: &'static str,
+    },
+}
+
+/// The " at index i" suffix of a shape error, or nothing.
+fn at_index(index: Option<usize>) -> String {
+    index.map(|i| format!(" (at index {i})")).unwrap_or_default()
 }

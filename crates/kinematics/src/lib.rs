@@ -94,6 +94,7 @@
 mod check;
 mod error;
 pub mod planar;
+pub mod shapes;
 
 pub use check::{
     Component, FdOptions, FdReport, Mismatch, SampleOptions, SplitMix64, assert_consistent,
@@ -104,6 +105,7 @@ pub use planar::{
     Circle, ContactGeometry, LineMotion, PointMotion, PoseMotion, ScalarMotion, Side, chain_rule,
     circle_circle, circle_line, corner_line, point_line, rectangle_corners,
 };
+pub use shapes::{Aabb, BroadPhase, ManifoldPoint, Pose, Shape, collide, max_points};
 
 /// Kinematic quantities of one contact at `(q, t)`, besides its force directions.
 ///

@@ -1,0 +1,353 @@
+//! Contacts between two rounded convex cores: a point, a segment or a convex polygon, each
+//! grown by a radius (a disk, a capsule, a polygon; a segment of a polyline or a profile).
+//!
+//! Written here rather than taken from parry2d-f64 for two reasons. Parry's polygon manifolds
+//! clip the incident face against the reference face and give both clipped points the reference
+//! face's normal; a point clipped at a reference vertex then slides along the incident face, and
+//! its gap's rate differs from the normal relative velocity by that sliding times the sine of
+//! the angle between the faces, which the time-stepper's w_N cannot carry. Here each point is a
+//! vertex against the line of an edge, with that edge's own normal, or a pair of closest points.
+//! And parry's polygons own their vertices: building one from a [`super::Shape`] per call
+//! would allocate, where these cores borrow the shape's slices.
+
+use super::shape::{Frame, V};
+
+/// Right-hand normal of an edge direction: outward for a counter-clockwise polygon.
+#[inline]
+fn outward(e: V) -> V {
+    V::new(e.y, -e.x)
+}
+
+/// How far past its ends a vertex may project and still count as on an edge, as a fraction of
+/// the edge's length: the rounding that two coincident corners (a stack of equal boxes) need
+/// to give one point, not two or none.
+const EDGE_SLACK: f64 = 1e-9;
+
+/// A convex core in the world: its vertices (body frame, mapped on use), its radius, and
+/// whether, as a segment, it is touched from its outward side only (an edge of a profile).
+#[derive(Clone, Copy)]
+pub(crate) struct Core<'a> {
+    pub vertices: &'a [[f64; 2]],
+    pub frame: Frame,
+    pub radius: f64,
+    pub one_sided: bool,
+}
+
+/// A feature of a core: a vertex, or an edge (edge i runs from vertex i to vertex i + 1; a
+/// two-sided segment's edge 1 is its back, from vertex 1 to vertex 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Feature {
+    Vertex(usize),
+    Edge(usize),
+}
+
+/// One contact point between cores A and B, before the caller names it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CorePoint {
+    pub on_a: Feature,
+    pub on_b: Feature,
+    pub point_a: V,
+    pub point_b: V,
+    pub normal: V,
+    pub gap: f64,
+}
+
+impl<'a> Core<'a> {
+    pub fn len(&self) -> usize {
+        self.vertices.len()
+    }
+
+    #[inline]
+    pub fn vertex(&self, i: usize) -> V {
+        self.frame.point(self.vertices[i])
+    }
+
+    /// The number of faces that can be touched: a polygon's edges, a segment's two sides or
+    /// its outward side alone.
+    fn faces(&self) -> usize {
+        match self.len() {
+            1 => 0,
+            2 if self.one_sided => 1,
+            2 => 2,
+            n => n,
+        }
+    }
+
+    /// The ends (start, end) of face i, and its unit outward normal.
+    #[inline]
+    fn face(&self, i: usize) -> (V, V, V) {
+        let n = self.len();
+        let (p, q) = if n == 2 && i == 1 {
+            (self.vertex(1), self.vertex(0))
+        } else {
+            (self.vertex(i), self.vertex((i + 1) % n))
+        };
+        (p, q, outward(q - p).normalize())
+    }
+
+    /// The indices of the vertices of face i, in the order of [`Self::face`].
+    fn face_vertices(&self, i: usize) -> (usize, usize) {
+        let n = self.len();
+        if n == 2 && i == 1 { (1, 0) } else { (i, (i + 1) % n) }
+    }
+}
+
+/// The closest point of core `c` to the point `p`, the unit direction from that point towards
+/// `p` (the outward normal of `c` there), the signed distance (negative inside a polygon) and
+/// the feature of `c` it lies on.
+pub(crate) fn closest_to_point(c: &Core<'_>, p: V) -> (V, V, f64, Feature) {
+    if c.len() == 1 {
+        let q = c.vertex(0);
+        let d = p - q;
+        let l = d.norm();
+        // Two coincident centres have no direction between them; any unit vector serves.
+        let dir = if l > 0.0 { d / l } else { V::new(1.0, 0.0) };
+        return (q, dir, l, Feature::Vertex(0));
+    }
+    if c.len() > 2 {
+        // Inside, the face of least penetration; outside, the closest edge below.
+        let mut best = (f64::NEG_INFINITY, 0);
+        for i in 0..c.faces() {
+            let (a, _, n) = c.face(i);
+            let s = n.dot(&(p - a));
+            if s > best.0 {
+                best = (s, i);
+            }
+        }
+        if best.0 <= 0.0 {
+            let (_, _, n) = c.face(best.1);
+            return (p - best.0 * n, n, best.0, Feature::Edge(best.1));
+        }
+    }
+    let mut best: Option<(V, f64, Feature, usize)> = None;
+    let edges = if c.len() == 2 { 1 } else { c.len() };
+    for i in 0..edges {
+        let (a, b, _) = c.face(i);
+        let e = b - a;
+        let t = (p - a).dot(&e) / e.norm_squared();
+        let (q, feature) = if t <= 0.0 {
+            (a, Feature::Vertex(c.face_vertices(i).0))
+        } else if t >= 1.0 {
+            (b, Feature::Vertex(c.face_vertices(i).1))
+        } else {
+            (a + t * e, Feature::Edge(i))
+        };
+        let d2 = (p - q).norm_squared();
+        if best.is_none_or(|b| d2 < b.1) {
+            best = Some((q, d2, feature, i));
+        }
+    }
+    let (q, d2, feature, i) = best.expect("a segment or polygon has an edge");
+    let l = d2.sqrt();
+    let dir = if l > 0.0 {
+        (p - q) / l
+    } else {
+        // On the segment itself: its front side's normal.
+        c.face(i).2
+    };
+    (q, dir, l, feature)
+}
+
+/// The single contact of a point core (a disk) with any core, if its gap is at most `margin`;
+/// `point_is_a` tells which of A and B the point core is.
+pub(crate) fn point_contact(
+    point: &Core<'_>,
+    other: &Core<'_>,
+    point_is_a: bool,
+    margin: f64,
+) -> Option<CorePoint> {
+    let p = point.vertex(0);
+    let (q, dir, s, feature) = closest_to_point(other, p);
+    let gap = s - point.radius - other.radius;
+    (gap <= margin)
+        .then(|| point_pair(p, point.radius, q, other.radius, dir, s, feature, point_is_a))
+}
+
+/// The contact of a point `p` of radius `r_p` with the point `q` of another core of radius
+/// `r_q` that lies on its `feature`, `dir` the outward normal of that core at q and `s` the
+/// signed distance of p from it along `dir`.
+pub(crate) fn point_pair(
+    p: V,
+    r_p: f64,
+    q: V,
+    r_q: f64,
+    dir: V,
+    s: f64,
+    feature: Feature,
+    point_is_a: bool,
+) -> CorePoint {
+    let gap = s - r_p - r_q;
+    let on_point = p - r_p * dir;
+    let on_other = q + r_q * dir;
+    if point_is_a {
+        CorePoint {
+            on_a: Feature::Vertex(0),
+            on_b: feature,
+            point_a: on_point,
+            point_b: on_other,
+            normal: -dir,
+            gap,
+        }
+    } else {
+        CorePoint {
+            on_a: feature,
+            on_b: Feature::Vertex(0),
+            point_a: on_other,
+            point_b: on_point,
+            normal: dir,
+            gap,
+        }
+    }
+}
+
+/// The face of `c` whose separation from the vertices of `other` is greatest, and that
+/// separation: the signed distance, along the face's normal, of `other`'s deepest vertex.
+fn max_separation(c: &Core<'_>, other: &Core<'_>) -> (f64, usize) {
+    let mut best = (f64::NEG_INFINITY, 0);
+    for i in 0..c.faces() {
+        let (a, _, n) = c.face(i);
+        let mut s = f64::INFINITY;
+        for j in 0..other.len() {
+            s = s.min(n.dot(&(other.vertex(j) - a)));
+        }
+        if s > best.0 {
+            best = (s, i);
+        }
+    }
+    best
+}
+
+/// The face of `c` most opposed to the direction `n`.
+fn incident_face(c: &Core<'_>, n: V) -> usize {
+    let mut best = (f64::INFINITY, 0);
+    for i in 0..c.faces() {
+        let d = c.face(i).2.dot(&n);
+        if d < best.0 {
+            best = (d, i);
+        }
+    }
+    best.1
+}
+
+/// Vertex `vertex` of one core against face `face` of the other, as seen from the face's core
+/// (`face_core`): its gap along the face's normal, if it projects within the face (widened by
+/// `slack` of its length at each end) and the gap is at most `margin`. `face_is_a` tells which
+/// of A and B owns the face.
+fn vertex_on_face(
+    face_core: &Core<'_>,
+    face: usize,
+    vertex_core: &Core<'_>,
+    vertex: usize,
+    face_is_a: bool,
+    slack: (f64, f64),
+    margin: f64,
+) -> Option<CorePoint> {
+    let (a, b, n) = face_core.face(face);
+    let v = vertex_core.vertex(vertex);
+    let e = b - a;
+    let t = (v - a).dot(&e) / e.norm_squared();
+    if !(t >= slack.0 && t <= 1.0 - slack.1) {
+        return None;
+    }
+    let distance = n.dot(&(v - a));
+    let gap = distance - face_core.radius - vertex_core.radius;
+    if gap > margin {
+        return None;
+    }
+    let on_face = v - distance * n + face_core.radius * n;
+    let on_vertex = v - vertex_core.radius * n;
+    Some(if face_is_a {
+        CorePoint {
+            on_a: Feature::Edge(face),
+            on_b: Feature::Vertex(vertex),
+            point_a: on_face,
+            point_b: on_vertex,
+            normal: n,
+            gap,
+        }
+    } else {
+        CorePoint {
+            on_a: Feature::Vertex(vertex),
+            on_b: Feature::Edge(face),
+            point_a: on_vertex,
+            point_b: on_face,
+            normal: -n,
+            gap,
+        }
+    })
+}
+
+/// The contact points of two cores of at least two vertices each (segments, polygons) whose
+/// gaps are at most `margin`, passed to `emit`: at most two vertex-on-edge points from the
+/// pair of faces that separates them most, or else one pair of closest points.
+pub(crate) fn polygon_contacts(
+    a: &Core<'_>,
+    b: &Core<'_>,
+    margin: f64,
+    emit: &mut impl FnMut(CorePoint),
+) {
+    let radii = a.radius + b.radius;
+    let (sep_a, face_a) = max_separation(a, b);
+    let (sep_b, face_b) = max_separation(b, a);
+    if sep_a.max(sep_b) - radii > margin {
+        return;
+    }
+    // A keeps the reference face unless B's separates clearly more, so that two parallel faces
+    // (equal separations) do not trade roles from one call to the next.
+    let scale = 1e-12 * (1.0 + sep_a.abs().max(sep_b.abs()));
+    let (reference, ref_face, incident, ref_is_a) =
+        if sep_b > sep_a + scale { (b, face_b, a, false) } else { (a, face_a, b, true) };
+    let normal = reference.face(ref_face).2;
+    let inc_face = incident_face(incident, normal);
+    let (i0, i1) = incident.face_vertices(inc_face);
+    let (r0, r1) = reference.face_vertices(ref_face);
+    let mut found = 0;
+    // The incident face's ends on the reference face, closed at both ends; then the reference
+    // face's ends on the incident face, open at both ends, so that two coincident corners
+    // give one point.
+    let closed = (-EDGE_SLACK, -EDGE_SLACK);
+    let open = (EDGE_SLACK, EDGE_SLACK);
+    for v in [i0, i1] {
+        if let Some(p) = vertex_on_face(reference, ref_face, incident, v, ref_is_a, closed, margin)
+        {
+            emit(p);
+            found += 1;
+        }
+    }
+    for v in [r0, r1] {
+        if let Some(p) = vertex_on_face(incident, inc_face, reference, v, !ref_is_a, open, margin) {
+            emit(p);
+            found += 1;
+        }
+    }
+    if found == 0
+        && let Some(p) = closest_features(a, b, margin)
+    {
+        emit(p);
+    }
+}
+
+/// The pair of closest points of two cores that no vertex-on-edge point caught: two corners
+/// facing each other, or the ends of two capsules in line. Each vertex of one core against each
+/// edge of the other, the closest pair kept.
+fn closest_features(a: &Core<'_>, b: &Core<'_>, margin: f64) -> Option<CorePoint> {
+    let mut best: Option<CorePoint> = None;
+    let mut consider = |vertex_core: &Core<'_>, other: &Core<'_>, vertex_is_a: bool| {
+        for i in 0..vertex_core.len() {
+            let single = Core { vertices: &vertex_core.vertices[i..i + 1], ..*vertex_core };
+            if let Some(mut p) = point_contact(&single, other, vertex_is_a, f64::INFINITY) {
+                if vertex_is_a {
+                    p.on_a = Feature::Vertex(i);
+                } else {
+                    p.on_b = Feature::Vertex(i);
+                }
+                if best.is_none_or(|q| p.gap < q.gap) {
+                    best = Some(p);
+                }
+            }
+        }
+    };
+    consider(a, b, true);
+    consider(b, a, false);
+    best.filter(|p| p.gap <= margin)
+}

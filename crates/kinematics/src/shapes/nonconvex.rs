@@ -1,0 +1,184 @@
+//! Contacts with chains of segments: polylines (open, two-sided) and profiles (closed solids),
+//! against a convex shape or a half-plane.
+//!
+//! Written here because parry2d-f64 has no contact for a chain that keeps each local minimum of
+//! the distance as its own point: its polyline is a composite shape whose per-segment contacts
+//! would repeat a shared vertex, and a disk against a non-convex profile needs the inside test
+//! of a solid, which parry's polyline (a curve) lacks. Each segment is a convex core and goes
+//! through the convex pair's method; what is added here is the naming of the points, the
+//! removal of the repeats at shared vertices and of the vertex points that are not local
+//! minima of the distance.
+
+use super::collide::manifold_point;
+use super::convex::{Core, CorePoint, Feature, closest_to_point, point_pair, polygon_contacts};
+use super::shape::{Frame, V};
+use super::{Aabb, ManifoldPoint, Pose};
+
+/// A convex shape `x` (its world box `x_box`) against the chain through `points` (closed for a
+/// profile) at `pose`; `x_is_a` tells which of A and B the convex shape is.
+pub(crate) fn convex_chain(
+    x: &Core<'_>,
+    x_box: Aabb,
+    points: &[[f64; 2]],
+    closed: bool,
+    pose: &Pose,
+    x_is_a: bool,
+    margin: f64,
+    out: &mut Vec<ManifoldPoint>,
+) {
+    let frame = Frame::new(pose);
+    let p = points.len();
+    let m = if closed { p } else { p - 1 };
+    let n_x = x.len();
+    let start = out.len();
+    let point = |v: usize| frame.point(points[v % p]);
+    let vertex_id = |v: usize| m * n_x + v % p;
+    let flip = !x_is_a;
+
+    if closed && n_x == 1 && inside(x.vertex(0), &frame, points) {
+        // A disk whose centre has entered the solid: one point, on the nearest segment, with
+        // the direction reversed so that the gap −(d + r) grows as the disk comes out.
+        let c = x.vertex(0);
+        let mut best: Option<(V, V, f64, usize, Feature)> = None;
+        for k in 0..m {
+            let ends = [points[k], points[(k + 1) % p]];
+            let seg = Core { vertices: &ends, frame, radius: 0.0, one_sided: true };
+            let (q, dir, d, feature) = closest_to_point(&seg, c);
+            if best.is_none_or(|b| d < b.2) {
+                best = Some((q, dir, d, k, feature));
+            }
+        }
+        if let Some((q, dir, d, k, feature)) = best {
+            let cp = point_pair(c, x.radius, q, 0.0, -dir, -d, feature, true);
+            if cp.gap <= margin {
+                let id = match feature {
+                    Feature::Vertex(local) => vertex_id(k + local),
+                    Feature::Edge(_) => k,
+                };
+                out.push(manifold_point(&cp, id, flip));
+            }
+        }
+        return;
+    }
+
+    for k in 0..m {
+        let (p0, p1) = (point(k), point(k + 1));
+        let grow = margin + 1e-12;
+        if p0.x.max(p1.x) < x_box.min[0] - grow
+            || p0.x.min(p1.x) > x_box.max[0] + grow
+            || p0.y.max(p1.y) < x_box.min[1] - grow
+            || p0.y.min(p1.y) > x_box.max[1] + grow
+        {
+            continue;
+        }
+        let ends = [points[k], points[(k + 1) % p]];
+        let seg = Core { vertices: &ends, frame, radius: 0.0, one_sided: closed };
+        let mut emit = |cp: CorePoint| {
+            let id = match cp.on_b {
+                Feature::Edge(_) => match cp.on_a {
+                    Feature::Vertex(i) => k * n_x + i,
+                    Feature::Edge(_) => unreachable!("a point has a vertex"),
+                },
+                Feature::Vertex(local) => {
+                    let v = k + local;
+                    if !local_minimum(x, &cp, v, &point, p, closed) {
+                        return;
+                    }
+                    vertex_id(v)
+                }
+            };
+            let id32 = id as u32;
+            if out[start..].iter().all(|q| q.feature != id32) {
+                out.push(manifold_point(&cp, id, flip));
+            }
+        };
+        if n_x == 1 {
+            if let Some(cp) = super::convex::point_contact(x, &seg, true, margin) {
+                emit(cp);
+            }
+        } else {
+            polygon_contacts(x, &seg, margin, &mut emit);
+        }
+    }
+}
+
+/// Whether chain point v, in contact `cp` with the convex core `x` (which is A), is a local
+/// minimum of the distance to it, so that its point is not a repeat of a neighbouring
+/// segment's. For a disk: the centre does not project inside a segment next to v. For a
+/// polygon or capsule: no neighbour of v lies closer to x along the normal.
+fn local_minimum(
+    x: &Core<'_>,
+    cp: &CorePoint,
+    v: usize,
+    point: &impl Fn(usize) -> V,
+    p: usize,
+    closed: bool,
+) -> bool {
+    let here = point(v);
+    let neighbours =
+        [(closed || v > 0).then(|| point(v + p - 1)), (closed || v + 1 < p).then(|| point(v + 1))];
+    if x.len() == 1 {
+        let c = x.vertex(0);
+        neighbours.into_iter().flatten().all(|q| {
+            let e = q - here;
+            let t = (c - here).dot(&e) / e.norm_squared();
+            t <= 0.0
+        })
+    } else {
+        neighbours.into_iter().flatten().all(|q| cp.normal.dot(&(q - here)) >= 0.0)
+    }
+}
+
+/// Whether the world point `c` lies inside the closed chain through `points` at `frame`, by
+/// the parity of the crossings of a ray towards +x.
+fn inside(c: V, frame: &Frame, points: &[[f64; 2]]) -> bool {
+    let p = points.len();
+    let mut odd = false;
+    let mut a = frame.point(points[p - 1]);
+    for q in points {
+        let b = frame.point(*q);
+        if (a.y > c.y) != (b.y > c.y) && c.x < a.x + (c.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+            odd = !odd;
+        }
+        a = b;
+    }
+    odd
+}
+
+/// A half-plane (boundary through `origin`, unit outward normal `n`) against the chain through
+/// `points` at `pose`: each point whose height above the boundary is a local minimum along the
+/// chain (every point of a flat run) and at most `margin`.
+pub(crate) fn half_plane_chain(
+    origin: V,
+    n: V,
+    points: &[[f64; 2]],
+    closed: bool,
+    pose: &Pose,
+    plane_is_a: bool,
+    margin: f64,
+    out: &mut Vec<ManifoldPoint>,
+) {
+    let frame = Frame::new(pose);
+    let p = points.len();
+    let height = |v: usize| n.dot(&(frame.point(points[v % p]) - origin));
+    for v in 0..p {
+        let h = height(v);
+        if h > margin {
+            continue;
+        }
+        let lower_than_previous = !(closed || v > 0) || h <= height(v + p - 1);
+        let lower_than_next = !(closed || v + 1 < p) || h <= height(v + 1);
+        if lower_than_previous && lower_than_next {
+            let w = frame.point(points[v]);
+            let cp = CorePoint {
+                on_a: Feature::Edge(0),
+                on_b: Feature::Vertex(v),
+                point_a: w - h * n,
+                point_b: w,
+                normal: n,
+                gap: h,
+            };
+            out.push(manifold_point(&cp, v, !plane_is_a));
+        }
+    }
+}

@@ -1,0 +1,427 @@
+//! The shapes, their validation, mass properties and bounding boxes.
+
+use std::f64::consts::PI;
+
+use nalgebra::Vector2;
+use serde::{Deserialize, Serialize};
+
+use super::{Aabb, Pose};
+use crate::KinematicsError;
+
+/// A world vector or point.
+pub(crate) type V = Vector2<f64>;
+
+/// A body frame as a rotation (cos θ, sin θ) and a translation, to map body points to the world.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Frame {
+    pub cos: f64,
+    pub sin: f64,
+    pub origin: V,
+}
+
+impl Frame {
+    pub fn new(pose: &Pose) -> Self {
+        let (sin, cos) = pose.theta.sin_cos();
+        Self { cos, sin, origin: V::new(pose.x, pose.y) }
+    }
+
+    /// A body vector in the world.
+    #[inline]
+    pub fn vector(&self, v: [f64; 2]) -> V {
+        V::new(self.cos * v[0] - self.sin * v[1], self.sin * v[0] + self.cos * v[1])
+    }
+
+    /// A body point in the world.
+    #[inline]
+    pub fn point(&self, p: [f64; 2]) -> V {
+        self.origin + self.vector(p)
+    }
+}
+
+/// A shape in its body's frame (m).
+///
+/// Build it as a literal or with [`Shape::profile_from_curve`] and [`Shape::profile_polar`], and
+/// check it once with [`Shape::validate`]; [`crate::collide`] assumes valid shapes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum Shape {
+    /// A disk of centre `center` and radius `radius` ≥ 0; radius 0 is a point.
+    Disk {
+        /// The centre (m).
+        center: [f64; 2],
+        /// The radius (m).
+        radius: f64,
+    },
+    /// A convex polygon, its vertices counter-clockwise.
+    Polygon {
+        /// The vertices (m), at least 3, counter-clockwise, strictly convex.
+        vertices: Vec<[f64; 2]>,
+    },
+    /// The points within `radius` of the segment from `a` to `b`; radius 0 is a segment.
+    Capsule {
+        /// The first end of the axis (m).
+        a: [f64; 2],
+        /// The second end of the axis (m), distinct from `a`.
+        b: [f64; 2],
+        /// The radius (m).
+        radius: f64,
+    },
+    /// The half-plane bounded by the line through `point` normal to `normal`, solid on the
+    /// side opposite `normal` (a floor has normal (0, 1)).
+    HalfPlane {
+        /// A point of the boundary line (m).
+        point: [f64; 2],
+        /// The outward normal, non-zero; it need not be of unit length.
+        normal: [f64; 2],
+    },
+    /// An open chain of segments through `points`, touched from either side and possibly
+    /// non-convex (a guide, a ramp, a measured road profile).
+    Polyline {
+        /// The points (m), at least 2, consecutive ones distinct.
+        points: Vec<[f64; 2]>,
+    },
+    /// The solid bounded by the closed chain of segments through `points` (the last joined
+    /// to the first), possibly non-convex: a cam sampled along its contour.
+    Profile {
+        /// The points (m), at least 3, counter-clockwise, the chain not crossing itself.
+        points: Vec<[f64; 2]>,
+    },
+}
+
+/// The error of a shape `shape` with `problem` at `index`.
+fn invalid(shape: &'static str, problem: &'static str, index: Option<usize>) -> KinematicsError {
+    KinematicsError::InvalidShape { shape, problem, index }
+}
+
+/// Checks that every point is finite and that consecutive points differ (the last and the
+/// first too when `closed`).
+fn check_chain(
+    shape: &'static str,
+    points: &[[f64; 2]],
+    min: usize,
+    closed: bool,
+) -> Result<(), KinematicsError> {
+    if points.len() < min {
+        return Err(invalid(shape, "too few points", None));
+    }
+    if let Some(i) = points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+        return Err(invalid(shape, "non-finite coordinate", Some(i)));
+    }
+    let n = points.len();
+    let segments = if closed { n } else { n - 1 };
+    for i in 0..segments {
+        if points[i] == points[(i + 1) % n] {
+            return Err(invalid(shape, "two consecutive points coincide", Some(i)));
+        }
+    }
+    Ok(())
+}
+
+/// The signed area, the first moments and the polar second moment about the origin of the
+/// polygon through `points` (positive when counter-clockwise), by the shoelace sums.
+fn polygon_moments(points: &[[f64; 2]]) -> (f64, [f64; 2], f64) {
+    let n = points.len();
+    let (mut area, mut sx, mut sy, mut j) = (0.0, 0.0, 0.0, 0.0);
+    for i in 0..n {
+        let [x0, y0] = points[i];
+        let [x1, y1] = points[(i + 1) % n];
+        let cross = x0 * y1 - x1 * y0;
+        area += cross;
+        sx += cross * (x0 + x1);
+        sy += cross * (y0 + y1);
+        j += cross * (x0 * x0 + x0 * x1 + x1 * x1 + y0 * y0 + y0 * y1 + y1 * y1);
+    }
+    (area / 2.0, [sx / 6.0, sy / 6.0], j / 12.0)
+}
+
+/// Whether the segments p0p1 and q0q1 share a point (touching counts).
+fn segments_meet(p0: V, p1: V, q0: V, q1: V) -> bool {
+    let cross = |a: V, b: V| a.x * b.y - a.y * b.x;
+    let d1 = cross(p1 - p0, q0 - p0);
+    let d2 = cross(p1 - p0, q1 - p0);
+    let d3 = cross(q1 - q0, p0 - q0);
+    let d4 = cross(q1 - q0, p1 - q0);
+    if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
+        return true;
+    }
+    let on = |a: V, b: V, p: V, d: f64| {
+        d == 0.0
+            && p.x >= a.x.min(b.x)
+            && p.x <= a.x.max(b.x)
+            && p.y >= a.y.min(b.y)
+            && p.y <= a.y.max(b.y)
+    };
+    on(p0, p1, q0, d1) || on(p0, p1, q1, d2) || on(q0, q1, p0, d3) || on(q0, q1, p1, d4)
+}
+
+impl Shape {
+    /// The shape's name as in scene files: `disk`, `polygon`, `capsule`, `half_plane`,
+    /// `polyline` or `profile`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Shape::Disk { .. } => "disk",
+            Shape::Polygon { .. } => "polygon",
+            Shape::Capsule { .. } => "capsule",
+            Shape::HalfPlane { .. } => "half_plane",
+            Shape::Polyline { .. } => "polyline",
+            Shape::Profile { .. } => "profile",
+        }
+    }
+
+    /// Checks the shape once, before it is used: finite coordinates, radius ≥ 0, a polygon
+    /// strictly convex and counter-clockwise with at least 3 vertices, a capsule's ends
+    /// distinct, a half-plane's normal non-zero, a polyline of at least 2 points and a profile
+    /// of at least 3, counter-clockwise and not crossing itself, no two consecutive points equal.
+    ///
+    /// # Errors
+    /// [`KinematicsError::InvalidShape`] naming the shape, the problem and the vertex concerned.
+    pub fn validate(&self) -> Result<(), KinematicsError> {
+        let name = self.name();
+        let finite = |p: &[f64; 2]| p[0].is_finite() && p[1].is_finite();
+        let radius_ok = |r: f64| {
+            if !r.is_finite() {
+                Err(invalid(name, "non-finite radius", None))
+            } else if r < 0.0 {
+                Err(invalid(name, "negative radius", None))
+            } else {
+                Ok(())
+            }
+        };
+        match self {
+            Shape::Disk { center, radius } => {
+                if !finite(center) {
+                    return Err(invalid(name, "non-finite centre", None));
+                }
+                radius_ok(*radius)
+            }
+            Shape::Capsule { a, b, radius } => {
+                if !finite(a) || !finite(b) {
+                    return Err(invalid(name, "non-finite end", None));
+                }
+                if a == b {
+                    return Err(invalid(
+                        name,
+                        "its two ends coincide (a disk has one centre)",
+                        None,
+                    ));
+                }
+                radius_ok(*radius)
+            }
+            Shape::HalfPlane { point, normal } => {
+                if !finite(point) || !finite(normal) {
+                    return Err(invalid(name, "non-finite point or normal", None));
+                }
+                if normal[0] == 0.0 && normal[1] == 0.0 {
+                    return Err(invalid(name, "zero normal", None));
+                }
+                Ok(())
+            }
+            Shape::Polyline { points } => check_chain(name, points, 2, false),
+            Shape::Polygon { vertices } => {
+                check_chain(name, vertices, 3, true)?;
+                let n = vertices.len();
+                let mut turning = 0.0;
+                for i in 0..n {
+                    let p0 = V::from(vertices[i]);
+                    let p1 = V::from(vertices[(i + 1) % n]);
+                    let p2 = V::from(vertices[(i + 2) % n]);
+                    let (e0, e1) = (p1 - p0, p2 - p1);
+                    let cross = e0.x * e1.y - e0.y * e1.x;
+                    if !(cross > 0.0) {
+                        return Err(invalid(
+                            name,
+                            "not strictly convex and counter-clockwise",
+                            Some((i + 1) % n),
+                        ));
+                    }
+                    turning += cross.atan2(e0.dot(&e1));
+                }
+                // Left turns all round that add up to more than one revolution draw a star.
+                if (turning - 2.0 * PI).abs() > 1e-6 {
+                    return Err(invalid(name, "winds round more than once", None));
+                }
+                Ok(())
+            }
+            Shape::Profile { points } => {
+                check_chain(name, points, 3, true)?;
+                if !(polygon_moments(points).0 > 0.0) {
+                    return Err(invalid(name, "points run clockwise or enclose no area", None));
+                }
+                let n = points.len();
+                let p = |i: usize| V::from(points[i % n]);
+                for i in 0..n {
+                    // Adjacent segments share a point by construction; only the others count.
+                    for j in i + 2..n {
+                        if i == 0 && j == n - 1 {
+                            continue;
+                        }
+                        if segments_meet(p(i), p(i + 1), p(j), p(j + 1)) {
+                            return Err(invalid(name, "the contour crosses itself", Some(j)));
+                        }
+                    }
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The profile through the closed curve `f(s)`, s ∈ [0, 1), sampled at `samples` equally
+    /// spaced values of s; the points are put in counter-clockwise order if `f` runs clockwise.
+    ///
+    /// # Errors
+    /// [`KinematicsError::InvalidOption`] for fewer than 3 samples; [`Shape::validate`]'s errors
+    /// for the sampled profile.
+    pub fn profile_from_curve(
+        f: impl Fn(f64) -> [f64; 2],
+        samples: usize,
+    ) -> Result<Shape, KinematicsError> {
+        if samples < 3 {
+            return Err(KinematicsError::InvalidOption { name: "samples", value: samples as f64 });
+        }
+        let mut points: Vec<[f64; 2]> =
+            (0..samples).map(|k| f(k as f64 / samples as f64)).collect();
+        if polygon_moments(&points).0 < 0.0 {
+            points[1..].reverse();
+        }
+        let shape = Shape::Profile { points };
+        shape.validate()?;
+        Ok(shape)
+    }
+
+    /// The profile of the polar curve r(ψ), ψ ∈ [0, 2π), sampled at `samples` equally spaced
+    /// angles: a cam of radius r(ψ) about the body origin.
+    ///
+    /// # Errors
+    /// As [`Shape::profile_from_curve`].
+    pub fn profile_polar(r: impl Fn(f64) -> f64, samples: usize) -> Result<Shape, KinematicsError> {
+        Self::profile_from_curve(
+            |s| {
+                let psi = 2.0 * PI * s;
+                let radius = r(psi);
+                [radius * psi.cos(), radius * psi.sin()]
+            },
+            samples,
+        )
+    }
+
+    /// The area (m²): 0 for a polyline, +∞ for a half-plane.
+    pub fn area(&self) -> f64 {
+        match self {
+            Shape::Disk { radius, .. } => PI * radius * radius,
+            Shape::Capsule { a, b, radius } => {
+                2.0 * radius * (V::from(*b) - V::from(*a)).norm() + PI * radius * radius
+            }
+            Shape::Polygon { vertices: points } | Shape::Profile { points } => {
+                polygon_moments(points).0
+            }
+            Shape::HalfPlane { .. } => f64::INFINITY,
+            Shape::Polyline { .. } => 0.0,
+        }
+    }
+
+    /// The centroid in the body frame (m): of the area, or for a polyline of its length; a
+    /// half-plane's `point`.
+    pub fn centroid(&self) -> [f64; 2] {
+        match self {
+            Shape::Disk { center, .. } => *center,
+            Shape::Capsule { a, b, .. } => [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0],
+            Shape::Polygon { vertices: points } | Shape::Profile { points } => {
+                let (area, first, _) = polygon_moments(points);
+                [first[0] / area, first[1] / area]
+            }
+            Shape::HalfPlane { point, .. } => *point,
+            Shape::Polyline { points } => {
+                let (mut length, mut sum) = (0.0, V::zeros());
+                for w in points.windows(2) {
+                    let (p, q) = (V::from(w[0]), V::from(w[1]));
+                    let l = (q - p).norm();
+                    length += l;
+                    sum += l * (p + q) / 2.0;
+                }
+                (sum / length).into()
+            }
+        }
+    }
+
+    /// The polar second moment of area about the body origin divided by the area (m²), so
+    /// that a body of mass m made of this shape has moment of inertia I = m · unit_inertia
+    /// about its origin. A disk or capsule of radius 0 gives the limit (a point, a rod).
+    ///
+    /// # Errors
+    /// [`KinematicsError::NoMassProperties`] for a half-plane or a polyline.
+    pub fn unit_inertia(&self) -> Result<f64, KinematicsError> {
+        match self {
+            Shape::Disk { center, radius } => {
+                Ok(radius * radius / 2.0 + V::from(*center).norm_squared())
+            }
+            Shape::Capsule { a, b, radius: r } => {
+                // The rectangle of length L and width 2r, and the two half-disks whose flat
+                // sides sit at ±L/2 from the centre, about the capsule's centre.
+                let l = (V::from(*b) - V::from(*a)).norm();
+                let unit = if *r == 0.0 {
+                    l * l / 12.0
+                } else {
+                    let j = r * l * (l * l + 4.0 * r * r) / 6.0
+                        + PI * r.powi(4) / 2.0
+                        + 4.0 * l * r.powi(3) / 3.0
+                        + PI * r * r * l * l / 4.0;
+                    j / self.area()
+                };
+                Ok(unit + V::from(self.centroid()).norm_squared())
+            }
+            Shape::Polygon { vertices: points } | Shape::Profile { points } => {
+                let (area, _, j) = polygon_moments(points);
+                Ok(j / area)
+            }
+            Shape::HalfPlane { .. } | Shape::Polyline { .. } => {
+                Err(KinematicsError::NoMassProperties { shape: self.name(), what: "unit inertia" })
+            }
+        }
+    }
+
+    /// The world bounding box of the shape at `pose`. A half-plane's box is bounded only
+    /// along an axis that its normal is exactly parallel to.
+    pub fn aabb(&self, pose: &Pose) -> Aabb {
+        let frame = Frame::new(pose);
+        let around = |points: &mut dyn Iterator<Item = V>, r: f64| {
+            let mut min = V::repeat(f64::INFINITY);
+            let mut max = V::repeat(f64::NEG_INFINITY);
+            for p in points {
+                min = min.inf(&p);
+                max = max.sup(&p);
+            }
+            Aabb { min: [min.x - r, min.y - r], max: [max.x + r, max.y + r] }
+        };
+        match self {
+            Shape::Disk { center, radius } => {
+                around(&mut std::iter::once(frame.point(*center)), *radius)
+            }
+            Shape::Capsule { a, b, radius } => {
+                around(&mut [frame.point(*a), frame.point(*b)].into_iter(), *radius)
+            }
+            Shape::Polygon { vertices: points }
+            | Shape::Polyline { points }
+            | Shape::Profile { points } => around(&mut points.iter().map(|p| frame.point(*p)), 0.0),
+            Shape::HalfPlane { point, normal } => {
+                let p = frame.point(*point);
+                let n = frame.vector(*normal);
+                let inf = f64::INFINITY;
+                let mut aabb = Aabb { min: [-inf, -inf], max: [inf, inf] };
+                if n.x == 0.0 {
+                    if n.y > 0.0 {
+                        aabb.max[1] = p.y;
+                    } else {
+                        aabb.min[1] = p.y;
+                    }
+                } else if n.y == 0.0 {
+                    if n.x > 0.0 {
+                        aabb.max[0] = p.x;
+                    } else {
+                        aabb.min[0] = p.x;
+                    }
+                }
+                aabb
+            }
+        }
+    }
+}

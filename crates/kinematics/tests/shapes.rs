@@ -1,0 +1,543 @@
+//! Shapes and contact detection: closed-form gaps, the rate of the gap against the relative
+//! velocity of the contact points, persistent feature ids, resting manifolds, validation,
+//! the broad phase against brute force, and mass properties.
+
+use std::f64::consts::PI;
+
+use approx::assert_relative_eq;
+use moreau_kinematics::{
+    Aabb, BroadPhase, KinematicsError, ManifoldPoint, Pose, Shape, SplitMix64, collide, max_points,
+};
+
+fn points(a: &Shape, pa: Pose, b: &Shape, pb: Pose, margin: f64) -> Vec<ManifoldPoint> {
+    let mut out = Vec::new();
+    collide(a, &pa, b, &pb, margin, &mut out).expect("supported pair");
+    out
+}
+
+fn disk(x: f64, y: f64, r: f64) -> Shape {
+    Shape::Disk { center: [x, y], radius: r }
+}
+
+fn rect(w: f64, h: f64) -> Shape {
+    let (a, b) = (w / 2.0, h / 2.0);
+    Shape::Polygon { vertices: vec![[-a, -b], [a, -b], [a, b], [-a, b]] }
+}
+
+fn floor() -> Shape {
+    Shape::HalfPlane { point: [0.0, 0.0], normal: [0.0, 1.0] }
+}
+
+fn sorted_by_feature(mut p: Vec<ManifoldPoint>) -> Vec<ManifoldPoint> {
+    p.sort_by_key(|q| q.feature);
+    p
+}
+
+/// A non-convex cam: r(ψ) = 0.3 + 0.06 cos 3ψ, sampled at 96 points.
+fn cam() -> Shape {
+    Shape::profile_polar(|psi| 0.3 + 0.06 * (3.0 * psi).cos(), 96).expect("valid cam")
+}
+
+/// A zigzag guide with concave and convex corners.
+fn zigzag() -> Shape {
+    Shape::Polyline {
+        points: vec![[-0.6, 0.0], [-0.3, 0.15], [0.0, -0.05], [0.2, 0.1], [0.45, 0.0], [0.7, 0.2]],
+    }
+}
+
+#[test]
+fn disk_on_half_plane_gap_is_height_minus_radius() {
+    // The disk's centre is offset in its body, which is turned: the gap uses the world centre.
+    let d = disk(0.1, 0.0, 0.25);
+    let pose = Pose::new(0.3, 0.7, PI / 2.0);
+    let p = points(&d, pose, &floor(), Pose::default(), 1.0);
+    assert_eq!(p.len(), 1);
+    let centre = [0.3, 0.7 + 0.1];
+    assert_relative_eq!(p[0].gap, centre[1] - 0.25, epsilon = 1e-12);
+    assert_relative_eq!(p[0].normal[1], -1.0, epsilon = 1e-12);
+    assert_relative_eq!(p[0].point_b[1], 0.0, epsilon = 1e-12);
+    assert_relative_eq!(p[0].point_a[0], centre[0], epsilon = 1e-12);
+    // Either order, turned or not; beyond the margin, nothing.
+    for theta in [0.0, 0.5, 2.0] {
+        let pose = Pose::new(0.3, 0.7, theta);
+        let c = [0.3 + 0.1 * theta.cos(), 0.7 + 0.1 * theta.sin()];
+        let p = points(&floor(), Pose::new(0.0, 0.0, 0.0), &d, pose, 1.0);
+        assert_relative_eq!(p[0].gap, c[1] - 0.25, epsilon = 1e-12);
+        assert_eq!(p[0].point_a, [c[0], 0.0]);
+        assert!(points(&d, pose, &floor(), Pose::default(), c[1] - 0.25 - 1e-9).is_empty());
+    }
+}
+
+#[test]
+fn two_disks_gap_and_normal() {
+    let a = disk(0.0, 0.0, 0.2);
+    let b = disk(0.0, 0.0, 0.3);
+    let p = points(&a, Pose::new(0.0, 0.0, 0.0), &b, Pose::new(0.3, 0.4, 1.0), 0.1);
+    assert_eq!(p.len(), 1);
+    assert_relative_eq!(p[0].gap, 0.5 - 0.5, epsilon = 1e-12);
+    assert_relative_eq!(p[0].normal[0], 0.6, epsilon = 1e-12);
+    assert_relative_eq!(p[0].normal[1], 0.8, epsilon = 1e-12);
+    let p = points(&a, Pose::default(), &b, Pose::new(0.0, 0.45, 0.0), 0.1);
+    assert_relative_eq!(p[0].gap, -0.05, epsilon = 1e-12);
+}
+
+#[test]
+fn box_corners_on_a_tilted_half_plane() {
+    // A 0.4 × 0.2 box turned by 0.3 rad above a half-plane whose normal is tilted by 0.2 rad.
+    let alpha: f64 = 0.2;
+    let plane = Shape::HalfPlane { point: [0.1, -0.05], normal: [-alpha.sin(), alpha.cos()] };
+    let pose = Pose::new(0.2, 0.12, 0.3);
+    let p = sorted_by_feature(points(&rect(0.4, 0.2), pose, &plane, Pose::default(), 0.05));
+    let n = [-alpha.sin(), alpha.cos()];
+    let (c, s) = (pose.theta.cos(), pose.theta.sin());
+    let corners = [[-0.2, -0.1], [0.2, -0.1], [0.2, 0.1], [-0.2, 0.1]];
+    let depth = |k: usize| {
+        let [x, y] = corners[k];
+        let w = [pose.x + c * x - s * y, pose.y + s * x + c * y];
+        n[0] * (w[0] - 0.1) + n[1] * (w[1] + 0.05)
+    };
+    let expected: Vec<usize> = (0..4).filter(|&k| depth(k) <= 0.05).collect();
+    assert!(!expected.is_empty());
+    assert_eq!(p.iter().map(|q| q.feature as usize).collect::<Vec<_>>(), expected);
+    for q in &p {
+        assert_relative_eq!(q.gap, depth(q.feature as usize), epsilon = 1e-12);
+        // A is the box: the normal points from the box into the half-plane.
+        assert_relative_eq!(q.normal[0], -n[0], epsilon = 1e-12);
+        assert_relative_eq!(q.normal[1], -n[1], epsilon = 1e-12);
+    }
+}
+
+#[test]
+fn capsule_and_disk_closed_form() {
+    let cap = Shape::Capsule { a: [-0.3, 0.0], b: [0.3, 0.0], radius: 0.05 };
+    let d = disk(0.0, 0.0, 0.1);
+    // Beside the axis: distance to the axis; beyond an end: distance to that end.
+    let p = points(&cap, Pose::default(), &d, Pose::new(0.1, 0.2, 0.0), 1.0);
+    assert_relative_eq!(p[0].gap, 0.2 - 0.15, epsilon = 1e-12);
+    let p = points(&d, Pose::new(0.6, 0.4, 0.0), &cap, Pose::default(), 1.0);
+    assert_relative_eq!(p[0].gap, 0.5 - 0.15, epsilon = 1e-12);
+    assert_relative_eq!(p[0].normal[0], -0.6, epsilon = 1e-12);
+    // The capsule turned by 90° about its centre, the disk on its axis beyond the end.
+    let p = points(&cap, Pose::new(0.0, 0.0, PI / 2.0), &d, Pose::new(0.0, 0.5, 0.0), 1.0);
+    assert_relative_eq!(p[0].gap, 0.2 - 0.15, epsilon = 1e-12);
+}
+
+/// The pose at time t of a body moving from `pose` with velocity (v, ω).
+fn advance(pose: Pose, v: [f64; 3], t: f64) -> Pose {
+    Pose::new(pose.x + v[0] * t, pose.y + v[1] * t, pose.theta + v[2] * t)
+}
+
+/// The velocity of the material point `p` of a body at `pose` moving with (v, ω).
+fn velocity(pose: Pose, v: [f64; 3], p: [f64; 2]) -> [f64; 2] {
+    let r = [p[0] - pose.x, p[1] - pose.y];
+    [v[0] - v[2] * r[1], v[1] + v[2] * r[0]]
+}
+
+/// Checks d g / dt = n · (v_B(p_B) − v_A(p_A)) by central differences at random poses near
+/// contact, and that every feature is below `max_points`; returns the number of points checked.
+fn check_rate(a: &Shape, b: &Shape, seed: u64) -> usize {
+    let mut rng = SplitMix64::new(seed);
+    let bound = max_points(a, b);
+    let (h, margin) = (1e-6, 0.2);
+    let mut checked = 0;
+    for _ in 0..60 {
+        // Draw poses until the pair is near contact: some point within the margin, none deeper
+        // than 5 cm. The draws are bounded; a pair that is never near contact fails below.
+        let mut found = None;
+        for _ in 0..400 {
+            let pa =
+                Pose::new(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), rng.uniform(-PI, PI));
+            let pb =
+                Pose::new(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), rng.uniform(-PI, PI));
+            let p = points(a, pa, b, pb, margin);
+            if !p.is_empty() && p.iter().all(|q| q.gap > -0.05) {
+                found = Some((pa, pb, p));
+                break;
+            }
+        }
+        let Some((pa, pb, p)) = found else { continue };
+        let va = [rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-2.0, 2.0)];
+        let vb = [rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-2.0, 2.0)];
+        let plus = points(a, advance(pa, va, h), b, advance(pb, vb, h), margin + 1.0);
+        let minus = points(a, advance(pa, va, -h), b, advance(pb, vb, -h), margin + 1.0);
+        for q in &p {
+            assert!((q.feature as usize) < bound, "feature {} >= {bound}", q.feature);
+            let n = q.normal;
+            assert_relative_eq!(n[0].hypot(n[1]), 1.0, epsilon = 1e-12);
+            let d = [q.point_b[0] - q.point_a[0], q.point_b[1] - q.point_a[1]];
+            assert_relative_eq!(d[0] * n[0] + d[1] * n[1], q.gap, epsilon = 1e-12);
+            let find = |set: &[ManifoldPoint]| set.iter().find(|r| r.feature == q.feature).copied();
+            let (Some(gp), Some(gm)) = (find(&plus), find(&minus)) else { continue };
+            let rate = (gp.gap - gm.gap) / (2.0 * h);
+            let (wa, wb) = (velocity(pa, va, q.point_a), velocity(pb, vb, q.point_b));
+            let expected = n[0] * (wb[0] - wa[0]) + n[1] * (wb[1] - wa[1]);
+            assert!(
+                (rate - expected).abs() <= 1e-5 * (1.0 + expected.abs()),
+                "{} vs {}: feature {} rate {rate} expected {expected} at {pa:?} {pb:?}",
+                a.name(),
+                b.name(),
+                q.feature
+            );
+            checked += 1;
+        }
+    }
+    checked
+}
+
+#[test]
+fn gap_rate_is_the_normal_relative_velocity_for_every_pair() {
+    let tri = Shape::Polygon { vertices: vec![[-0.15, -0.1], [0.2, -0.05], [0.0, 0.2]] };
+    let cap = Shape::Capsule { a: [-0.2, 0.0], b: [0.15, 0.05], radius: 0.06 };
+    let seg = Shape::Capsule { a: [-0.2, 0.03], b: [0.2, -0.03], radius: 0.0 };
+    let plane = Shape::HalfPlane { point: [0.0, 0.05], normal: [0.3, 1.0] };
+    let d = disk(0.03, -0.02, 0.12);
+    let pairs: Vec<(&str, Shape, Shape)> = vec![
+        ("disk-disk", d.clone(), disk(0.0, 0.05, 0.1)),
+        ("disk-polygon", d.clone(), rect(0.3, 0.2)),
+        ("polygon-disk", tri.clone(), d.clone()),
+        ("disk-capsule", d.clone(), cap.clone()),
+        ("disk-half_plane", d.clone(), plane.clone()),
+        ("half_plane-disk", plane.clone(), d.clone()),
+        ("disk-polyline", d.clone(), zigzag()),
+        ("polyline-disk", zigzag(), disk(0.0, 0.0, 0.05)),
+        ("disk-profile", disk(0.0, 0.0, 0.05), cam()),
+        ("polygon-polygon", rect(0.3, 0.2), tri.clone()),
+        ("polygon-capsule", rect(0.3, 0.2), cap.clone()),
+        ("capsule-capsule", cap.clone(), seg.clone()),
+        ("polygon-half_plane", rect(0.3, 0.2), plane.clone()),
+        ("half_plane-capsule", plane.clone(), cap.clone()),
+        ("polygon-polyline", tri.clone(), zigzag()),
+        ("capsule-polyline", cap.clone(), zigzag()),
+        ("profile-polygon", cam(), rect(0.3, 0.1)),
+        ("capsule-profile", seg.clone(), cam()),
+        ("half_plane-polyline", plane.clone(), zigzag()),
+        ("profile-half_plane", cam(), plane.clone()),
+    ];
+    for (k, (name, a, b)) in pairs.iter().enumerate() {
+        let checked = check_rate(a, b, 100 + k as u64);
+        assert!(checked >= 30, "{name}: only {checked} points checked");
+    }
+}
+
+#[test]
+fn resting_box_gives_its_two_corners() {
+    // On a floor.
+    let p = sorted_by_feature(points(
+        &rect(0.4, 0.2),
+        Pose::new(0.5, 0.1 + 1e-3, 0.0),
+        &floor(),
+        Pose::default(),
+        0.01,
+    ));
+    assert_eq!(p.iter().map(|q| q.feature).collect::<Vec<_>>(), vec![0, 1]);
+    for q in &p {
+        assert_relative_eq!(q.gap, 1e-3, epsilon = 1e-12);
+    }
+    assert_relative_eq!(p[0].point_a[0], 0.3, epsilon = 1e-12);
+    assert_relative_eq!(p[1].point_a[0], 0.7, epsilon = 1e-12);
+    // On the wider top face of another box, shifted and slightly penetrating.
+    let base = rect(1.0, 0.5);
+    let top = Pose::new(0.2, 0.25 + 0.1 - 2e-4, 0.0);
+    let p = sorted_by_feature(points(&base, Pose::default(), &rect(0.4, 0.2), top, 0.01));
+    assert_eq!(p.len(), 2);
+    for q in &p {
+        assert_relative_eq!(q.gap, -2e-4, epsilon = 1e-12);
+        assert_relative_eq!(q.normal[1], 1.0, epsilon = 1e-12);
+    }
+    let xs: Vec<f64> = p.iter().map(|q| q.point_b[0]).collect();
+    assert_relative_eq!(xs[0].min(xs[1]), 0.0, epsilon = 1e-12);
+    assert_relative_eq!(xs[0].max(xs[1]), 0.4, epsilon = 1e-12);
+    // Two equal boxes stacked exactly: two points, not four, at the shared corners.
+    let p =
+        points(&rect(0.4, 0.2), Pose::default(), &rect(0.4, 0.2), Pose::new(0.0, 0.2, 0.0), 0.01);
+    assert_eq!(p.len(), 2);
+    // A box slightly tilted on a flat profile face (a cam with a flat dwell would do the same):
+    // only the lower corner when the other is out of the margin.
+    let p =
+        points(&rect(0.4, 0.2), Pose::new(0.5, 0.1 + 0.02, 0.2), &floor(), Pose::default(), 0.01);
+    assert_eq!(p.len(), 1);
+}
+
+#[test]
+fn disk_in_a_concave_corner_touches_both_segments() {
+    // A V of two segments at ±45°, the disk centred on its axis touching both.
+    let v = Shape::Polyline { points: vec![[-1.0, 1.0], [0.0, 0.0], [1.0, 1.0]] };
+    let r = 0.2;
+    let y = r * 2f64.sqrt() + 1e-3;
+    let p = sorted_by_feature(points(
+        &disk(0.0, 0.0, r),
+        Pose::new(0.0, y, 0.0),
+        &v,
+        Pose::default(),
+        0.01,
+    ));
+    assert_eq!(p.iter().map(|q| q.feature).collect::<Vec<_>>(), vec![0, 1]);
+    for q in &p {
+        assert_relative_eq!(q.gap, 1e-3 / 2f64.sqrt(), epsilon = 1e-12);
+    }
+    // On a convex corner (the V upside down) the disk touches the vertex once.
+    let ridge = Shape::Polyline { points: vec![[-1.0, -1.0], [0.0, 0.0], [1.0, -1.0]] };
+    let p =
+        points(&disk(0.0, 0.0, r), Pose::new(0.0, r + 1e-3, 0.0), &ridge, Pose::default(), 0.01);
+    assert_eq!(p.len(), 1);
+    assert_eq!(p[0].feature as usize, 2 + 1);
+    assert_relative_eq!(p[0].gap, 1e-3, epsilon = 1e-12);
+}
+
+#[test]
+fn features_persist_while_the_contact_persists() {
+    // A box sliding and rocking slightly on another keeps its corner ids.
+    let base = rect(1.0, 0.5);
+    let top = rect(0.4, 0.2);
+    let ids = |x: f64, th: f64| {
+        let mut f: Vec<u32> =
+            points(&base, Pose::default(), &top, Pose::new(x, 0.35 + 1e-4, th), 0.02)
+                .iter()
+                .map(|q| q.feature)
+                .collect();
+        f.sort();
+        f
+    };
+    let first = ids(0.0, 0.0);
+    assert_eq!(first.len(), 2);
+    for k in 1..20 {
+        let s = k as f64 * 1e-3;
+        assert_eq!(ids(s, 1e-4 * (s * 50.0).sin()), first);
+    }
+    // A disk rolling along one segment of a polyline keeps the segment's id.
+    let road = zigzag();
+    let mut seen = None;
+    for k in 0..20 {
+        let t = 0.3 + 0.02 * k as f64;
+        // Along segment 1, from (-0.3, 0.15) to (0, -0.05), just above it.
+        let (x, y) = (-0.3 + 0.3 * t, 0.15 - 0.2 * t);
+        let n = [0.2 / 0.3605551275463989, 0.3 / 0.3605551275463989];
+        let p = points(
+            &disk(0.0, 0.0, 0.05),
+            Pose::new(x + 0.051 * n[0], y + 0.051 * n[1], 0.1 * k as f64),
+            &road,
+            Pose::default(),
+            0.005,
+        );
+        assert_eq!(p.len(), 1);
+        assert_relative_eq!(p[0].gap, 1e-3, epsilon = 1e-12);
+        assert_eq!(*seen.get_or_insert(p[0].feature), p[0].feature);
+    }
+    assert_eq!(seen, Some(1));
+}
+
+#[test]
+fn disk_inside_a_profile_is_pushed_out_by_the_nearest_face() {
+    // A square profile; the disk's centre 1 cm inside its right face.
+    let square =
+        Shape::Profile { points: vec![[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]] };
+    let p = points(&disk(0.0, 0.0, 0.1), Pose::new(0.49, 0.1, 0.0), &square, Pose::default(), 0.0);
+    assert_eq!(p.len(), 1);
+    assert_relative_eq!(p[0].gap, -0.11, epsilon = 1e-12);
+    assert_relative_eq!(p[0].normal[0], -1.0, epsilon = 1e-12);
+    // Outside, the same face gives the ordinary gap.
+    let p = points(&disk(0.0, 0.0, 0.1), Pose::new(0.65, 0.1, 0.0), &square, Pose::default(), 0.1);
+    assert_eq!(p.len(), 1);
+    assert_relative_eq!(p[0].gap, 0.05, epsilon = 1e-12);
+}
+
+#[test]
+fn unsupported_pairs_and_bad_margins_are_refused() {
+    let mut out = Vec::new();
+    let o = Pose::default();
+    let err = collide(&floor(), &o, &floor(), &o, 0.0, &mut out).unwrap_err();
+    assert_eq!(err, KinematicsError::UnsupportedPair { a: "half_plane", b: "half_plane" });
+    let err = collide(&zigzag(), &o, &cam(), &o, 0.0, &mut out).unwrap_err();
+    assert_eq!(err, KinematicsError::UnsupportedPair { a: "polyline", b: "profile" });
+    assert_eq!(max_points(&zigzag(), &cam()), 0);
+    assert!(matches!(
+        collide(&disk(0.0, 0.0, 1.0), &o, &floor(), &o, f64::NAN, &mut out),
+        Err(KinematicsError::InvalidOption { name: "margin", .. })
+    ));
+}
+
+#[test]
+fn validation_names_what_is_wrong() {
+    let problem = |s: Shape| match s.validate() {
+        Err(KinematicsError::InvalidShape { problem, index, .. }) => (problem, index),
+        other => panic!("expected an invalid shape, got {other:?}"),
+    };
+    assert_eq!(problem(disk(0.0, 0.0, -1.0)).0, "negative radius");
+    assert_eq!(problem(disk(f64::NAN, 0.0, 1.0)).0, "non-finite centre");
+    let cw = Shape::Polygon { vertices: vec![[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]] };
+    assert_eq!(problem(cw), ("not strictly convex and counter-clockwise", Some(1)));
+    let dent = Shape::Polygon {
+        vertices: vec![[0.0, 0.0], [2.0, 0.0], [1.0, 0.2], [2.0, 1.0], [0.0, 1.0]],
+    };
+    assert_eq!(problem(dent).0, "not strictly convex and counter-clockwise");
+    let star: Vec<[f64; 2]> = (0..5)
+        .map(|k| {
+            let a = 4.0 * PI * k as f64 / 5.0;
+            [a.cos(), a.sin()]
+        })
+        .collect();
+    assert_eq!(problem(Shape::Polygon { vertices: star }).0, "winds round more than once");
+    assert_eq!(
+        problem(Shape::Polygon { vertices: vec![[0.0, 0.0], [1.0, 0.0]] }).0,
+        "too few points"
+    );
+    let cap = Shape::Capsule { a: [1.0, 1.0], b: [1.0, 1.0], radius: 0.1 };
+    assert_eq!(problem(cap).0, "its two ends coincide (a disk has one centre)");
+    let hp = Shape::HalfPlane { point: [0.0, 0.0], normal: [0.0, 0.0] };
+    assert_eq!(problem(hp).0, "zero normal");
+    let line = Shape::Polyline { points: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 0.0]] };
+    assert_eq!(problem(line), ("two consecutive points coincide", Some(1)));
+    let bow = Shape::Profile {
+        points: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.2], [-0.5, 0.5]],
+    };
+    assert_eq!(problem(bow).0, "the contour crosses itself");
+    let clockwise = Shape::Profile { points: vec![[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]] };
+    assert_eq!(problem(clockwise).0, "points run clockwise or enclose no area");
+    assert!(
+        rect(1.0, 2.0).validate().is_ok()
+            && zigzag().validate().is_ok()
+            && cam().validate().is_ok()
+    );
+    assert!(matches!(
+        Shape::profile_polar(|_| 1.0, 2),
+        Err(KinematicsError::InvalidOption { name: "samples", .. })
+    ));
+    // A curve run clockwise is turned counter-clockwise.
+    let cw =
+        Shape::profile_from_curve(|s| [(2.0 * PI * s).cos(), -(2.0 * PI * s).sin()], 32).unwrap();
+    assert!(cw.area() > 0.0);
+}
+
+#[test]
+fn mass_properties_closed_forms() {
+    // A 0.4 × 0.2 box about its centre, then offset by (1, 2).
+    let (w, h) = (0.4, 0.2);
+    assert_relative_eq!(rect(w, h).area(), w * h, epsilon = 1e-15);
+    assert_relative_eq!(
+        rect(w, h).unit_inertia().unwrap(),
+        (w * w + h * h) / 12.0,
+        epsilon = 1e-15
+    );
+    let shifted = Shape::Polygon { vertices: vec![[0.8, 1.9], [1.2, 1.9], [1.2, 2.1], [0.8, 2.1]] };
+    let c = shifted.centroid();
+    assert_relative_eq!(c[0], 1.0, epsilon = 1e-12);
+    assert_relative_eq!(c[1], 2.0, epsilon = 1e-12);
+    assert_relative_eq!(
+        shifted.unit_inertia().unwrap(),
+        (w * w + h * h) / 12.0 + 5.0,
+        epsilon = 1e-12
+    );
+    // A disk: r²/2 plus the parallel-axis term.
+    let d = disk(0.3, -0.4, 0.5);
+    assert_relative_eq!(d.area(), PI * 0.25, epsilon = 1e-15);
+    assert_relative_eq!(d.unit_inertia().unwrap(), 0.125 + 0.25, epsilon = 1e-15);
+    // A right triangle with legs a, b at the origin: centroid (a/3, b/3), J_O = ab(a² + b²)/12.
+    let (a, b) = (0.6, 0.3);
+    let tri = Shape::Polygon { vertices: vec![[0.0, 0.0], [a, 0.0], [0.0, b]] };
+    assert_relative_eq!(tri.area(), a * b / 2.0, epsilon = 1e-15);
+    assert_relative_eq!(tri.centroid()[0], a / 3.0, epsilon = 1e-15);
+    assert_relative_eq!(tri.centroid()[1], b / 3.0, epsilon = 1e-15);
+    assert_relative_eq!(tri.unit_inertia().unwrap(), (a * a + b * b) / 6.0, epsilon = 1e-15);
+    // A capsule of radius 0 is a rod (L²/12); of length → 0 it tends to a disk.
+    let rod = Shape::Capsule { a: [-0.5, 0.0], b: [0.5, 0.0], radius: 0.0 };
+    assert_relative_eq!(rod.unit_inertia().unwrap(), 1.0 / 12.0, epsilon = 1e-15);
+    let short = Shape::Capsule { a: [-1e-9, 0.0], b: [1e-9, 0.0], radius: 0.2 };
+    assert_relative_eq!(short.unit_inertia().unwrap(), 0.02, epsilon = 1e-8);
+    // The capsule against a fine polygon approximation of the same outline.
+    let (l, r) = (0.6, 0.1);
+    let cap = Shape::Capsule { a: [-l / 2.0, 0.0], b: [l / 2.0, 0.0], radius: r };
+    let mut outline = Vec::new();
+    for k in 0..=2000 {
+        let t = -PI / 2.0 + PI * k as f64 / 2000.0;
+        outline.push([l / 2.0 + r * t.cos(), r * t.sin()]);
+    }
+    for k in 0..=2000 {
+        let t = PI / 2.0 + PI * k as f64 / 2000.0;
+        outline.push([-l / 2.0 + r * t.cos(), r * t.sin()]);
+    }
+    let fine = Shape::Profile { points: outline };
+    assert_relative_eq!(cap.area(), fine.area(), max_relative = 1e-6);
+    assert_relative_eq!(
+        cap.unit_inertia().unwrap(),
+        fine.unit_inertia().unwrap(),
+        max_relative = 1e-6
+    );
+    // No inertia for shapes without area.
+    assert!(matches!(floor().unit_inertia(), Err(KinematicsError::NoMassProperties { .. })));
+    assert!(matches!(zigzag().unit_inertia(), Err(KinematicsError::NoMassProperties { .. })));
+}
+
+#[test]
+fn bounding_boxes() {
+    let b = rect(0.4, 0.2).aabb(&Pose::new(1.0, 2.0, PI / 2.0));
+    assert_relative_eq!(b.min[0], 0.9, epsilon = 1e-12);
+    assert_relative_eq!(b.max[1], 2.2, epsilon = 1e-12);
+    let f = floor().aabb(&Pose::new(0.0, -1.0, 0.0));
+    assert_eq!((f.max[1], f.min[1], f.max[0]), (-1.0, f64::NEG_INFINITY, f64::INFINITY));
+    let tilted = floor().aabb(&Pose::new(0.0, -1.0, 0.1));
+    assert!(!tilted.is_finite() && tilted.max[1] == f64::INFINITY);
+}
+
+#[test]
+fn broad_phase_matches_brute_force() {
+    let mut rng = SplitMix64::new(42);
+    let mut broad = BroadPhase::new();
+    let mut out = Vec::new();
+    for round in 0..6 {
+        let n = if round < 3 { 300 } else { 200 + 40 * round };
+        let mut boxes: Vec<Aabb> = (0..n)
+            .map(|_| {
+                let (x, y) = (rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0));
+                let (w, h) = (rng.uniform(0.0, 0.05), rng.uniform(0.0, 0.05));
+                Aabb { min: [x, y], max: [x + w, y + h] }
+            })
+            .collect();
+        // A floor and a wall (infinite boxes) among them.
+        boxes[7] = floor().aabb(&Pose::new(0.0, 0.1, 0.0));
+        boxes[11] = Shape::HalfPlane { point: [0.0, 0.0], normal: [-1.0, 0.0] }
+            .aabb(&Pose::new(0.9, 0.0, 0.0));
+        let margin = 0.005;
+        broad.pairs(&boxes, margin, &mut out);
+        let mut brute = Vec::new();
+        for i in 0..n {
+            for j in i + 1..n {
+                if boxes[i].overlaps(&boxes[j], margin) {
+                    brute.push((i, j));
+                }
+            }
+        }
+        assert!(brute.len() > n / 2, "too few pairs to test: {}", brute.len());
+        assert_eq!(out, brute, "round {round}");
+    }
+    // The same boxes moved a little: the refitted tree still finds every pair.
+    let mut boxes: Vec<Aabb> = (0..500)
+        .map(|_| {
+            let (x, y) = (rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0));
+            Aabb { min: [x, y], max: [x + 0.03, y + 0.03] }
+        })
+        .collect();
+    for _ in 0..5 {
+        broad.pairs(&boxes, 0.0, &mut out);
+        let brute: Vec<(usize, usize)> = (0..500)
+            .flat_map(|i| (i + 1..500).map(move |j| (i, j)))
+            .filter(|&(i, j)| boxes[i].overlaps(&boxes[j], 0.0))
+            .collect();
+        assert_eq!(out, brute);
+        for b in &mut boxes {
+            let d = [rng.uniform(-0.02, 0.02), rng.uniform(-0.02, 0.02)];
+            *b = Aabb {
+                min: [b.min[0] + d[0], b.min[1] + d[1]],
+                max: [b.max[0] + d[0], b.max[1] + d[1]],
+            };
+        }
+    }
+}
+
+#[test]
+fn shapes_round_trip_through_serde() {
+    let json = serde_json::to_string(&rect(1.0, 1.0)).unwrap();
+    assert!(json.starts_with(r#"{"type":"polygon""#));
+    let back: Shape =
+        serde_json::from_str(r#"{"type":"half_plane","point":[0,0],"normal":[0,1]}"#).unwrap();
+    assert_eq!(back, floor());
+}
