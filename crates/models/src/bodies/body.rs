@@ -1,5 +1,7 @@
 //! Built bodies: where each body is at (q, t), and how a point of it moves with q and t.
 
+use moreau_kinematics::{Pose, Shape};
+
 use super::spec::{DrivenState, Motion};
 
 /// What a built body is.
@@ -21,6 +23,11 @@ pub(crate) struct Body {
     pub kind: Kind,
     /// (x, y, θ) at t = 0 for dynamic and fixed bodies; p₀, θ₀ of a driven body's motion.
     pub pose0: [f64; 3],
+    /// The shapes, in the body frame.
+    pub shapes: Vec<Shape>,
+    /// Collision group and mask bits.
+    pub group: u32,
+    pub mask: u32,
 }
 
 /// A body's frame at (q, t): its origin p, angle θ with cos and sin, the rheonomic velocity
@@ -73,6 +80,12 @@ impl Frame {
     pub fn at(pose: [f64; 3], v: [f64; 2], omega: f64, dof: Option<usize>) -> Self {
         let (sin, cos) = pose[2].sin_cos();
         Self { p: [pose[0], pose[1]], theta: pose[2], cos, sin, v, omega, dof }
+    }
+
+    /// The frame as the kinematics' pose.
+    #[inline]
+    pub fn pose(&self) -> Pose {
+        Pose { x: self.p[0], y: self.p[1], theta: self.theta }
     }
 
     /// R(θ) r: a body-frame vector in the world.

@@ -10,14 +10,14 @@ use super::body::{Body, Kind, scale};
 use super::forces::Force;
 use super::joints::{Joint, JointKind};
 use super::multibody::{Multibody, Slot};
-use super::spec::{BodySpec, BodyType, ContactSpec, ForceSpec, JointSpec, SystemSpec};
+use super::spec::{BodySpec, BodyType, ForceSpec, JointSpec, SystemSpec};
 use crate::ModelError;
 use crate::params::{LawParams, finite, non_negative, positive, relation};
 
 /// The name that stands for the world frame when no body has it.
 pub const GROUND: &str = "ground";
 
-fn bad(key: String, value: &str, reason: String) -> ModelError {
+pub(crate) fn bad(key: String, value: &str, reason: String) -> ModelError {
     ModelError::BadValue { key, value: value.to_owned(), reason }
 }
 
@@ -33,17 +33,28 @@ fn unit(field: &str, v: [f64; 2]) -> Result<[f64; 2], ModelError> {
     if n > 0.0 { Ok(scale(v, 1.0 / n)) } else { Err(relation(field, 0.0, "must not be zero")) }
 }
 
-fn law(prefix: &str, eps_n: f64, eps_t: f64, mu: f64) -> Result<ContactLaw, ModelError> {
+pub(crate) fn law(prefix: &str, eps_n: f64, eps_t: f64, mu: f64) -> Result<ContactLaw, ModelError> {
     LawParams::new(eps_n, eps_t, mu).law(prefix)
 }
 
 /// Finds a body by name for the field `field`, adding the implicit ground when named.
-fn resolve(bodies: &mut Vec<Body>, field: &str, name: &str) -> Result<usize, ModelError> {
+pub(crate) fn resolve(
+    bodies: &mut Vec<Body>,
+    field: &str,
+    name: &str,
+) -> Result<usize, ModelError> {
     if let Some(i) = bodies.iter().position(|b| b.name == name) {
         return Ok(i);
     }
     if name == GROUND {
-        bodies.push(Body { name: GROUND.to_owned(), kind: Kind::Fixed, pose0: [0.0; 3] });
+        bodies.push(Body {
+            name: GROUND.to_owned(),
+            kind: Kind::Fixed,
+            pose0: [0.0; 3],
+            shapes: Vec::new(),
+            group: 0,
+            mask: 0,
+        });
         return Ok(bodies.len() - 1);
     }
     let known: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
@@ -68,6 +79,11 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
         if present { Err(bad(field(f), "(given)", why.to_owned())) } else { Ok(()) }
     };
     let moving = spec.velocity != [0.0; 2] || spec.omega != 0.0;
+    for (k, shape) in spec.shapes.iter().enumerate() {
+        shape
+            .validate()
+            .map_err(|e| bad(format!("{path}.shapes.{k}"), shape.name(), e.to_string()))?;
+    }
     let kind = match spec.kind {
         BodyType::Dynamic => {
             refuse("motion", spec.motion.is_some(), "only a driven body has a motion")?;
@@ -94,11 +110,25 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
                         spec.center_of_mass.is_some(),
                         "follows from the shapes when a density is given",
                     )?;
-                    return Err(bad(
-                        field("density"),
-                        &rho.to_string(),
-                        "a body without shapes has no area; give mass and inertia".to_owned(),
-                    ));
+                    // Shapes without a finite area (half-planes, polylines) only collide.
+                    let (mut area, mut first, mut polar) = (0.0, [0.0; 2], 0.0);
+                    for shape in &spec.shapes {
+                        let (a, Ok(unit)) = (shape.area(), shape.unit_inertia()) else { continue };
+                        if a.is_finite() && a > 0.0 {
+                            let c = shape.centroid();
+                            area += a;
+                            first = [first[0] + a * c[0], first[1] + a * c[1]];
+                            polar += a * unit;
+                        }
+                    }
+                    if area <= 0.0 {
+                        return Err(bad(
+                            field("density"),
+                            &rho.to_string(),
+                            "the body's shapes have no area; give mass and inertia".to_owned(),
+                        ));
+                    }
+                    (rho * area, rho * polar, [first[0] / area, first[1] / area])
                 }
                 _ => {
                     return Err(bad(
@@ -134,6 +164,9 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
         name: spec.name.clone(),
         kind,
         pose0: [spec.position[0], spec.position[1], spec.angle],
+        shapes: spec.shapes.clone(),
+        group: spec.group,
+        mask: spec.mask,
     })
 }
 
@@ -433,7 +466,15 @@ impl SystemSpec {
             .enumerate()
             .map(|(i, f)| force(f, i, &mut bodies))
             .collect::<Result<Vec<_>, _>>()?;
-        self.contacts.iter().try_for_each(|c| contact(c, &mut bodies))?;
+        let jointed: Vec<(usize, usize)> = joints.iter().map(|j| (j.a, j.b)).collect();
+        let pairs = super::contacts::pairs(
+            self,
+            &mut bodies,
+            &jointed,
+            &mut slots,
+            &mut laws,
+            &mut contact_names,
+        )?;
         let mut coordinate_names = Vec::new();
         let mut velocity_names = Vec::new();
         let mut q0 = Vec::new();
@@ -458,6 +499,7 @@ impl SystemSpec {
             forces,
             gravity: self.gravity,
             slots,
+            pairs,
             laws,
             contact_names,
             coordinate_names,
@@ -466,20 +508,12 @@ impl SystemSpec {
             u0,
             dynamic,
             constant_mass,
+            extent: ([0.0; 2], 1.0),
         };
+        mb.extent = extent(&mb.bodies);
         mb.q0 = assemble(&mb)?;
         Ok(mb)
     }
-}
-
-fn contact(spec: &ContactSpec, bodies: &mut Vec<Body>) -> Result<(), ModelError> {
-    let path = format!("contacts.{}", spec.name);
-    let field = |f: &str| format!("{path}.{f}");
-    resolve(bodies, &field("body_a"), &spec.body_a)?;
-    resolve(bodies, &field("body_b"), &spec.body_b)?;
-    law(&path, spec.eps_n, spec.eps_t, spec.mu)?;
-    non_negative(&field("margin"), spec.margin)?;
-    Err(bad(path, &spec.name, "contacts between shapes need the bodies' shapes".to_owned()))
 }
 
 /// q₀ moved onto the joints' position constraints g_B(q, 0) = 0 by Gauss-Newton steps
@@ -532,4 +566,34 @@ fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
         size,
         "the joints cannot all be closed at t = 0 (incompatible anchors or positions)",
     ))
+}
+
+/// The centre and half-diagonal of the box around the bodies' origins and finite shapes at
+/// t = 0 (at least 0.5 m, so that a lone body still shows its floor).
+fn extent(bodies: &[Body]) -> ([f64; 2], f64) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    let mut grow = |p: [f64; 2], q: [f64; 2]| {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    };
+    for body in bodies.iter().filter(|b| b.name != GROUND || !b.shapes.is_empty()) {
+        let frame = match body.kind {
+            Kind::Dynamic { .. } => super::body::Frame::at(body.pose0, [0.0; 2], 0.0, None),
+            _ => body.frame(&[], 0.0),
+        };
+        grow(frame.p, frame.p);
+        for shape in &body.shapes {
+            let b = shape.aabb(&frame.pose());
+            if b.is_finite() {
+                grow(b.min, b.max);
+            }
+        }
+    }
+    if !lo[0].is_finite() {
+        return ([0.0; 2], 1.0);
+    }
+    let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    (centre, (0.6 * (hi[0] - lo[0]).hypot(hi[1] - lo[1])).max(0.5))
 }

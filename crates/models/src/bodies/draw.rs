@@ -112,6 +112,64 @@ fn joint_anchors(kind: &JointKind) -> Vec<(bool, [f64; 2])> {
 }
 
 impl Multibody {
-    /// Draws body i's shapes at its frame.
-    fn draw_shapes(&self, _i: usize, _frame: &super::body::Frame, _d: &mut Drawing) {}
+    /// Draws body i's shapes at its frame; a half-plane as its boundary across the region the
+    /// finite shapes and the joints occupy at t = 0.
+    fn draw_shapes(&self, i: usize, frame: &super::body::Frame, d: &mut Drawing) {
+        use moreau_kinematics::Shape;
+        let role = match self.bodies[i].kind {
+            Kind::Dynamic { .. } => Role::Slider,
+            Kind::Fixed => Role::Ground,
+            Kind::Driven(_) => Role::Cam,
+        };
+        let points = |v: &[[f64; 2]]| v.iter().map(|p| frame.point(*p)).collect::<Vec<_>>();
+        for shape in &self.bodies[i].shapes {
+            match shape {
+                Shape::Disk { center, radius } => {
+                    let c = frame.point(*center);
+                    let ball = if role == Role::Slider { Role::Ball } else { role };
+                    d.circle(ball, c, *radius);
+                    // A radius shows the disk's rotation.
+                    d.line(role, vec![c, frame.point(add(*center, [*radius, 0.0]))]);
+                }
+                Shape::Polygon { vertices } => d.polygon(role, points(vertices)),
+                Shape::Profile { points: p } => d.polygon(role, points(p)),
+                Shape::Polyline { points: p } => d.line(role, points(p)),
+                Shape::Capsule { a, b, radius } => {
+                    let axis = [b[0] - a[0], b[1] - a[1]];
+                    let length = axis[0].hypot(axis[1]);
+                    let angle = axis[1].atan2(axis[0]);
+                    let mut outline = Vec::with_capacity(34);
+                    for (end, start) in [
+                        (*b, angle - std::f64::consts::FRAC_PI_2),
+                        (*a, angle + std::f64::consts::FRAC_PI_2),
+                    ] {
+                        for k in 0..=16 {
+                            let phi = start + std::f64::consts::PI * k as f64 / 16.0;
+                            outline.push(
+                                frame.point(add(end, scale([phi.cos(), phi.sin()], *radius))),
+                            );
+                        }
+                    }
+                    if *radius == 0.0 || length == 0.0 {
+                        d.line(role, points(&[*a, *b]));
+                    } else {
+                        d.polygon(role, outline);
+                    }
+                }
+                Shape::HalfPlane { point, normal } => {
+                    let n = frame.rotate(*normal);
+                    let along = scale(perp(n), 1.0 / n[0].hypot(n[1]));
+                    let p = frame.point(*point);
+                    // The boundary through the point nearest the scene's centre.
+                    let (c, reach) = self.extent;
+                    let s = (c[0] - p[0]) * along[0] + (c[1] - p[1]) * along[1];
+                    let m = add(p, scale(along, s));
+                    d.line(
+                        Role::Ground,
+                        vec![add(m, scale(along, -reach)), add(m, scale(along, reach))],
+                    );
+                }
+            }
+        }
+    }
 }

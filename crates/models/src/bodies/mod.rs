@@ -31,6 +31,7 @@
 mod body;
 mod build;
 mod builder;
+mod contacts;
 mod draw;
 mod forces;
 mod joints;

@@ -5,6 +5,7 @@ use moreau_setvalued::ContactLaw;
 use moreau_stepper::{BilateralPoint, Mechanism};
 
 use super::body::{Body, Frame, Kind};
+use super::contacts::Pair;
 use super::forces::{Force, body_forces, gravity_potential, mass_block};
 use super::joints::{Joint, SlotGeometry};
 use super::spec::SystemSpec;
@@ -14,6 +15,8 @@ use super::spec::SystemSpec;
 pub(crate) enum Slot {
     /// Contact `k` of a clearance joint.
     Joint { joint: usize, k: usize },
+    /// Feature `feature` of a pair of shapes.
+    Pair { pair: usize, feature: usize },
 }
 
 /// A declared mechanism built into maximal coordinates: q = (x, y, θ) of each dynamic body's
@@ -34,6 +37,7 @@ pub struct Multibody {
     pub(crate) forces: Vec<Force>,
     pub(crate) gravity: [f64; 2],
     pub(crate) slots: Vec<Slot>,
+    pub(crate) pairs: Vec<Pair>,
     pub(crate) laws: Vec<ContactLaw>,
     pub(crate) contact_names: Vec<String>,
     pub(crate) coordinate_names: Vec<String>,
@@ -43,6 +47,9 @@ pub struct Multibody {
     /// The indices of the dynamic bodies, in coordinate order.
     pub(crate) dynamic: Vec<usize>,
     pub(crate) constant_mass: bool,
+    /// The centre and half-size (m) of the region the bodies occupy at t = 0, for drawing
+    /// half-planes.
+    pub(crate) extent: ([f64; 2], f64),
 }
 
 impl Multibody {
@@ -141,6 +148,11 @@ impl Multibody {
                 let (fa, fb) = (self.frame(j.a, q, t), self.frame(j.b, q, t));
                 (j.kind.contact(k, &fa, &fb), fa, fb)
             }
+            Slot::Pair { pair, feature } => {
+                let p = &self.pairs[pair];
+                let (fa, fb) = (self.frame(p.a, q, t), self.frame(p.b, q, t));
+                (self.pair_slot(p, feature, &fa, &fb), fa, fb)
+            }
         }
     }
 
@@ -175,6 +187,19 @@ impl ContactKinematics for Multibody {
 
     fn normal_gap(&self, i: usize, q: &[f64], t: f64) -> f64 {
         self.slot_geometry(i, q, t).0.gap
+    }
+
+    /// One narrow phase per pair of shapes for all its slots.
+    fn normal_gaps(&self, q: &[f64], t: f64, g: &mut [f64]) {
+        for (i, slot) in self.slots.iter().enumerate() {
+            if let Slot::Joint { .. } = slot {
+                g[i] = self.slot_geometry(i, q, t).0.gap;
+            }
+        }
+        for p in &self.pairs {
+            let (fa, fb) = (self.frame(p.a, q, t), self.frame(p.b, q, t));
+            self.pair_slots(p, &fa, &fb, |k, geometry| g[p.first + k] = geometry.gap);
+        }
     }
 
     fn contact(

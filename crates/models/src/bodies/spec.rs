@@ -162,6 +162,11 @@ pub struct BodySpec {
     /// The motion of a driven body (required for `type = "driven"`, refused otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<Motion>,
+    /// The body's shapes, in its frame (m), in the kinematics' form
+    /// (`{ type = "disk", center = [0, 0], radius = 0.1 }`, `polygon` with `vertices`,
+    /// `capsule`, `half_plane`, `polyline`, `profile`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shapes: Vec<moreau_kinematics::Shape>,
     /// Collision group bits: automatic contacts exist between bodies a and b only when
     /// `a.group & b.mask != 0` and `b.group & a.mask != 0`. Default 1.
     #[serde(default = "default_group")]
@@ -211,9 +216,16 @@ impl BodySpec {
             velocity: [0.0; 2],
             omega: 0.0,
             motion: None,
+            shapes: Vec::new(),
             group: default_group(),
             mask: default_mask(),
         }
+    }
+
+    /// The same body with one more shape.
+    pub fn with_shape(mut self, shape: moreau_kinematics::Shape) -> Self {
+        self.shapes.push(shape);
+        self
     }
 
     /// The same body with an initial velocity (m/s) and angular velocity (rad/s).
@@ -556,9 +568,11 @@ pub struct ContactSpec {
     pub eps_t: f64,
     /// Friction coefficient μ >= 0.
     pub mu: f64,
-    /// Detection margin (m, >= 0): features farther apart are not computed; default 0.
-    #[serde(default, skip_serializing_if = "is_zero")]
-    pub margin: f64,
+    /// Detection margin (m, > 0): the features of the pair farther apart than this are not
+    /// computed and report this gap. Default: 1 % of the smaller shape's bounding box
+    /// diagonal at t = 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<f64>,
 }
 
 /// The laws of the automatic contacts between one pair of bodies.
@@ -587,9 +601,10 @@ pub struct AutoContacts {
     pub eps_t: f64,
     /// Default friction coefficient μ.
     pub mu: f64,
-    /// Detection margin (m, >= 0); default 0.
-    #[serde(default, skip_serializing_if = "is_zero")]
-    pub margin: f64,
+    /// Detection margin (m, > 0), as [`ContactSpec::margin`]; default 1 % of the smaller
+    /// shape's bounding box diagonal at t = 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<f64>,
     /// Laws for particular pairs of bodies.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub overrides: Vec<PairOverride>,
@@ -598,7 +613,7 @@ pub struct AutoContacts {
 impl AutoContacts {
     /// Automatic contacts with one law for every pair.
     pub fn new(law: LawParams) -> Self {
-        Self { eps_n: law.eps_n, eps_t: law.eps_t, mu: law.mu, margin: 0.0, overrides: Vec::new() }
+        Self { eps_n: law.eps_n, eps_t: law.eps_t, mu: law.mu, margin: None, overrides: Vec::new() }
     }
 }
 
