@@ -530,7 +530,7 @@ impl Scene {
         // accepted when everything up to its last part exists.
         if self.kind() == ModelKind::Declared
             && let Ok(mut doc) = toml::Value::try_from(self)
-            && let Some((parent, last)) = key.rsplit_once('.')
+            && let (parent, last) = key.rsplit_once('.').unwrap_or(("", key))
             && let Some(container) = leaf_mut(&mut doc, parent)
             && (container.is_table() || (container.is_array() && last.parse::<usize>().is_ok()))
         {
@@ -737,14 +737,10 @@ fn unknown_field_name(message: &str) -> Option<String> {
 }
 
 /// Turns the TOML reader's error on a declared scene into a [`ModelError::Parse`] that names
-/// the field; the tagged tables (joints, forces, motions) lose the reader's positions, so each
-/// element of the arrays of tables is read again alone to find the one at fault.
+/// the field by its `--set` path: each element of the arrays of tables is read again alone to
+/// find the one at fault (the reader's positions name the array, not the element, and the
+/// tagged tables of joints and forces lose them).
 fn declared_parse_error(text: &str, table: &toml::Table, error: &toml::de::Error) -> ModelError {
-    if let Some(field) = error.span().and_then(|span| locate_key(text, span.start))
-        && !field.starts_with('[')
-    {
-        return ModelError::Parse { path: None, field: Some(field), message: error.to_string() };
-    }
     fn first_error<T: serde::de::DeserializeOwned>(
         table: &toml::Table,
         key: &str,
@@ -772,6 +768,11 @@ fn declared_parse_error(text: &str, table: &toml::Table, error: &toml::de::Error
             field: Some(field),
             message: format!("{}\n{message}", error.message()),
         },
-        None => ModelError::Parse { path: None, field: None, message: error.to_string() },
+        // An error outside the arrays of tables keeps the reader's position.
+        None => ModelError::Parse {
+            path: None,
+            field: error.span().and_then(|span| locate_key(text, span.start)),
+            message: error.to_string(),
+        },
     }
 }
