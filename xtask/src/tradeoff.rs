@@ -262,6 +262,7 @@ pub fn metrics(kind: ModelKind) -> &'static [Metric] {
         ModelKind::SliderCrankIdeal => &IDEAL,
         ModelKind::Cam => &CAM,
         ModelKind::Painleve => &PAINLEVE,
+        ModelKind::Declared => &[],
     }
 }
 

@@ -281,6 +281,8 @@ pub fn summary(run: &RunResult) -> Value {
         ModelKind::SliderCrankIdeal => json!(ideal(run)),
         ModelKind::Cam => json!(cam(run)),
         ModelKind::Painleve => json!(painleve(run)),
+        // A declared mechanism has no report quantities of its own.
+        ModelKind::Declared => json!({}),
     };
     let params: serde_json::Map<String, Value> =
         parameters(&run.scene).into_iter().map(|(k, v)| (k, Value::String(v))).collect();
@@ -320,6 +322,7 @@ pub fn columns(kind: ModelKind) -> &'static [&'static str] {
             &["impacts", "impacts_per_lobe", "first_rebound_height", "mean_time_to_contact"]
         }
         ModelKind::Painleve => &["x_end", "phi_end", "first_stick_time", "lift_off_time"],
+        ModelKind::Declared => &[],
     }
 }
 
@@ -376,5 +379,6 @@ pub fn row(run: &RunResult) -> Vec<Option<f64>> {
             let k = painleve(run);
             vec![Some(k.x_end), Some(k.phi_end), k.first_stick_time, k.lift_off_time]
         }
+        ModelKind::Declared => Vec::new(),
     }
 }

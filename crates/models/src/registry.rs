@@ -5,9 +5,10 @@ use std::str::FromStr;
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::{ConcreteOp, Mechanism, SharedWork};
+use moreau_stepper::{BilateralPoint, ConcreteOp, Mechanism, SharedWork};
 use serde::{Deserialize, Serialize};
 
+use crate::bodies::{Multibody, SystemSpec};
 use crate::draw::Drawing;
 use crate::{
     Ball, BallParams, Cam, CamParams, ModelError, PainleveParams, PainleveRod, SliderCrank,
@@ -30,6 +31,9 @@ pub enum ModelKind {
     Cam,
     /// Painlevé's rod (7.5), `painleve`.
     Painleve,
+    /// A declared mechanism (bodies, joints, forces, contacts), `declared`; not one of
+    /// [`ModelKind::ALL`], whose names are the report's models.
+    Declared,
 }
 
 impl ModelKind {
@@ -52,10 +56,12 @@ impl ModelKind {
             ModelKind::SliderCrankIdeal => "slider-crank-ideal",
             ModelKind::Cam => "cam",
             ModelKind::Painleve => "painleve",
+            ModelKind::Declared => "declared",
         }
     }
 
-    /// Names of the coordinates q.
+    /// Names of the coordinates q; empty for [`ModelKind::Declared`], whose names depend on
+    /// the scene ([`AnyModel::coordinate_names`] has them).
     pub fn coordinate_names(self) -> &'static [&'static str] {
         match self {
             ModelKind::Ball => Ball::COORDINATES,
@@ -64,10 +70,11 @@ impl ModelKind {
             ModelKind::SliderCrankIdeal => SliderCrankIdeal::COORDINATES,
             ModelKind::Cam => Cam::COORDINATES,
             ModelKind::Painleve => PainleveRod::COORDINATES,
+            ModelKind::Declared => &[],
         }
     }
 
-    /// Names of the velocities u.
+    /// Names of the velocities u; empty for [`ModelKind::Declared`].
     pub fn velocity_names(self) -> &'static [&'static str] {
         match self {
             ModelKind::Ball => Ball::VELOCITIES,
@@ -76,6 +83,7 @@ impl ModelKind {
             ModelKind::SliderCrankIdeal => SliderCrankIdeal::VELOCITIES,
             ModelKind::Cam => Cam::VELOCITIES,
             ModelKind::Painleve => PainleveRod::VELOCITIES,
+            ModelKind::Declared => &[],
         }
     }
 }
@@ -100,7 +108,9 @@ impl FromStr for ModelKind {
     }
 }
 
-/// The parameters of any model, tagged by the model's name in the field `model`.
+/// The parameters of any model, tagged by the model's name in the field `model`; a declared
+/// mechanism's declaration is not under `[params]` but at the top level of its scene file
+/// (see [`crate::Scene`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "model", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum ModelParams {
@@ -116,10 +126,14 @@ pub enum ModelParams {
     Cam(CamParams),
     /// Painlevé rod.
     Painleve(PainleveParams),
+    /// A declared mechanism.
+    #[serde(skip)]
+    Declared(Box<SystemSpec>),
 }
 
 impl ModelParams {
-    /// The report's parameters of a model.
+    /// The report's parameters of a model; for [`ModelKind::Declared`], the example
+    /// [`SystemSpec::example`].
     pub fn report(kind: ModelKind) -> Self {
         match kind {
             ModelKind::Ball => ModelParams::Ball(BallParams::report()),
@@ -130,6 +144,7 @@ impl ModelParams {
             }
             ModelKind::Cam => ModelParams::Cam(CamParams::report()),
             ModelKind::Painleve => ModelParams::Painleve(PainleveParams::report()),
+            ModelKind::Declared => ModelParams::Declared(Box::new(SystemSpec::example())),
         }
     }
 
@@ -142,6 +157,7 @@ impl ModelParams {
             ModelParams::SliderCrankIdeal(_) => ModelKind::SliderCrankIdeal,
             ModelParams::Cam(_) => ModelKind::Cam,
             ModelParams::Painleve(_) => ModelKind::Painleve,
+            ModelParams::Declared(_) => ModelKind::Declared,
         }
     }
 
@@ -159,12 +175,16 @@ impl ModelParams {
             }
             ModelParams::Cam(p) => AnyModel::Cam(Cam::new(p.clone())?),
             ModelParams::Painleve(p) => AnyModel::Painleve(PainleveRod::new(p.clone())?),
+            ModelParams::Declared(spec) => AnyModel::Declared(spec.build()?),
         })
     }
 }
 
 /// Any model of the report, as one [`Mechanism`] type (dispatching by `match`; a stepper of
 /// an `AnyModel` runs the model's own type through [`Mechanism::with_concrete`]).
+// One model is built per run and stepped in place, so the size of the largest variant costs
+// nothing, while boxing it would take the declared mechanism out of `with_concrete`'s reach.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub enum AnyModel {
     /// Bouncing ball.
@@ -179,6 +199,8 @@ pub enum AnyModel {
     Cam(Cam),
     /// Painlevé rod.
     Painleve(PainleveRod),
+    /// A declared mechanism.
+    Declared(Multibody),
 }
 
 macro_rules! dispatch {
@@ -190,6 +212,7 @@ macro_rules! dispatch {
             AnyModel::SliderCrankIdeal($m) => $e,
             AnyModel::Cam($m) => $e,
             AnyModel::Painleve($m) => $e,
+            AnyModel::Declared($m) => $e,
         }
     };
 }
@@ -204,17 +227,26 @@ impl AnyModel {
             AnyModel::SliderCrankIdeal(_) => ModelKind::SliderCrankIdeal,
             AnyModel::Cam(_) => ModelKind::Cam,
             AnyModel::Painleve(_) => ModelKind::Painleve,
+            AnyModel::Declared(_) => ModelKind::Declared,
         }
     }
 
-    /// Names of the coordinates q (as in docs/theory.md).
-    pub fn coordinate_names(&self) -> &'static [&'static str] {
-        self.kind().coordinate_names()
+    /// Names of the coordinates q (as in docs/theory.md; `<body>.x`, `<body>.y`,
+    /// `<body>.theta` for a declared mechanism).
+    pub fn coordinate_names(&self) -> Names<'_> {
+        match self {
+            AnyModel::Declared(m) => Names::Owned(m.coordinate_names()),
+            _ => Names::Static(self.kind().coordinate_names()),
+        }
     }
 
-    /// Names of the velocities u (as in docs/theory.md).
-    pub fn velocity_names(&self) -> &'static [&'static str] {
-        self.kind().velocity_names()
+    /// Names of the velocities u (as in docs/theory.md; `<body>.vx`, `<body>.vy`,
+    /// `<body>.omega` for a declared mechanism).
+    pub fn velocity_names(&self) -> Names<'_> {
+        match self {
+            AnyModel::Declared(m) => Names::Owned(m.velocity_names()),
+            _ => Names::Static(self.kind().velocity_names()),
+        }
     }
 
     /// Names of the listed contacts (switched-off contacts are not listed).
@@ -241,6 +273,7 @@ impl AnyModel {
             AnyModel::SliderCrank(m) => m.contact_points(q, t),
             AnyModel::Cam(m) => m.contact_points(q, t),
             AnyModel::Painleve(m) => m.contact_points(q, t),
+            AnyModel::Declared(m) => m.contact_points(q, t),
         }
     }
 
@@ -253,6 +286,7 @@ impl AnyModel {
             AnyModel::SliderCrankIdeal(m) => ModelParams::SliderCrankIdeal(m.params().clone()),
             AnyModel::Cam(m) => ModelParams::Cam(m.params().clone()),
             AnyModel::Painleve(m) => ModelParams::Painleve(m.params().clone()),
+            AnyModel::Declared(m) => ModelParams::Declared(Box::new(m.spec().clone())),
         }
     }
 }
@@ -324,9 +358,66 @@ impl Mechanism for AnyModel {
     fn shared_work(&self) -> Option<&dyn SharedWork> {
         dispatch!(self, m => m.shared_work())
     }
+    #[inline]
+    fn num_bilaterals(&self) -> usize {
+        dispatch!(self, m => m.num_bilaterals())
+    }
+    #[inline]
+    fn bilateral(&self, i: usize, q: &[f64], t: f64, w: &mut [f64]) -> BilateralPoint {
+        dispatch!(self, m => m.bilateral(i, q, t, w))
+    }
     /// Runs `op` with the model inside, so that a stepper of an `AnyModel` runs the loop
     /// compiled for that model's type (chosen once per run).
     fn with_concrete<O: ConcreteOp>(&self, op: O) -> O::Output {
         dispatch!(self, m => op.run(m))
+    }
+}
+
+/// Names of a model's coordinates or velocities, borrowed without allocating: the report's
+/// models have static names, a declared mechanism owns its own.
+#[derive(Clone, Copy, Debug)]
+pub enum Names<'a> {
+    /// A report model's names.
+    Static(&'static [&'static str]),
+    /// A declared mechanism's names.
+    Owned(&'a [String]),
+}
+
+impl<'a> Names<'a> {
+    /// The number of names.
+    pub fn len(&self) -> usize {
+        match self {
+            Names::Static(s) => s.len(),
+            Names::Owned(s) => s.len(),
+        }
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Name `i`.
+    pub fn get(&self, i: usize) -> Option<&'a str> {
+        match self {
+            Names::Static(s) => s.get(i).copied(),
+            Names::Owned(s) => s.get(i).map(String::as_str),
+        }
+    }
+
+    /// The names in order.
+    pub fn iter(&self) -> impl Iterator<Item = &'a str> + 'a {
+        let this = *self;
+        (0..this.len()).filter_map(move |i| this.get(i))
+    }
+
+    /// The index of a name.
+    pub fn position(&self, name: &str) -> Option<usize> {
+        self.iter().position(|n| n == name)
+    }
+
+    /// The names as owned strings.
+    pub fn to_vec(&self) -> Vec<String> {
+        self.iter().map(str::to_owned).collect()
     }
 }

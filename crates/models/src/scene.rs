@@ -11,6 +11,7 @@ use moreau_stepper::{
 };
 use serde::{Deserialize, Serialize};
 
+use crate::bodies::{AutoContacts, BodySpec, ContactSpec, ForceSpec, JointSpec, SystemSpec};
 use crate::params::{finite, non_negative, positive, relation};
 use crate::{
     AnyModel, BallParams, CamParams, ModelError, ModelKind, ModelParams, PainleveParams,
@@ -34,10 +35,10 @@ pub struct StopRule {
 /// A simulation set-up: a model with its parameters, the step size, how long to run and
 /// which LCP solver to use.
 ///
-/// In TOML the scene's own keys come first and the model's parameters form the table
-/// `[params]`, whose key `model` names the model (`ball`, `woodpecker`, `slider-crank`,
-/// `slider-crank-ideal`, `cam`, `painleve`); nested tables such as `[params.init]` hold the
-/// initial state:
+/// A scene file has one of two forms. For a model of the report, the scene's own keys come
+/// first and the model's parameters form the table `[params]`, whose key `model` names the
+/// model (`ball`, `woodpecker`, `slider-crank`, `slider-crank-ideal`, `cam`, `painleve`);
+/// nested tables such as `[params.init]` hold the initial state:
 ///
 /// ```toml
 /// dt = 0.001          # time step Δt (s)
@@ -56,24 +57,186 @@ pub struct StopRule {
 /// y0 = 1.0
 /// v0 = 0.0
 /// ```
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+///
+/// A declared mechanism ([`crate::bodies::SystemSpec`]) has no `[params]`: the scene's keys
+/// are followed by `gravity` and the arrays of tables `[[bodies]]`, `[[joints]]`,
+/// `[[forces]]`, `[[contacts]]` and the table `[contacts_auto]`; `projection` defaults to
+/// `true` there:
+///
+/// ```toml
+/// dt = 0.001
+/// t_end = 2.0
+/// gravity = [0.0, -9.81]   # m/s²
+///
+/// [[bodies]]
+/// name = "rod"
+/// type = "dynamic"
+/// mass = 1.0               # kg
+/// inertia = 0.0833333      # kg m², about the origin (here the centre of mass)
+/// position = [0.5, 0.0]    # m
+///
+/// [[joints]]
+/// type = "revolute"
+/// name = "hinge"
+/// body_a = "ground"
+/// anchor_a = [0.0, 0.0]
+/// body_b = "rod"
+/// anchor_b = [-0.5, 0.0]
+/// ```
+#[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     /// Time step Δt (s), finite and > 0.
     pub dt: f64,
     /// End time (s); with a [`StopRule`] it is an upper bound on the run's length.
     pub t_end: f64,
     /// Keep one step in `record_every` in the [`Record`] (>= 1); default 1.
-    #[serde(default = "one")]
     pub record_every: usize,
     /// The LCP solver; [`SolverChoice::Auto`] when omitted.
-    #[serde(default)]
     pub solver: SolverChoice,
     /// An optional stop rule on a coordinate; none when omitted.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stop_at: Option<StopRule>,
-    /// The model and its parameters (the table `[params]`).
+    /// Project the positions back onto the joints and onto g_N >= 0 after each step
+    /// (`StepperOptions::projection`); default `false` for the report's models, `true` for
+    /// declared mechanisms.
+    pub projection: bool,
+    /// The model and its parameters (the table `[params]`, or the declaration).
     pub params: ModelParams,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+fn is_true(b: &bool) -> bool {
+    *b
+}
+
+/// A report model's scene as written in TOML.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BuiltinFile {
+    dt: f64,
+    t_end: f64,
+    #[serde(default = "one")]
+    record_every: usize,
+    #[serde(default)]
+    solver: SolverChoice,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    stop_at: Option<StopRule>,
+    #[serde(default, skip_serializing_if = "is_false")]
+    projection: bool,
+    params: ModelParams,
+}
+
+/// A declared mechanism's scene as written in TOML: the scene's keys and the declaration's.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DeclaredFile {
+    dt: f64,
+    t_end: f64,
+    #[serde(default = "one")]
+    record_every: usize,
+    #[serde(default)]
+    solver: SolverChoice,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    stop_at: Option<StopRule>,
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    projection: bool,
+    gravity: [f64; 2],
+    bodies: Vec<BodySpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    joints: Vec<JointSpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    forces: Vec<ForceSpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    contacts: Vec<ContactSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    contacts_auto: Option<AutoContacts>,
+}
+
+impl From<BuiltinFile> for Scene {
+    fn from(f: BuiltinFile) -> Self {
+        Scene {
+            dt: f.dt,
+            t_end: f.t_end,
+            record_every: f.record_every,
+            solver: f.solver,
+            stop_at: f.stop_at,
+            projection: f.projection,
+            params: f.params,
+        }
+    }
+}
+
+impl From<DeclaredFile> for Scene {
+    fn from(f: DeclaredFile) -> Self {
+        let spec = SystemSpec {
+            gravity: f.gravity,
+            bodies: f.bodies,
+            joints: f.joints,
+            forces: f.forces,
+            contacts: f.contacts,
+            contacts_auto: f.contacts_auto,
+        };
+        Scene {
+            dt: f.dt,
+            t_end: f.t_end,
+            record_every: f.record_every,
+            solver: f.solver,
+            stop_at: f.stop_at,
+            projection: f.projection,
+            params: ModelParams::Declared(Box::new(spec)),
+        }
+    }
+}
+
+impl Serialize for Scene {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match &self.params {
+            ModelParams::Declared(spec) => DeclaredFile {
+                dt: self.dt,
+                t_end: self.t_end,
+                record_every: self.record_every,
+                solver: self.solver,
+                stop_at: self.stop_at.clone(),
+                projection: self.projection,
+                gravity: spec.gravity,
+                bodies: spec.bodies.clone(),
+                joints: spec.joints.clone(),
+                forces: spec.forces.clone(),
+                contacts: spec.contacts.clone(),
+                contacts_auto: spec.contacts_auto.clone(),
+            }
+            .serialize(serializer),
+            params => BuiltinFile {
+                dt: self.dt,
+                t_end: self.t_end,
+                record_every: self.record_every,
+                solver: self.solver,
+                stop_at: self.stop_at.clone(),
+                projection: self.projection,
+                params: params.clone(),
+            }
+            .serialize(serializer),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Scene {
+    /// Reads either form: with a `params` table the report model's, otherwise the declared.
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let value = toml::Value::deserialize(deserializer)?;
+        if value.get("params").is_some() {
+            BuiltinFile::deserialize(value).map(Scene::from).map_err(D::Error::custom)
+        } else {
+            DeclaredFile::deserialize(value).map(Scene::from).map_err(D::Error::custom)
+        }
+    }
 }
 
 /// The result of [`Scene::run`].
@@ -120,6 +283,7 @@ impl Scene {
             ModelKind::SliderCrank | ModelKind::SliderCrankIdeal => (1e-5, 1.0),
             ModelKind::Cam => (1e-4, 0.15),
             ModelKind::Painleve => (1e-3, 1.5),
+            ModelKind::Declared => (1e-3, 2.0),
         };
         let stop_at = match kind {
             ModelKind::SliderCrank | ModelKind::SliderCrankIdeal => {
@@ -135,6 +299,7 @@ impl Scene {
             record_every: 1,
             solver: SolverChoice::Auto,
             stop_at,
+            projection: kind == ModelKind::Declared,
             params: ModelParams::report(kind),
         }
     }
@@ -151,7 +316,16 @@ impl Scene {
     /// syntax, an unknown field or a wrong type; [`ModelError::InvalidParameter`] naming the
     /// field for a value out of range.
     pub fn from_toml_str(text: &str) -> Result<Scene, ModelError> {
-        let scene: Scene = toml::from_str(text).map_err(|e| parse_error(text, &e))?;
+        let table: toml::Table = toml::from_str(text).map_err(|e| parse_error(text, &e))?;
+        // Each form is read from the text itself, so that the reader's errors keep their
+        // positions in the file.
+        let scene: Scene = if table.contains_key("params") {
+            toml::from_str::<BuiltinFile>(text).map_err(|e| parse_error(text, &e))?.into()
+        } else {
+            toml::from_str::<DeclaredFile>(text)
+                .map_err(|e| declared_parse_error(text, &table, &e))?
+                .into()
+        };
         scene.validate()?;
         Ok(scene)
     }
@@ -188,21 +362,23 @@ impl Scene {
         if self.record_every == 0 {
             return Err(relation("record_every", 0.0, "must be at least 1"));
         }
+        let model = self.params.build()?;
         if let Some(stop) = &self.stop_at {
             finite("stop_at.value", stop.value)?;
-            if !self.kind().coordinate_names().contains(&stop.coordinate.as_str()) {
+            let names = model.coordinate_names();
+            if names.position(&stop.coordinate).is_none() {
                 return Err(ModelError::BadValue {
                     key: "stop_at.coordinate".to_owned(),
                     value: stop.coordinate.clone(),
                     reason: format!(
                         "not a coordinate of {}; accepted: {}",
                         self.kind(),
-                        self.kind().coordinate_names().join(", ")
+                        names.to_vec().join(", ")
                     ),
                 });
             }
         }
-        self.params.build().map(|_| ())
+        Ok(())
     }
 
     /// Validates the parameters and builds the model.
@@ -213,9 +389,9 @@ impl Scene {
         self.params.build()
     }
 
-    /// The stepper's options: Δt and the solver.
+    /// The stepper's options: Δt, the solver and the projection.
     pub fn stepper_options(&self) -> StepperOptions {
-        StepperOptions::new(self.dt).with_solver(self.solver)
+        StepperOptions::new(self.dt).with_solver(self.solver).with_projection(self.projection)
     }
 
     /// A stepper at the model's initial state and t = 0, for stepping by hand.
@@ -275,16 +451,14 @@ impl Scene {
     ) -> Result<RunSummary, ModelError> {
         let summary = match &self.stop_at {
             Some(stop) => {
-                let index = self
-                    .kind()
-                    .coordinate_names()
-                    .iter()
-                    .position(|n| *n == stop.coordinate)
-                    .ok_or_else(|| ModelError::BadValue {
-                        key: "stop_at.coordinate".to_owned(),
-                        value: stop.coordinate.clone(),
-                        reason: "not a coordinate of the model".to_owned(),
-                    })?;
+                let index =
+                    stepper.mechanism().coordinate_names().position(&stop.coordinate).ok_or_else(
+                        || ModelError::BadValue {
+                            key: "stop_at.coordinate".to_owned(),
+                            value: stop.coordinate.clone(),
+                            reason: "not a coordinate of the model".to_owned(),
+                        },
+                    )?;
                 let start_below = stepper.q()[index] < stop.value;
                 let mut wrapped =
                     StopObserver { inner: observer, index, value: stop.value, start_below };
@@ -347,10 +521,21 @@ impl Scene {
         } else {
             exact
         };
-        if targets.is_empty() || key.is_empty() {
-            return Err(ModelError::UnknownKey { key: key.to_owned(), accepted: self.keys() });
+        if !targets.is_empty() && !key.is_empty() {
+            return Ok(targets.into_iter().cloned().collect());
         }
-        Ok(targets.into_iter().cloned().collect())
+        // A path into an array (`bodies.block.position.1`) or to an optional field that the
+        // scene leaves at its default (`bodies.block.angle`) is not among the leaves; it is
+        // accepted when everything up to its last part exists.
+        if self.kind() == ModelKind::Declared
+            && let Ok(mut doc) = toml::Value::try_from(self)
+            && let (parent, last) = key.rsplit_once('.').unwrap_or(("", key))
+            && let Some(container) = leaf_mut(&mut doc, parent)
+            && (container.is_table() || (container.is_array() && last.parse::<usize>().is_ok()))
+        {
+            return Ok(vec![key.to_owned()]);
+        }
+        Err(ModelError::UnknownKey { key: key.to_owned(), accepted: self.keys() })
     }
 
     /// Sets one value, as given on a command line by `--set key=value`.
@@ -377,9 +562,16 @@ impl Scene {
         let targets = self.targets(key)?;
         let mut doc = toml::Value::try_from(&*self).map_err(|e| bad(e.to_string()))?;
         for path in &targets {
-            let slot =
-                leaf_mut(&mut doc, path).ok_or_else(|| bad(format!("no value at `{path}`")))?;
-            *slot = parse_like(slot, value).map_err(bad)?;
+            match leaf_mut(&mut doc, path) {
+                Some(slot) => *slot = parse_like(slot, value).map_err(bad)?,
+                None => {
+                    let (parent, last) = path.rsplit_once('.').unwrap_or(("", path));
+                    let table = leaf_mut(&mut doc, parent)
+                        .and_then(toml::Value::as_table_mut)
+                        .ok_or_else(|| bad(format!("no value at `{path}`")))?;
+                    table.insert(last.to_owned(), parse_any(value));
+                }
+            }
         }
         let scene: Scene =
             doc.try_into().map_err(|e: toml::de::Error| bad(e.message().to_owned()))?;
@@ -389,21 +581,52 @@ impl Scene {
     }
 }
 
-/// Calls `f` with the dotted path of every non-table value under `value`.
+/// Calls `f` with the dotted path of every value under `value` that is neither a table nor
+/// an array of tables; the elements of an array of tables are named by their `name` field,
+/// or by their index when they have none.
 fn collect_leaves(value: &toml::Value, prefix: &str, f: &mut dyn FnMut(&str)) {
+    let join = |k: &str| if prefix.is_empty() { k.to_owned() } else { format!("{prefix}.{k}") };
     match value {
         toml::Value::Table(table) => {
             for (k, v) in table {
-                let path = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
-                collect_leaves(v, &path, f);
+                collect_leaves(v, &join(k), f);
+            }
+        }
+        toml::Value::Array(items) if !items.is_empty() && items.iter().all(|v| v.is_table()) => {
+            for (i, item) in items.iter().enumerate() {
+                let name = item.get("name").and_then(toml::Value::as_str);
+                collect_leaves(item, &join(&name.map_or_else(|| i.to_string(), str::to_owned)), f);
             }
         }
         _ => f(prefix),
     }
 }
 
+/// The value at a dotted path: table keys, and for arrays an index or (arrays of tables) the
+/// `name` of an element.
 fn leaf_mut<'a>(doc: &'a mut toml::Value, path: &str) -> Option<&'a mut toml::Value> {
-    path.split('.').try_fold(doc, |v, k| v.as_table_mut()?.get_mut(k))
+    if path.is_empty() {
+        return Some(doc);
+    }
+    path.split('.').try_fold(doc, |v, k| match v {
+        toml::Value::Table(t) => t.get_mut(k),
+        toml::Value::Array(items) => match k.parse::<usize>() {
+            Ok(i) => items.get_mut(i),
+            Err(_) => items.iter_mut().find(|e| e.get("name").and_then(|n| n.as_str()) == Some(k)),
+        },
+        _ => None,
+    })
+}
+
+/// Parses a value given for a key the scene does not write (an optional field at its
+/// default): a TOML value (`2`, `[0, 1]`, `true`, `{ kind = "linear", ... }`), or else the text
+/// as a string.
+fn parse_any(text: &str) -> toml::Value {
+    let text = text.trim();
+    toml::from_str::<toml::Table>(&format!("v = {text}"))
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(text.to_owned()))
 }
 
 /// Parses `text` as a value of the same TOML type as `like`.
@@ -426,6 +649,14 @@ fn parse_like(like: &toml::Value, text: &str) -> Result<toml::Value, String> {
             .map(toml::Value::Boolean)
             .map_err(|_| format!("expected true or false, got `{text}`")),
         toml::Value::String(_) => Ok(toml::Value::String(text.to_owned())),
+        toml::Value::Array(_) | toml::Value::Table(_) => {
+            let value = parse_any(text);
+            if value.type_str() == like.type_str() {
+                Ok(value)
+            } else {
+                Err(format!("expected {} such as [0.0, 1.0], got `{text}`", like.type_str()))
+            }
+        }
         other => Err(format!("cannot set a value of type {}", other.type_str())),
     }
 }
@@ -485,6 +716,7 @@ fn diagnose_params(text: &str) -> Option<(String, String)> {
         ModelKind::SliderCrankIdeal => toml::from_str::<SliderCrankIdealParams>(&sub).err(),
         ModelKind::Cam => toml::from_str::<CamParams>(&sub).err(),
         ModelKind::Painleve => toml::from_str::<PainleveParams>(&sub).err(),
+        ModelKind::Declared => None,
     }?;
     let message = error.message().to_owned();
     let field = match error.span().and_then(|s| locate_key(&sub, s.start)) {
@@ -501,4 +733,45 @@ fn diagnose_params(text: &str) -> Option<(String, String)> {
 fn unknown_field_name(message: &str) -> Option<String> {
     let rest = message.strip_prefix("unknown field `")?;
     Some(rest[..rest.find('`')?].to_owned())
+}
+
+/// Turns the TOML reader's error on a declared scene into a [`ModelError::Parse`] that names
+/// the field by its `--set` path: each element of the arrays of tables is read again alone to
+/// find the one at fault (the reader's positions name the array, not the element, and the
+/// tagged tables of joints and forces lose them).
+fn declared_parse_error(text: &str, table: &toml::Table, error: &toml::de::Error) -> ModelError {
+    fn first_error<T: serde::de::DeserializeOwned>(
+        table: &toml::Table,
+        key: &str,
+    ) -> Option<(String, String)> {
+        let items = table.get(key)?.as_array()?;
+        items.iter().enumerate().find_map(|(i, item)| {
+            let e = T::deserialize(item.clone()).err()?;
+            let name = item.get("name").and_then(toml::Value::as_str);
+            let element = name.map_or_else(|| i.to_string(), str::to_owned);
+            let message = e.message().to_owned();
+            let field = match unknown_field_name(&message) {
+                Some(f) => format!("{key}.{element}.{f}"),
+                None => format!("{key}.{element}"),
+            };
+            Some((field, message))
+        })
+    }
+    let found = first_error::<BodySpec>(table, "bodies")
+        .or_else(|| first_error::<JointSpec>(table, "joints"))
+        .or_else(|| first_error::<ForceSpec>(table, "forces"))
+        .or_else(|| first_error::<ContactSpec>(table, "contacts"));
+    match found {
+        Some((field, message)) => ModelError::Parse {
+            path: None,
+            field: Some(field),
+            message: format!("{}\n{message}", error.message()),
+        },
+        // An error outside the arrays of tables keeps the reader's position.
+        None => ModelError::Parse {
+            path: None,
+            field: error.span().and_then(|span| locate_key(text, span.start)),
+            message: error.to_string(),
+        },
+    }
 }

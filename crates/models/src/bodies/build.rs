@@ -1,0 +1,599 @@
+//! [`SystemSpec::build`]: validation of a declaration and its translation into a
+//! [`Multibody`], with errors that name the offending field by its `--set` path.
+
+use moreau_kinematics::ContactKinematics;
+use moreau_setvalued::ContactLaw;
+use moreau_stepper::Mechanism;
+use nalgebra::{DMatrix, DVector};
+
+use super::body::{Body, Kind, scale};
+use super::forces::Force;
+use super::joints::{Joint, JointKind};
+use super::multibody::{Multibody, Slot};
+use super::spec::{BodySpec, BodyType, ForceSpec, JointSpec, SystemSpec};
+use crate::ModelError;
+use crate::params::{LawParams, finite, non_negative, positive, relation};
+
+/// The name that stands for the world frame when no body has it.
+pub const GROUND: &str = "ground";
+
+pub(crate) fn bad(key: String, value: &str, reason: String) -> ModelError {
+    ModelError::BadValue { key, value: value.to_owned(), reason }
+}
+
+fn finite2(field: &str, v: [f64; 2]) -> Result<(), ModelError> {
+    finite(&format!("{field}.0"), v[0])?;
+    finite(&format!("{field}.1"), v[1])
+}
+
+/// A direction made unit; refuses a zero or non-finite one.
+fn unit(field: &str, v: [f64; 2]) -> Result<[f64; 2], ModelError> {
+    finite2(field, v)?;
+    let n = v[0].hypot(v[1]);
+    if n > 0.0 { Ok(scale(v, 1.0 / n)) } else { Err(relation(field, 0.0, "must not be zero")) }
+}
+
+pub(crate) fn law(prefix: &str, eps_n: f64, eps_t: f64, mu: f64) -> Result<ContactLaw, ModelError> {
+    LawParams::new(eps_n, eps_t, mu).law(prefix)
+}
+
+/// Finds a body by name for the field `field`, adding the implicit ground when named.
+pub(crate) fn resolve(
+    bodies: &mut Vec<Body>,
+    field: &str,
+    name: &str,
+) -> Result<usize, ModelError> {
+    if let Some(i) = bodies.iter().position(|b| b.name == name) {
+        return Ok(i);
+    }
+    if name == GROUND {
+        bodies.push(Body {
+            name: GROUND.to_owned(),
+            kind: Kind::Fixed,
+            pose0: [0.0; 3],
+            shapes: Vec::new(),
+            group: 0,
+            mask: 0,
+        });
+        return Ok(bodies.len() - 1);
+    }
+    let known: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
+    Err(bad(
+        field.to_owned(),
+        name,
+        format!(
+            "no body has this name; bodies: {} (or `{GROUND}` for the world)",
+            known.join(", ")
+        ),
+    ))
+}
+
+fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
+    let path = format!("bodies.{}", spec.name);
+    let field = |f: &str| format!("{path}.{f}");
+    finite2(&field("position"), spec.position)?;
+    finite(&field("angle"), spec.angle)?;
+    finite2(&field("velocity"), spec.velocity)?;
+    finite(&field("omega"), spec.omega)?;
+    let refuse = |f: &str, present: bool, why: &str| {
+        if present { Err(bad(field(f), "(given)", why.to_owned())) } else { Ok(()) }
+    };
+    let moving = spec.velocity != [0.0; 2] || spec.omega != 0.0;
+    for (k, shape) in spec.shapes.iter().enumerate() {
+        shape
+            .validate()
+            .map_err(|e| bad(format!("{path}.shapes.{k}"), shape.name(), e.to_string()))?;
+    }
+    let kind = match spec.kind {
+        BodyType::Dynamic => {
+            refuse("motion", spec.motion.is_some(), "only a driven body has a motion")?;
+            let (mass, inertia, com) = match (spec.mass, spec.inertia, spec.density) {
+                (Some(m), Some(i), None) => {
+                    positive(&field("mass"), m)?;
+                    positive(&field("inertia"), i)?;
+                    let com = spec.center_of_mass.unwrap_or([0.0; 2]);
+                    finite2(&field("center_of_mass"), com)?;
+                    let c2 = com[0] * com[0] + com[1] * com[1];
+                    if i <= m * c2 {
+                        return Err(relation(
+                            &field("inertia"),
+                            i,
+                            "the inertia about the origin must exceed m |center_of_mass|²",
+                        ));
+                    }
+                    (m, i, com)
+                }
+                (None, None, Some(rho)) => {
+                    positive(&field("density"), rho)?;
+                    refuse(
+                        "center_of_mass",
+                        spec.center_of_mass.is_some(),
+                        "follows from the shapes when a density is given",
+                    )?;
+                    // Shapes without a finite area (half-planes, polylines) only collide.
+                    let (mut area, mut first, mut polar) = (0.0, [0.0; 2], 0.0);
+                    for shape in &spec.shapes {
+                        let (a, Ok(unit)) = (shape.area(), shape.unit_inertia()) else { continue };
+                        if a.is_finite() && a > 0.0 {
+                            let c = shape.centroid();
+                            area += a;
+                            first = [first[0] + a * c[0], first[1] + a * c[1]];
+                            polar += a * unit;
+                        }
+                    }
+                    if area <= 0.0 {
+                        return Err(bad(
+                            field("density"),
+                            &rho.to_string(),
+                            "the body's shapes have no area; give mass and inertia".to_owned(),
+                        ));
+                    }
+                    (rho * area, rho * polar, [first[0] / area, first[1] / area])
+                }
+                _ => {
+                    return Err(bad(
+                        field("mass"),
+                        "(missing)",
+                        "a dynamic body needs either mass and inertia or a density".to_owned(),
+                    ));
+                }
+            };
+            Kind::Dynamic { dof, mass, inertia, com }
+        }
+        BodyType::Fixed | BodyType::Driven => {
+            let what = if spec.kind == BodyType::Fixed { "fixed" } else { "driven" };
+            let why = format!("a {what} body has no mass properties");
+            refuse("mass", spec.mass.is_some(), &why)?;
+            refuse("inertia", spec.inertia.is_some(), &why)?;
+            refuse("density", spec.density.is_some(), &why)?;
+            refuse("center_of_mass", spec.center_of_mass.is_some(), &why)?;
+            refuse("velocity", moving, &format!("a {what} body's motion is not an initial state"))?;
+            if spec.kind == BodyType::Fixed {
+                refuse("motion", spec.motion.is_some(), "only a driven body has a motion")?;
+                Kind::Fixed
+            } else {
+                let motion = spec.motion.clone().ok_or_else(|| {
+                    bad(field("motion"), "(missing)", "a driven body needs a motion".to_owned())
+                })?;
+                check_motion(&field("motion"), &motion)?;
+                Kind::Driven(motion)
+            }
+        }
+    };
+    Ok(Body {
+        name: spec.name.clone(),
+        kind,
+        pose0: [spec.position[0], spec.position[1], spec.angle],
+        shapes: spec.shapes.clone(),
+        group: spec.group,
+        mask: spec.mask,
+    })
+}
+
+fn check_motion(field: &str, motion: &super::spec::Motion) -> Result<(), ModelError> {
+    use super::spec::Motion;
+    let f = |s: &str| format!("{field}.{s}");
+    match motion {
+        Motion::Rotate { pivot, omega, phase } => {
+            finite2(&f("pivot"), *pivot)?;
+            finite(&f("omega"), *omega)?;
+            finite(&f("phase"), *phase)
+        }
+        Motion::Oscillate { amplitude, omega, phase } => {
+            finite2(&f("amplitude"), *amplitude)?;
+            finite(&f("omega"), *omega)?;
+            finite2(&f("phase"), *phase)
+        }
+        Motion::Linear { velocity, omega } => {
+            finite2(&f("velocity"), *velocity)?;
+            finite(&f("omega"), *omega)
+        }
+        Motion::Custom(_) => Ok(()),
+    }
+}
+
+/// The relative angle θ_b − θ_a at t = 0 of two built bodies.
+fn relative_angle(bodies: &[Body], a: usize, b: usize) -> f64 {
+    let frame = |i: usize| bodies[i].frame(&[], 0.0);
+    // Dynamic bodies' frames need q; their declared angle is their pose0.
+    let angle = |i: usize| match bodies[i].kind {
+        Kind::Dynamic { .. } => bodies[i].pose0[2],
+        _ => frame(i).theta,
+    };
+    angle(b) - angle(a)
+}
+
+fn joint(
+    spec: &JointSpec,
+    bodies: &mut Vec<Body>,
+) -> Result<(Joint, Option<ContactLaw>), ModelError> {
+    let name = spec.name();
+    let path = format!("joints.{name}");
+    let field = |f: &str| format!("{path}.{f}");
+    let (na, nb) = spec.bodies();
+    let a = resolve(bodies, &field("body_a"), na)?;
+    let b = resolve(bodies, &field("body_b"), nb)?;
+    if a == b {
+        return Err(bad(field("body_b"), nb, "a joint needs two different bodies".to_owned()));
+    }
+    if !bodies[a].is_dynamic() && !bodies[b].is_dynamic() {
+        return Err(bad(field("body_b"), nb, "a joint needs at least one dynamic body".to_owned()));
+    }
+    let reference = |angle: &Option<f64>| -> Result<f64, ModelError> {
+        match angle {
+            Some(v) => finite(&field("angle"), *v).map(|()| *v),
+            None => Ok(relative_angle(bodies, a, b)),
+        }
+    };
+    let anchors = |ra: [f64; 2], rb: [f64; 2]| -> Result<(), ModelError> {
+        finite2(&field("anchor_a"), ra)?;
+        finite2(&field("anchor_b"), rb)
+    };
+    let mut contact_law = None;
+    let kind = match spec {
+        JointSpec::Revolute { anchor_a, anchor_b, .. } => {
+            anchors(*anchor_a, *anchor_b)?;
+            JointKind::Revolute { ra: *anchor_a, rb: *anchor_b }
+        }
+        JointSpec::Prismatic { anchor_a, anchor_b, axis, angle, .. } => {
+            anchors(*anchor_a, *anchor_b)?;
+            let d = unit(&field("axis"), *axis)?;
+            JointKind::Prismatic {
+                ra: *anchor_a,
+                rb: *anchor_b,
+                normal_a: [-d[1], d[0]],
+                angle: reference(angle)?,
+            }
+        }
+        JointSpec::Weld { anchor_a, anchor_b, angle, .. } => {
+            anchors(*anchor_a, *anchor_b)?;
+            JointKind::Weld { ra: *anchor_a, rb: *anchor_b, angle: reference(angle)? }
+        }
+        JointSpec::PointOnLine { anchor_a, anchor_b, axis, .. } => {
+            anchors(*anchor_a, *anchor_b)?;
+            let d = unit(&field("axis"), *axis)?;
+            JointKind::PointOnLine { ra: *anchor_a, rb: *anchor_b, normal_b: [-d[1], d[0]] }
+        }
+        JointSpec::Motor { omega, angle, .. } => {
+            finite(&field("omega"), *omega)?;
+            JointKind::Motor { omega: *omega, angle: reference(angle)? }
+        }
+        JointSpec::RevoluteClearance {
+            anchor_a,
+            anchor_b,
+            pin_radius,
+            bearing_radius,
+            eps_n,
+            eps_t,
+            mu,
+            ..
+        } => {
+            anchors(*anchor_a, *anchor_b)?;
+            non_negative(&field("pin_radius"), *pin_radius)?;
+            non_negative(&field("bearing_radius"), *bearing_radius)?;
+            if bearing_radius < pin_radius {
+                return Err(relation(
+                    &field("bearing_radius"),
+                    *bearing_radius,
+                    "must be at least pin_radius",
+                ));
+            }
+            contact_law = Some(law(&path, *eps_n, *eps_t, *mu)?);
+            JointKind::RevoluteClearance {
+                ra: *anchor_a,
+                rb: *anchor_b,
+                pin_radius: *pin_radius,
+                bearing_radius: *bearing_radius,
+            }
+        }
+        JointSpec::TranslationalClearance {
+            anchor_a,
+            axis_a,
+            length,
+            width,
+            anchor_b,
+            axis_b,
+            guide_width,
+            eps_n,
+            eps_t,
+            mu,
+            ..
+        } => {
+            anchors(*anchor_a, *anchor_b)?;
+            positive(&field("length"), *length)?;
+            positive(&field("width"), *width)?;
+            positive(&field("guide_width"), *guide_width)?;
+            if guide_width < width {
+                return Err(relation(
+                    &field("guide_width"),
+                    *guide_width,
+                    "must be at least width",
+                ));
+            }
+            contact_law = Some(law(&path, *eps_n, *eps_t, *mu)?);
+            JointKind::TranslationalClearance {
+                ra: *anchor_a,
+                axis_a: unit(&field("axis_a"), *axis_a)?,
+                half_length: 0.5 * length,
+                half_width: 0.5 * width,
+                rb: *anchor_b,
+                axis_b: unit(&field("axis_b"), *axis_b)?,
+                half_guide: 0.5 * guide_width,
+            }
+        }
+    };
+    Ok((Joint { name: name.to_owned(), a, b, kind }, contact_law))
+}
+
+fn force(spec: &ForceSpec, index: usize, bodies: &mut Vec<Body>) -> Result<Force, ModelError> {
+    let path = format!("forces.{}", spec.name().map_or_else(|| index.to_string(), str::to_owned));
+    let field = |f: &str| format!("{path}.{f}");
+    Ok(match spec {
+        ForceSpec::Spring {
+            body_a,
+            anchor_a,
+            body_b,
+            anchor_b,
+            stiffness,
+            rest_length,
+            damping,
+            ..
+        } => {
+            let a = resolve(bodies, &field("body_a"), body_a)?;
+            let b = resolve(bodies, &field("body_b"), body_b)?;
+            finite2(&field("anchor_a"), *anchor_a)?;
+            finite2(&field("anchor_b"), *anchor_b)?;
+            non_negative(&field("stiffness"), *stiffness)?;
+            non_negative(&field("rest_length"), *rest_length)?;
+            non_negative(&field("damping"), *damping)?;
+            Force::Spring {
+                a,
+                ra: *anchor_a,
+                b,
+                rb: *anchor_b,
+                k: *stiffness,
+                rest: *rest_length,
+                c: *damping,
+            }
+        }
+        ForceSpec::Torsion { body_a, body_b, stiffness, rest_angle, damping, .. } => {
+            let a = resolve(bodies, &field("body_a"), body_a)?;
+            let b = resolve(bodies, &field("body_b"), body_b)?;
+            non_negative(&field("stiffness"), *stiffness)?;
+            finite(&field("rest_angle"), *rest_angle)?;
+            non_negative(&field("damping"), *damping)?;
+            Force::Torsion { a, b, k: *stiffness, rest: *rest_angle, c: *damping }
+        }
+        ForceSpec::Force { body, point, fx, fy, .. } => {
+            let body = resolve(bodies, &field("body"), body)?;
+            finite2(&field("point"), *point)?;
+            check_time_function(&field("fx"), fx)?;
+            check_time_function(&field("fy"), fy)?;
+            Force::Point { body, r: *point, fx: fx.clone(), fy: fy.clone() }
+        }
+        ForceSpec::Torque { body, torque, .. } => {
+            let body = resolve(bodies, &field("body"), body)?;
+            check_time_function(&field("torque"), torque)?;
+            Force::Torque { body, torque: torque.clone() }
+        }
+    })
+}
+
+fn check_time_function(field: &str, f: &super::spec::TimeFunction) -> Result<(), ModelError> {
+    use super::spec::TimeFunction;
+    match f {
+        TimeFunction::Constant(v) => finite(field, *v),
+        TimeFunction::Sine { amplitude, omega, phase, offset } => {
+            finite(&format!("{field}.amplitude"), *amplitude)?;
+            finite(&format!("{field}.omega"), *omega)?;
+            finite(&format!("{field}.phase"), *phase)?;
+            finite(&format!("{field}.offset"), *offset)
+        }
+        TimeFunction::Custom(_) => Ok(()),
+    }
+}
+
+/// Requires unique, non-empty names, each usable as one `--set` path segment.
+fn unique<'a>(what: &str, names: impl Iterator<Item = &'a str>) -> Result<(), ModelError> {
+    let mut seen: Vec<&str> = Vec::new();
+    for name in names {
+        if name.is_empty() || name.contains(['.', '=']) || name.parse::<usize>().is_ok() {
+            return Err(bad(
+                format!("{what}.name"),
+                name,
+                "a name must be non-empty, not a number, and hold no `.` or `=`".to_owned(),
+            ));
+        }
+        if seen.contains(&name) {
+            return Err(bad(format!("{what}.{name}.name"), name, "declared twice".to_owned()));
+        }
+        seen.push(name);
+    }
+    Ok(())
+}
+
+impl SystemSpec {
+    /// Validates the declaration and builds the mechanism.
+    ///
+    /// The initial positions are assembled onto the joints (the smallest change of q₀, by
+    /// Gauss-Newton iterations), so declared positions need only be close; the initial
+    /// velocities are left as declared, and the first step's joint impulses make them
+    /// consistent.
+    ///
+    /// # Errors
+    /// [`ModelError::InvalidParameter`] or [`ModelError::BadValue`] naming the field by its
+    /// `--set` path (`bodies.block.mass`, `joints.hinge.anchor_a.1`, `forces.0.stiffness`,
+    /// `contacts.floor.mu`, ...), [`ModelError::Law`] for a contact law.
+    pub fn build(&self) -> Result<Multibody, ModelError> {
+        finite2("gravity", self.gravity)?;
+        unique("bodies", self.bodies.iter().map(|b| b.name.as_str()))?;
+        unique("joints", self.joints.iter().map(JointSpec::name))?;
+        unique("forces", self.forces.iter().filter_map(ForceSpec::name))?;
+        unique("contacts", self.contacts.iter().map(|c| c.name.as_str()))?;
+        let mut bodies = Vec::with_capacity(self.bodies.len() + 1);
+        let mut dynamic = Vec::new();
+        for spec in &self.bodies {
+            let b = body(spec, 3 * dynamic.len())?;
+            if b.is_dynamic() {
+                dynamic.push(bodies.len());
+            }
+            bodies.push(b);
+        }
+        let mut joints = Vec::new();
+        let mut rows = Vec::new();
+        let mut slots = Vec::new();
+        let mut laws = Vec::new();
+        let mut contact_names = Vec::new();
+        for spec in &self.joints {
+            let (j, contact_law) = joint(spec, &mut bodies)?;
+            let index = joints.len();
+            rows.extend((0..j.kind.num_rows()).map(|k| (index, k)));
+            let n = j.kind.num_contacts();
+            for k in 0..n {
+                slots.push(Slot::Joint { joint: index, k });
+                laws.extend(contact_law);
+                contact_names.push(if n == 1 {
+                    j.name.clone()
+                } else {
+                    format!("{}.corner{}", j.name, k + 1)
+                });
+            }
+            joints.push(j);
+        }
+        let forces = self
+            .forces
+            .iter()
+            .enumerate()
+            .map(|(i, f)| force(f, i, &mut bodies))
+            .collect::<Result<Vec<_>, _>>()?;
+        let jointed: Vec<(usize, usize)> = joints.iter().map(|j| (j.a, j.b)).collect();
+        let pairs = super::contacts::pairs(
+            self,
+            &mut bodies,
+            &jointed,
+            &mut slots,
+            &mut laws,
+            &mut contact_names,
+        )?;
+        let mut coordinate_names = Vec::new();
+        let mut velocity_names = Vec::new();
+        let mut q0 = Vec::new();
+        let mut u0 = Vec::new();
+        for &i in &dynamic {
+            let (b, s) = (&bodies[i], &self.bodies[i]);
+            for (q, u) in [("x", "vx"), ("y", "vy"), ("theta", "omega")] {
+                coordinate_names.push(format!("{}.{q}", b.name));
+                velocity_names.push(format!("{}.{u}", b.name));
+            }
+            q0.extend(b.pose0);
+            u0.extend([s.velocity[0], s.velocity[1], s.omega]);
+        }
+        let constant_mass = dynamic
+            .iter()
+            .all(|&i| matches!(bodies[i].kind, Kind::Dynamic { com, .. } if com == [0.0; 2]));
+        let mut mb = Multibody {
+            spec: self.clone(),
+            bodies,
+            joints,
+            rows,
+            forces,
+            gravity: self.gravity,
+            slots,
+            pairs,
+            laws,
+            contact_names,
+            coordinate_names,
+            velocity_names,
+            q0,
+            u0,
+            dynamic,
+            constant_mass,
+            extent: ([0.0; 2], 1.0),
+        };
+        mb.extent = extent(&mb.bodies);
+        mb.q0 = assemble(&mb)?;
+        Ok(mb)
+    }
+}
+
+/// q₀ moved onto the joints' position constraints g_B(q, 0) = 0 by Gauss-Newton steps
+/// q ← q − W (WᵀW)⁺ g (the smallest change in the Euclidean norm).
+fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
+    let (f, nb) = (mb.num_coordinates(), mb.num_bilaterals());
+    let mut q = mb.q0.clone();
+    if nb == 0 {
+        return Ok(q);
+    }
+    let scale = 1.0 + q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut w = DMatrix::zeros(f, nb);
+    let mut g = DVector::zeros(nb);
+    let mut column = vec![0.0; f];
+    for _ in 0..50 {
+        for i in 0..nb {
+            let p = mb.bilateral(i, &q, 0.0, &mut column);
+            g[i] = p.g;
+            w.column_mut(i).copy_from_slice(&column);
+        }
+        let (worst, size) = g
+            .iter()
+            .enumerate()
+            .fold((0, 0.0f64), |(k, m), (i, v)| if v.abs() > m { (i, v.abs()) } else { (k, m) });
+        if !size.is_finite() {
+            return Err(relation(
+                &format!("joints.{}", mb.joints[mb.rows[worst].0].name),
+                size,
+                "the constraint is not finite at t = 0",
+            ));
+        }
+        if size <= 1e-13 * scale {
+            return Ok(q);
+        }
+        let normal = w.transpose() * &w;
+        let lambda = normal
+            .svd(true, true)
+            .solve(&g, 1e-12 * scale)
+            .map_err(|e| relation("joints", size, e))?;
+        let dq = &w * lambda;
+        for (qi, d) in q.iter_mut().zip(dq.iter()) {
+            *qi -= d;
+        }
+    }
+    let (worst, size) = (0..nb)
+        .map(|i| (i, mb.bilateral(i, &q, 0.0, &mut column).g.abs()))
+        .fold((0, 0.0f64), |(k, m), (i, v)| if v > m { (i, v) } else { (k, m) });
+    Err(relation(
+        &format!("joints.{}", mb.joints[mb.rows[worst].0].name),
+        size,
+        "the joints cannot all be closed at t = 0 (incompatible anchors or positions)",
+    ))
+}
+
+/// The centre and half-diagonal of the box around the bodies' origins and finite shapes at
+/// t = 0 (at least 0.5 m, so that a lone body still shows its floor).
+fn extent(bodies: &[Body]) -> ([f64; 2], f64) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    let mut grow = |p: [f64; 2], q: [f64; 2]| {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    };
+    for body in bodies.iter().filter(|b| b.name != GROUND || !b.shapes.is_empty()) {
+        let frame = match body.kind {
+            Kind::Dynamic { .. } => super::body::Frame::at(body.pose0, [0.0; 2], 0.0, None),
+            _ => body.frame(&[], 0.0),
+        };
+        grow(frame.p, frame.p);
+        for shape in &body.shapes {
+            let b = shape.aabb(&frame.pose());
+            if b.is_finite() {
+                grow(b.min, b.max);
+            }
+        }
+    }
+    if !lo[0].is_finite() {
+        return ([0.0; 2], 1.0);
+    }
+    let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    (centre, (0.6 * (hi[0] - lo[0]).hypot(hi[1] - lo[1])).max(0.5))
+}

@@ -1,0 +1,274 @@
+//! Contacts between shapes: the fixed list of slots (one per pair of shapes and feature), and
+//! their gaps and force directions from the kinematics' narrow phase at each (q, t).
+//!
+//! Each pair of shapes that may touch gets `max_points` slots at build time, one per feature
+//! id, so that a slot's index names the same contact (a vertex on an edge, say) from step to
+//! step, for warm starts and records. At (q, t) a pair whose bounding boxes are farther apart
+//! than its margin reports their distance, a positive lower bound of its gap, for every slot
+//! without calling the narrow phase; otherwise `collide` fills the slots of the features it
+//! finds within the margin and the others report the margin. A slot with a positive gap is
+//! open, and the stepper leaves it out of the step's problem.
+
+use std::cell::RefCell;
+
+use moreau_kinematics::{Aabb, ManifoldPoint, Shape, collide, max_points};
+use moreau_setvalued::ContactLaw;
+
+use super::body::{Body, Frame, Kind};
+use super::build::{bad, law, resolve};
+use super::joints::SlotGeometry;
+use super::multibody::{Multibody, Slot};
+use super::spec::SystemSpec;
+use crate::ModelError;
+use crate::params::positive;
+
+/// A pair of shapes with slots `first..first + count`.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Pair {
+    pub a: usize,
+    pub shape_a: usize,
+    pub b: usize,
+    pub shape_b: usize,
+    pub margin: f64,
+    pub first: usize,
+    pub count: usize,
+}
+
+thread_local! {
+    /// The narrow phase's output, reused by every call on this thread so that a step does not
+    /// allocate once the buffer has grown to the largest manifold.
+    static POINTS: RefCell<Vec<ManifoldPoint>> = RefCell::new(Vec::with_capacity(16));
+}
+
+/// The Euclidean distance between two boxes, 0 when they overlap.
+fn box_distance(a: &Aabb, b: &Aabb) -> f64 {
+    let dx = (a.min[0] - b.max[0]).max(b.min[0] - a.max[0]).max(0.0);
+    let dy = (a.min[1] - b.max[1]).max(b.min[1] - a.max[1]).max(0.0);
+    dx.hypot(dy)
+}
+
+/// The default margin of a pair: 1 % of the smaller finite bounding-box diagonal at t = 0.
+fn default_margin(boxes: [&Aabb; 2]) -> f64 {
+    let size = |b: &Aabb| (b.max[0] - b.min[0]).hypot(b.max[1] - b.min[1]);
+    let sizes = boxes.map(size);
+    let smallest =
+        sizes.into_iter().filter(|s| s.is_finite() && *s > 0.0).fold(f64::INFINITY, f64::min);
+    if smallest.is_finite() { 0.01 * smallest } else { 1e-3 }
+}
+
+/// Adds the pairs of the explicit and the automatic contacts, their slots, laws and names.
+pub(crate) fn pairs(
+    spec: &SystemSpec,
+    bodies: &mut Vec<Body>,
+    jointed: &[(usize, usize)],
+    slots: &mut Vec<Slot>,
+    laws: &mut Vec<ContactLaw>,
+    names: &mut Vec<String>,
+) -> Result<Vec<Pair>, ModelError> {
+    let mut pairs = Vec::new();
+    let initial = |bodies: &[Body], i: usize| {
+        let body = &bodies[i];
+        match body.kind {
+            Kind::Dynamic { .. } => Frame::at(body.pose0, [0.0; 2], 0.0, None),
+            _ => body.frame(&[], 0.0),
+        }
+    };
+    // Adds one pair after checking that the narrow phase supports it.
+    let mut add = |bodies: &[Body],
+                   path: &str,
+                   (a, shape_a, b, shape_b): (usize, usize, usize, usize),
+                   margin: Option<f64>,
+                   contact_law: ContactLaw,
+                   name: &str,
+                   slots: &mut Vec<Slot>,
+                   laws: &mut Vec<ContactLaw>,
+                   names: &mut Vec<String>|
+     -> Result<(), ModelError> {
+        let (sa, sb) = (&bodies[a].shapes[shape_a], &bodies[b].shapes[shape_b]);
+        let (fa, fb) = (initial(bodies, a), initial(bodies, b));
+        let (ba, bb) = (sa.aabb(&fa.pose()), sb.aabb(&fb.pose()));
+        let margin = match margin {
+            Some(m) => {
+                positive(&format!("{path}.margin"), m)?;
+                m
+            }
+            None => default_margin([&ba, &bb]),
+        };
+        let mut probe = Vec::new();
+        collide(sa, &fa.pose(), sb, &fb.pose(), margin, &mut probe)
+            .map_err(|e| bad(path.to_owned(), name, e.to_string()))?;
+        let count = max_points(sa, sb);
+        let index = pairs.len();
+        pairs.push(Pair { a, shape_a, b, shape_b, margin, first: slots.len(), count });
+        for k in 0..count {
+            slots.push(Slot::Pair { pair: index, feature: k });
+            laws.push(contact_law);
+            names.push(if count == 1 { name.to_owned() } else { format!("{name}.{k}") });
+        }
+        Ok(())
+    };
+    let mut explicit = Vec::new();
+    for c in &spec.contacts {
+        let path = format!("contacts.{}", c.name);
+        let a = resolve(bodies, &format!("{path}.body_a"), &c.body_a)?;
+        let b = resolve(bodies, &format!("{path}.body_b"), &c.body_b)?;
+        for (side, body, shape) in [("shape_a", a, c.shape_a), ("shape_b", b, c.shape_b)] {
+            let n = bodies[body].shapes.len();
+            if shape >= n {
+                return Err(bad(
+                    format!("{path}.{side}"),
+                    &shape.to_string(),
+                    format!("body `{}` has {n} shapes", bodies[body].name),
+                ));
+            }
+        }
+        if a == b {
+            return Err(bad(
+                format!("{path}.body_b"),
+                &c.body_b,
+                "a contact needs two bodies".to_owned(),
+            ));
+        }
+        let contact_law = law(&path, c.eps_n, c.eps_t, c.mu)?;
+        add(
+            bodies,
+            &path,
+            (a, c.shape_a, b, c.shape_b),
+            c.margin,
+            contact_law,
+            &c.name,
+            slots,
+            laws,
+            names,
+        )?;
+        explicit.push((a, c.shape_a, b, c.shape_b));
+    }
+    let Some(auto) = &spec.contacts_auto else { return Ok(pairs) };
+    let default_law = law("contacts_auto", auto.eps_n, auto.eps_t, auto.mu)?;
+    let mut overrides = Vec::new();
+    for (k, o) in auto.overrides.iter().enumerate() {
+        let path = format!("contacts_auto.overrides.{k}");
+        let a = resolve(bodies, &format!("{path}.bodies.0"), &o.bodies[0])?;
+        let b = resolve(bodies, &format!("{path}.bodies.1"), &o.bodies[1])?;
+        overrides.push((a, b, law(&path, o.eps_n, o.eps_t, o.mu)?));
+    }
+    let n = bodies.len();
+    for a in 0..n {
+        for b in a + 1..n {
+            let (ba, bb) = (&bodies[a], &bodies[b]);
+            let allowed = ba.group & bb.mask != 0 && bb.group & ba.mask != 0;
+            let joined = jointed.iter().any(|&(x, y)| (x, y) == (a, b) || (y, x) == (a, b));
+            if !allowed || joined || !(ba.is_dynamic() || bb.is_dynamic()) {
+                continue;
+            }
+            let contact_law = overrides
+                .iter()
+                .find(|(x, y, _)| (*x, *y) == (a, b) || (*y, *x) == (a, b))
+                .map_or(default_law, |o| o.2);
+            for sa in 0..ba.shapes.len() {
+                for sb in 0..bb.shapes.len() {
+                    let covered = explicit.iter().any(|&(x, i, y, j)| {
+                        (x, i, y, j) == (a, sa, b, sb) || (y, j, x, i) == (a, sa, b, sb)
+                    });
+                    if covered {
+                        continue;
+                    }
+                    let name = format!("{}.{sa}-{}.{sb}", bodies[a].name, bodies[b].name);
+                    add(
+                        bodies,
+                        "contacts_auto",
+                        (a, sa, b, sb),
+                        auto.margin,
+                        contact_law,
+                        &name,
+                        slots,
+                        laws,
+                        names,
+                    )?;
+                }
+            }
+        }
+    }
+    Ok(pairs)
+}
+
+impl Multibody {
+    /// Calls `emit(feature, geometry)` for every slot of a pair at the bodies' frames: the
+    /// narrow phase's points, and for the features it does not find, the margin (or the
+    /// bounding boxes' distance) as the gap with a zero normal, which gives zero force
+    /// directions.
+    #[inline]
+    pub(crate) fn pair_slots(
+        &self,
+        pair: &Pair,
+        fa: &Frame,
+        fb: &Frame,
+        mut emit: impl FnMut(usize, SlotGeometry),
+    ) {
+        let (sa, sb): (&Shape, &Shape) =
+            (&self.bodies[pair.a].shapes[pair.shape_a], &self.bodies[pair.b].shapes[pair.shape_b]);
+        let (pa, pb) = (fa.pose(), fb.pose());
+        let far = box_distance(&sa.aabb(&pa), &sb.aabb(&pb));
+        let open = SlotGeometry { gap: far.max(pair.margin), ..SlotGeometry::default() };
+        if far > pair.margin {
+            (0..pair.count).for_each(|k| emit(k, open));
+            return;
+        }
+        POINTS.with(|cell| {
+            let mut points = cell.borrow_mut();
+            points.clear();
+            // A pair was accepted at build time, so the narrow phase cannot refuse it; should it
+            // still fail, the gaps are not numbers and the stepper stops with a typed error.
+            if collide(sa, &pa, sb, &pb, pair.margin, &mut points).is_err() {
+                let failed = SlotGeometry { gap: f64::NAN, ..SlotGeometry::default() };
+                (0..pair.count).for_each(|k| emit(k, failed));
+                return;
+            }
+            let mut seen = 0u64;
+            for p in points.iter() {
+                let k = p.feature as usize;
+                if k < pair.count {
+                    if k < 64 {
+                        seen |= 1 << k;
+                    }
+                    emit(
+                        k,
+                        SlotGeometry {
+                            point_a: p.point_a,
+                            point_b: p.point_b,
+                            normal: p.normal,
+                            gap: p.gap,
+                        },
+                    );
+                }
+            }
+            for k in 0..pair.count {
+                let found = if k < 64 {
+                    seen & (1 << k) != 0
+                } else {
+                    points.iter().any(|p| p.feature as usize == k)
+                };
+                if !found {
+                    emit(k, open);
+                }
+            }
+        });
+    }
+
+    /// The geometry of one feature of a pair.
+    pub(crate) fn pair_slot(
+        &self,
+        pair: &Pair,
+        feature: usize,
+        fa: &Frame,
+        fb: &Frame,
+    ) -> SlotGeometry {
+        let mut out = SlotGeometry::default();
+        self.pair_slots(pair, fa, fb, |k, g| {
+            if k == feature {
+                out = g;
+            }
+        });
+        out
+    }
+}

@@ -1,0 +1,48 @@
+//! Declared mechanisms: bodies, joints, force elements and contacts, from which Moreau builds
+//! the `moreau_stepper::Mechanism` ([`Multibody`]) instead of the user deriving M, h, the gaps
+//! and their force directions by hand.
+//!
+//! # Coordinates
+//! Maximal coordinates: q = (x, y, θ) of each DYNAMIC body's origin, in declaration order
+//! (f = 3 n_dyn), named `<body>.x`, `<body>.y`, `<body>.theta`; velocities `<body>.vx`,
+//! `<body>.vy`, `<body>.omega`. Fixed bodies have no coordinates; driven bodies move as a
+//! given function of time, so that joints and contacts with them are rheonomic (ŵ ≠ 0).
+//!
+//! # Mass
+//! A body's mass m and inertia I_O are about its origin; with the centre of mass at c in the
+//! body frame and s = R(θ) c, the body's block of M is [[m, 0, −m s_y], [0, m, m s_x],
+//! [−m s_y, m s_x, I_O]] and h gets the centrifugal m θ̇² s. Putting the origin at the centre
+//! of mass (recommended) makes M constant and diagonal, which the stepper factorises once.
+//!
+//! # Joints
+//! Bilateral rows g_B(q, t) = 0 (solved in the step problem, free in sign): revolute (2 rows),
+//! prismatic (2), weld (3), point-on-line (1), motor (1, θ_b − θ_a − θ₀ − Ω t, ŵ = −Ω).
+//! Clearance joints are unilateral contacts instead: a revolute joint with radial clearance
+//! (pin in a bearing, one contact) and a translational joint with clearance (a block's four
+//! corners against a guide's two lines).
+//!
+//! # Force elements
+//! Gravity, linear and torsional spring-dampers, applied forces and torques as functions of
+//! time; the potential energy V(q) covers gravity and the springs.
+//!
+//! # Units
+//! SI: m, rad, s, kg, N; inertia kg m², density kg/m², stiffness N/m or N m/rad.
+
+mod body;
+mod build;
+mod builder;
+mod contacts;
+mod draw;
+mod forces;
+mod joints;
+mod multibody;
+mod spec;
+
+pub use build::GROUND;
+pub use builder::{BodyHandle, ContactHandle, ForceHandle, JointHandle, MultibodyBuilder};
+pub use joints::SlotGeometry;
+pub use multibody::Multibody;
+pub use spec::{
+    AutoContacts, BodySpec, BodyType, Closure, ContactSpec, DrivenState, ForceSpec, JointSpec,
+    Motion, PairOverride, SystemSpec, TimeFunction,
+};

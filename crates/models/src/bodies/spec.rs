@@ -1,0 +1,643 @@
+//! The declared form of a mechanism: bodies, joints, force elements and contacts, as plain data
+//! that reads and writes TOML. [`SystemSpec::build`] turns it into a [`super::Multibody`].
+//!
+//! Units are SI throughout: metres, radians, seconds, kilograms, newtons.
+
+use std::fmt;
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use crate::params::LawParams;
+
+/// A body's pose, velocity and angular velocity at a time t, as a driven body's closure
+/// returns them (the rheonomic part of the contacts and joints with that body).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DrivenState {
+    /// Position `[x, y]` of the body origin (m) and orientation θ (rad).
+    pub pose: [f64; 3],
+    /// Velocity `[ẋ, ẏ]` of the body origin (m/s).
+    pub velocity: [f64; 2],
+    /// Angular velocity θ̇ (rad/s).
+    pub omega: f64,
+}
+
+/// A closure of time, shared (cheap to clone) and thread-safe, for the builder's motions and
+/// loads that a scene file cannot state.
+pub struct Closure<T>(pub Arc<dyn Fn(f64) -> T + Send + Sync>);
+
+impl<T> Clone for Closure<T> {
+    fn clone(&self) -> Self {
+        Self(Arc::clone(&self.0))
+    }
+}
+
+impl<T> fmt::Debug for Closure<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("Closure(..)")
+    }
+}
+
+impl<T> PartialEq for Closure<T> {
+    /// Two closures are equal when they are the same closure.
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+impl<T> Closure<T> {
+    /// Wraps a closure of time.
+    pub fn new(f: impl Fn(f64) -> T + Send + Sync + 'static) -> Self {
+        Self(Arc::new(f))
+    }
+}
+
+/// What kind of body a [`BodySpec`] declares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BodyType {
+    /// A body that moves under its forces: three coordinates (x, y, θ) of q.
+    Dynamic,
+    /// A body that does not move (the ground, a wall).
+    Fixed,
+    /// A body whose pose is a given function of time (a cam, a shaken table): no coordinates,
+    /// but the contacts and joints with it are rheonomic.
+    Driven,
+}
+
+/// The motion of a driven body, relative to its declared `position` p₀ and `angle` θ₀.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Motion {
+    /// Rotation about the fixed point `pivot` by φ(t) = ω t + phase:
+    /// p(t) = pivot + R(φ)(p₀ − pivot), θ(t) = θ₀ + φ(t).
+    Rotate {
+        /// The fixed centre of rotation `[x, y]` (m).
+        pivot: [f64; 2],
+        /// Angular velocity ω (rad/s).
+        omega: f64,
+        /// Phase: the angle turned at t = 0 (rad); default 0.
+        #[serde(default)]
+        phase: f64,
+    },
+    /// A shaken table: p(t) = p₀ + A ⊙ sin(Ω t + φ) per axis, θ(t) = θ₀.
+    Oscillate {
+        /// Amplitudes `[A_x, A_y]` (m).
+        amplitude: [f64; 2],
+        /// Angular frequency Ω (rad/s).
+        omega: f64,
+        /// Phases `[φ_x, φ_y]` (rad); default `[0, 0]`.
+        #[serde(default)]
+        phase: [f64; 2],
+    },
+    /// Constant velocity: p(t) = p₀ + v t, θ(t) = θ₀ + ω t.
+    Linear {
+        /// Velocity `[v_x, v_y]` (m/s).
+        velocity: [f64; 2],
+        /// Angular velocity ω (rad/s); default 0.
+        #[serde(default)]
+        omega: f64,
+    },
+    /// Any motion, as a closure of time returning the pose and its rates (builder only; a
+    /// scene file cannot hold it, and writing such a scene as TOML fails).
+    #[serde(skip)]
+    Custom(Closure<DrivenState>),
+}
+
+fn default_group() -> u32 {
+    1
+}
+
+fn default_mask() -> u32 {
+    u32::MAX
+}
+
+fn is_zero2(v: &[f64; 2]) -> bool {
+    *v == [0.0, 0.0]
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
+/// One body.
+///
+/// A dynamic body states either `mass` and `inertia` (with `center_of_mass`, default the body
+/// origin) or a `density` from which its shapes give mass, centre of mass and inertia. The
+/// body's coordinates are the pose (x, y, θ) of its ORIGIN, which need not be its centre of
+/// mass: the mass matrix then couples translation and rotation (and depends on θ), and h gets
+/// the centrifugal term. Put the origin at the centre of mass to keep M constant and diagonal.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Unique name; the coordinates are named `<name>.x`, `<name>.y`, `<name>.theta`.
+    pub name: String,
+    /// Dynamic, fixed or driven.
+    #[serde(rename = "type")]
+    pub kind: BodyType,
+    /// Mass m (kg, > 0), dynamic bodies only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// Moment of inertia about the body ORIGIN I_O (kg m², > 0), with `mass`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia: Option<f64>,
+    /// Centre of mass in the body frame `[x, y]` (m), with `mass`; default the origin.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub center_of_mass: Option<[f64; 2]>,
+    /// Density ρ (kg/m², > 0), instead of `mass` and `inertia`: m = ρ · area of the shapes,
+    /// I_O = m · (their polar moment about the origin per area).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
+    /// Position of the body origin `[x, y]` at t = 0 (m); for a driven body, p₀ of its motion.
+    pub position: [f64; 2],
+    /// Orientation θ at t = 0 (rad); default 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub angle: f64,
+    /// Initial velocity of the origin `[ẋ, ẏ]` (m/s), dynamic bodies; default 0.
+    #[serde(default, skip_serializing_if = "is_zero2")]
+    pub velocity: [f64; 2],
+    /// Initial angular velocity θ̇ (rad/s), dynamic bodies; default 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub omega: f64,
+    /// The motion of a driven body (required for `type = "driven"`, refused otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<Motion>,
+    /// The body's shapes, in its frame (m), in the kinematics' form
+    /// (`{ type = "disk", center = [0, 0], radius = 0.1 }`, `polygon` with `vertices`,
+    /// `capsule`, `half_plane`, `polyline`, `profile`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shapes: Vec<moreau_kinematics::Shape>,
+    /// Collision group bits: automatic contacts exist between bodies a and b only when
+    /// `a.group & b.mask != 0` and `b.group & a.mask != 0`. Default 1.
+    #[serde(default = "default_group")]
+    pub group: u32,
+    /// Collision mask bits (see `group`). Default all bits.
+    #[serde(default = "default_mask")]
+    pub mask: u32,
+}
+
+impl BodySpec {
+    /// A dynamic body with mass m (kg) and inertia about its origin, which is its centre of
+    /// mass, I (kg m²), at `position` (m) and `angle` (rad), at rest.
+    pub fn dynamic(name: &str, mass: f64, inertia: f64, position: [f64; 2], angle: f64) -> Self {
+        Self {
+            mass: Some(mass),
+            inertia: Some(inertia),
+            ..Self::with_kind(name, BodyType::Dynamic, position, angle)
+        }
+    }
+
+    /// A dynamic body whose mass, centre of mass and inertia come from its shapes and the
+    /// density ρ (kg/m²).
+    pub fn with_density(name: &str, density: f64, position: [f64; 2], angle: f64) -> Self {
+        Self { density: Some(density), ..Self::with_kind(name, BodyType::Dynamic, position, angle) }
+    }
+
+    /// A fixed body at `position` (m) and `angle` (rad).
+    pub fn fixed(name: &str, position: [f64; 2], angle: f64) -> Self {
+        Self::with_kind(name, BodyType::Fixed, position, angle)
+    }
+
+    /// A driven body with reference pose p₀ = `position`, θ₀ = `angle` and a motion.
+    pub fn driven(name: &str, position: [f64; 2], angle: f64, motion: Motion) -> Self {
+        Self { motion: Some(motion), ..Self::with_kind(name, BodyType::Driven, position, angle) }
+    }
+
+    fn with_kind(name: &str, kind: BodyType, position: [f64; 2], angle: f64) -> Self {
+        Self {
+            name: name.to_owned(),
+            kind,
+            mass: None,
+            inertia: None,
+            center_of_mass: None,
+            density: None,
+            position,
+            angle,
+            velocity: [0.0; 2],
+            omega: 0.0,
+            motion: None,
+            shapes: Vec::new(),
+            group: default_group(),
+            mask: default_mask(),
+        }
+    }
+
+    /// The same body with one more shape.
+    pub fn with_shape(mut self, shape: moreau_kinematics::Shape) -> Self {
+        self.shapes.push(shape);
+        self
+    }
+
+    /// The same body with an initial velocity (m/s) and angular velocity (rad/s).
+    pub fn with_velocity(mut self, velocity: [f64; 2], omega: f64) -> Self {
+        self.velocity = velocity;
+        self.omega = omega;
+        self
+    }
+}
+
+/// One joint between body `body_a` and body `body_b`, by name; the name `ground` stands for
+/// the world frame when no body has that name. Anchors and axes are in the bodies' frames (m);
+/// axes need not be unit vectors. A joint's reference angle, when omitted, is the bodies'
+/// relative angle θ_b − θ_a at t = 0.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum JointSpec {
+    /// A pin: the anchors coincide (2 rows, g = P_b − P_a).
+    Revolute {
+        /// Unique joint name.
+        name: String,
+        /// First body.
+        body_a: String,
+        /// Second body.
+        body_b: String,
+        /// The pin on body a (m).
+        anchor_a: [f64; 2],
+        /// The pin on body b (m).
+        anchor_b: [f64; 2],
+    },
+    /// A slider: body b keeps its angle relative to a and its anchor on the line through
+    /// `anchor_a` along `axis` (on body a): 2 rows, θ_b − θ_a − angle and n_a · (P_b − P_a).
+    Prismatic {
+        /// Unique joint name.
+        name: String,
+        /// The body carrying the axis.
+        body_a: String,
+        /// The sliding body.
+        body_b: String,
+        /// A point of the axis on body a (m).
+        anchor_a: [f64; 2],
+        /// The point of body b that stays on the axis (m).
+        anchor_b: [f64; 2],
+        /// The axis direction on body a.
+        axis: [f64; 2],
+        /// Reference relative angle θ_b − θ_a (rad).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        angle: Option<f64>,
+    },
+    /// A rigid connection: the anchors coincide and the relative angle is fixed (3 rows).
+    Weld {
+        /// Unique joint name.
+        name: String,
+        /// First body.
+        body_a: String,
+        /// Second body.
+        body_b: String,
+        /// The connection point on body a (m).
+        anchor_a: [f64; 2],
+        /// The connection point on body b (m).
+        anchor_b: [f64; 2],
+        /// Reference relative angle θ_b − θ_a (rad).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        angle: Option<f64>,
+    },
+    /// A pin of body a in a slot line of body b (1 row, n_b · (P_a − P_b) = 0).
+    PointOnLine {
+        /// Unique joint name.
+        name: String,
+        /// The body carrying the pin.
+        body_a: String,
+        /// The body carrying the slot.
+        body_b: String,
+        /// The pin on body a (m).
+        anchor_a: [f64; 2],
+        /// A point of the slot line on body b (m).
+        anchor_b: [f64; 2],
+        /// The slot's direction on body b.
+        axis: [f64; 2],
+    },
+    /// A motor: θ_b − θ_a − angle − Ω t = 0 (1 row, ŵ = −Ω).
+    Motor {
+        /// Unique joint name.
+        name: String,
+        /// The body the motor is mounted on.
+        body_a: String,
+        /// The driven body.
+        body_b: String,
+        /// Prescribed relative angular velocity Ω (rad/s).
+        omega: f64,
+        /// Relative angle at t = 0 (rad).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        angle: Option<f64>,
+    },
+    /// A revolute joint with radial clearance: a pin of radius r_p on body a in a bearing of
+    /// radius r_b on body b, one unilateral contact with
+    /// g_N = (r_b − r_p) − |P_pin − P_bearing| and the normal along the eccentricity.
+    RevoluteClearance {
+        /// Unique joint name (and the contact's name).
+        name: String,
+        /// The body carrying the pin.
+        body_a: String,
+        /// The body carrying the bearing.
+        body_b: String,
+        /// The pin's centre on body a (m).
+        anchor_a: [f64; 2],
+        /// The bearing's centre on body b (m).
+        anchor_b: [f64; 2],
+        /// Pin radius r_p (m, >= 0).
+        pin_radius: f64,
+        /// Bearing radius r_b (m, >= r_p).
+        bearing_radius: f64,
+        /// Normal restitution ε_N.
+        eps_n: f64,
+        /// Tangential restitution ε_T.
+        eps_t: f64,
+        /// Friction coefficient μ.
+        mu: f64,
+    },
+    /// A translational joint with clearance: a block (`length` along `axis_a`, `width` across,
+    /// centred at `anchor_a` on body a) between two lines parallel to `axis_b` through
+    /// `anchor_b` ± `guide_width`/2 across (on body b). Four unilateral contacts: the block's
+    /// two upper corners against the upper line, the two lower ones against the lower line
+    /// (named `<name>.corner1` .. `<name>.corner4`: upper rear, upper front, lower rear, lower
+    /// front).
+    TranslationalClearance {
+        /// Unique joint name.
+        name: String,
+        /// The block's body.
+        body_a: String,
+        /// The guide's body.
+        body_b: String,
+        /// The block's centre on body a (m).
+        anchor_a: [f64; 2],
+        /// The block's long axis on body a.
+        axis_a: [f64; 2],
+        /// Block length along its axis (m, > 0).
+        length: f64,
+        /// Block width across its axis (m, > 0).
+        width: f64,
+        /// The guide's mid-line point on body b (m).
+        anchor_b: [f64; 2],
+        /// The guide's direction on body b.
+        axis_b: [f64; 2],
+        /// Distance between the guide's lines (m, >= width).
+        guide_width: f64,
+        /// Normal restitution ε_N.
+        eps_n: f64,
+        /// Tangential restitution ε_T.
+        eps_t: f64,
+        /// Friction coefficient μ.
+        mu: f64,
+    },
+}
+
+impl JointSpec {
+    /// The joint's name.
+    pub fn name(&self) -> &str {
+        self.parts().0
+    }
+
+    /// The joint's bodies (a, b).
+    pub fn bodies(&self) -> (&str, &str) {
+        let (_, a, b) = self.parts();
+        (a, b)
+    }
+
+    fn parts(&self) -> (&str, &str, &str) {
+        match self {
+            JointSpec::Revolute { name, body_a, body_b, .. }
+            | JointSpec::Prismatic { name, body_a, body_b, .. }
+            | JointSpec::Weld { name, body_a, body_b, .. }
+            | JointSpec::PointOnLine { name, body_a, body_b, .. }
+            | JointSpec::Motor { name, body_a, body_b, .. }
+            | JointSpec::RevoluteClearance { name, body_a, body_b, .. }
+            | JointSpec::TranslationalClearance { name, body_a, body_b, .. } => {
+                (name, body_a, body_b)
+            }
+        }
+    }
+
+    /// The joint's type as written in a scene file (`revolute`, `point_on_line`, ...).
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            JointSpec::Revolute { .. } => "revolute",
+            JointSpec::Prismatic { .. } => "prismatic",
+            JointSpec::Weld { .. } => "weld",
+            JointSpec::PointOnLine { .. } => "point_on_line",
+            JointSpec::Motor { .. } => "motor",
+            JointSpec::RevoluteClearance { .. } => "revolute_clearance",
+            JointSpec::TranslationalClearance { .. } => "translational_clearance",
+        }
+    }
+}
+
+/// A load as a function of time: a constant, or A sin(Ω t + φ) + offset, or (builder only)
+/// any closure. In a scene file `fx = 2.0` or
+/// `fx = { amplitude = 1.0, omega = 6.28, phase = 0.0, offset = 0.0 }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum TimeFunction {
+    /// A constant value.
+    Constant(f64),
+    /// A sin(Ω t + φ) + offset.
+    Sine {
+        /// Amplitude A (the load's unit).
+        amplitude: f64,
+        /// Angular frequency Ω (rad/s).
+        omega: f64,
+        /// Phase φ (rad); default 0.
+        #[serde(default)]
+        phase: f64,
+        /// Offset (the load's unit); default 0.
+        #[serde(default)]
+        offset: f64,
+    },
+    /// Any function of time (builder only).
+    #[serde(skip)]
+    Custom(Closure<f64>),
+}
+
+impl TimeFunction {
+    /// The value at time t.
+    #[inline]
+    pub fn at(&self, t: f64) -> f64 {
+        match self {
+            TimeFunction::Constant(v) => *v,
+            TimeFunction::Sine { amplitude, omega, phase, offset } => {
+                amplitude * (omega * t + phase).sin() + offset
+            }
+            TimeFunction::Custom(f) => (f.0)(t),
+        }
+    }
+}
+
+/// One force element. Body names as for joints (`ground` is the world).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ForceSpec {
+    /// A linear spring-damper between two anchors: tension F = k (ℓ − ℓ₀) + c ℓ̇ along the
+    /// line of the anchors, potential ½ k (ℓ − ℓ₀)².
+    Spring {
+        /// Optional name (for `--set forces.<name>.<field>`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        /// First body.
+        body_a: String,
+        /// Anchor on body a (m).
+        anchor_a: [f64; 2],
+        /// Second body.
+        body_b: String,
+        /// Anchor on body b (m).
+        anchor_b: [f64; 2],
+        /// Stiffness k (N/m, >= 0).
+        stiffness: f64,
+        /// Rest length ℓ₀ (m, >= 0).
+        rest_length: f64,
+        /// Damping c (N s/m, >= 0); default 0.
+        #[serde(default)]
+        damping: f64,
+    },
+    /// A torsional spring-damper between two bodies' angles: torque τ = k (θ_b − θ_a − θ₀) +
+    /// c (θ̇_b − θ̇_a) on a, −τ on b, potential ½ k (θ_b − θ_a − θ₀)².
+    Torsion {
+        /// Optional name.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        /// First body.
+        body_a: String,
+        /// Second body.
+        body_b: String,
+        /// Stiffness k (N m/rad, >= 0).
+        stiffness: f64,
+        /// Rest relative angle θ₀ (rad).
+        rest_angle: f64,
+        /// Damping c (N m s/rad, >= 0); default 0.
+        #[serde(default)]
+        damping: f64,
+    },
+    /// A force (f_x, f_y)(t) in the world frame (N) applied at a point of a body.
+    Force {
+        /// Optional name.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        /// The loaded body.
+        body: String,
+        /// The point of application on the body (m); default the origin.
+        #[serde(default)]
+        point: [f64; 2],
+        /// f_x(t) (N).
+        fx: TimeFunction,
+        /// f_y(t) (N).
+        fy: TimeFunction,
+    },
+    /// A torque τ(t) on a body (N m).
+    Torque {
+        /// Optional name.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        /// The loaded body.
+        body: String,
+        /// τ(t) (N m).
+        torque: TimeFunction,
+    },
+}
+
+impl ForceSpec {
+    /// The force element's name, if it has one.
+    pub fn name(&self) -> Option<&str> {
+        match self {
+            ForceSpec::Spring { name, .. }
+            | ForceSpec::Torsion { name, .. }
+            | ForceSpec::Force { name, .. }
+            | ForceSpec::Torque { name, .. } => name.as_deref(),
+        }
+    }
+}
+
+/// One explicit contact: shape `shape_a` of body a against shape `shape_b` of body b, with
+/// its laws. It has `max_points` slots (one per feature pair), named `<name>` when there is
+/// one and `<name>.<k>` otherwise.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// Unique contact name.
+    pub name: String,
+    /// First body.
+    pub body_a: String,
+    /// Index of the shape on body a; default 0.
+    #[serde(default)]
+    pub shape_a: usize,
+    /// Second body.
+    pub body_b: String,
+    /// Index of the shape on body b; default 0.
+    #[serde(default)]
+    pub shape_b: usize,
+    /// Normal restitution ε_N in [0, 1].
+    pub eps_n: f64,
+    /// Tangential restitution ε_T in [0, 1].
+    pub eps_t: f64,
+    /// Friction coefficient μ >= 0.
+    pub mu: f64,
+    /// Detection margin (m, > 0): the features of the pair farther apart than this are not
+    /// computed and report this gap. Default: 1 % of the smaller shape's bounding box
+    /// diagonal at t = 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<f64>,
+}
+
+/// The laws of the automatic contacts between one pair of bodies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairOverride {
+    /// The two bodies (either order).
+    pub bodies: [String; 2],
+    /// Normal restitution ε_N.
+    pub eps_n: f64,
+    /// Tangential restitution ε_T.
+    pub eps_t: f64,
+    /// Friction coefficient μ.
+    pub mu: f64,
+}
+
+/// Automatic contacts: every pair of shapes on different bodies that the collision groups
+/// allow, not both on fixed or driven bodies, not between bodies connected by a joint, and
+/// not already an explicit contact. Slot names are `<body>.<shape>-<body>.<shape>[.<k>]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AutoContacts {
+    /// Default normal restitution ε_N.
+    pub eps_n: f64,
+    /// Default tangential restitution ε_T.
+    pub eps_t: f64,
+    /// Default friction coefficient μ.
+    pub mu: f64,
+    /// Detection margin (m, > 0), as [`ContactSpec::margin`]; default 1 % of the smaller
+    /// shape's bounding box diagonal at t = 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<f64>,
+    /// Laws for particular pairs of bodies.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub overrides: Vec<PairOverride>,
+}
+
+impl AutoContacts {
+    /// Automatic contacts with one law for every pair.
+    pub fn new(law: LawParams) -> Self {
+        Self { eps_n: law.eps_n, eps_t: law.eps_t, mu: law.mu, margin: None, overrides: Vec::new() }
+    }
+}
+
+/// A declared mechanism: gravity, bodies, joints, force elements and contacts.
+///
+/// In a scene file these are the top-level `gravity` and the arrays of tables `[[bodies]]`,
+/// `[[joints]]`, `[[forces]]`, `[[contacts]]`, and the table `[contacts_auto]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SystemSpec {
+    /// Gravity `[g_x, g_y]` (m/s²), acting on every dynamic body's centre of mass.
+    pub gravity: [f64; 2],
+    /// The bodies; the dynamic ones give q = (x, y, θ) each, in this order.
+    pub bodies: Vec<BodySpec>,
+    /// The joints.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<JointSpec>,
+    /// The force elements besides gravity.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub forces: Vec<ForceSpec>,
+    /// The explicit contacts.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub contacts: Vec<ContactSpec>,
+    /// Automatic contacts, none when omitted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contacts_auto: Option<AutoContacts>,
+}

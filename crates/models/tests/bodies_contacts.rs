@@ -1,0 +1,210 @@
+//! Declared shapes in contact, against closed forms: a box on an incline (stick or slide), a
+//! disk on an incline (roll or slip), a pendulum striking a wall, and a row of disks struck at
+//! one end.
+
+use moreau_kinematics::Shape;
+use moreau_models::bodies::{BodySpec, ContactSpec, JointSpec, Multibody, MultibodyBuilder};
+use moreau_stepper::{Stepper, StepperOptions};
+
+const G: f64 = 9.81;
+
+fn options(dt: f64) -> StepperOptions {
+    // Closed contacts' midpoint gaps are zero up to round-off; the threshold keeps them in.
+    let mut o = StepperOptions::new(dt).with_gap_tolerance(1e-12);
+    o.projection = true;
+    o
+}
+
+fn law(name: &str, a: &str, b: &str, eps_n: f64, mu: f64) -> ContactSpec {
+    ContactSpec {
+        name: name.into(),
+        body_a: a.into(),
+        shape_a: 0,
+        body_b: b.into(),
+        shape_b: 0,
+        eps_n,
+        eps_t: 0.0,
+        mu,
+        margin: None,
+    }
+}
+
+/// A fixed incline at angle α through the origin (solid below), and one body on it.
+fn incline(alpha: f64, body: BodySpec, mu: f64) -> Multibody {
+    let (s, c) = alpha.sin_cos();
+    let mut b = MultibodyBuilder::new([0.0, -G]);
+    b.add_body(
+        BodySpec::fixed("slope", [0.0, 0.0], 0.0)
+            .with_shape(Shape::HalfPlane { point: [0.0, 0.0], normal: [-s, c] }),
+    );
+    b.add_body(body);
+    b.add_contact(law("foot", "slope", "body", 0.0, mu));
+    b.build().unwrap()
+}
+
+/// The body's speed down the slope at t1 and t2 (m/s), and its largest speed before t1.
+fn speeds(mb: Multibody, alpha: f64, dt: f64, t1: f64, t2: f64) -> (f64, f64, f64) {
+    let (q0, u0) = mb.initial_state();
+    let mut stepper = Stepper::new(mb, &q0, &u0, 0.0, options(dt)).unwrap();
+    let down = |u: &[f64]| -(u[0] * alpha.cos() + u[1] * alpha.sin());
+    let mut largest = 0.0f64;
+    while stepper.t() < t1 - 0.5 * dt {
+        stepper.step().unwrap();
+        largest = largest.max(down(stepper.u()).abs());
+    }
+    let v1 = down(stepper.u());
+    while stepper.t() < t2 - 0.5 * dt {
+        stepper.step().unwrap();
+    }
+    (v1, down(stepper.u()), largest)
+}
+
+/// A 0.2 m × 0.1 m box of 1 kg resting flat on the incline.
+fn box_on(alpha: f64, mu: f64) -> Multibody {
+    let (s, c) = alpha.sin_cos();
+    let (w, h) = (0.1, 0.05);
+    let shape = Shape::Polygon { vertices: vec![[-w, -h], [w, -h], [w, h], [-w, h]] };
+    let inertia = (4.0 * w * w + 4.0 * h * h) / 12.0;
+    incline(
+        alpha,
+        BodySpec::dynamic("body", 1.0, inertia, [-s * h, c * h], alpha).with_shape(shape),
+        mu,
+    )
+}
+
+#[test]
+fn a_box_on_an_incline_sticks_exactly_when_tan_alpha_is_at_most_mu() {
+    // tan α = 0.3 < μ = 0.5, and tan α = μ exactly: the box stays.
+    for (alpha, mu) in [(0.3f64.atan(), 0.5), (0.4f64.atan(), 0.4)] {
+        let (v1, v2, largest) = speeds(box_on(alpha, mu), alpha, 1e-3, 0.5, 1.0);
+        assert!(
+            largest < 1e-12 && v1.abs() < 1e-12 && v2.abs() < 1e-12,
+            "α = {alpha}: {largest:e}"
+        );
+    }
+}
+
+#[test]
+fn a_box_on_a_steeper_incline_slides_at_g_sin_alpha_minus_mu_cos_alpha() {
+    let (alpha, mu) = (0.5f64, 0.3);
+    let (v1, v2, _) = speeds(box_on(alpha, mu), alpha, 1e-3, 0.2, 0.7);
+    let a = (v2 - v1) / 0.5;
+    let closed = G * (alpha.sin() - mu * alpha.cos());
+    assert!((a - closed).abs() < 1e-9 * closed, "a = {a}, closed form {closed}");
+}
+
+/// A 1 kg uniform disk of radius 0.1 m touching the incline.
+fn disk_on(alpha: f64, mu: f64) -> Multibody {
+    let (s, c) = alpha.sin_cos();
+    let r = 0.1;
+    let body = BodySpec::dynamic("body", 1.0, 0.5 * r * r, [-s * r, c * r], 0.0)
+        .with_shape(Shape::Disk { center: [0.0, 0.0], radius: r });
+    incline(alpha, body, mu)
+}
+
+#[test]
+fn a_disk_on_an_incline_rolls_at_two_thirds_g_sin_alpha_or_slips() {
+    let alpha = 0.5f64;
+    let critical = alpha.tan() / 3.0;
+    // Rolling while μ >= tan α / 3 (at the limit too).
+    for mu in [0.4, critical] {
+        let (v1, v2, _) = speeds(disk_on(alpha, mu), alpha, 1e-3, 0.2, 0.7);
+        let a = (v2 - v1) / 0.5;
+        let closed = 2.0 / 3.0 * G * alpha.sin();
+        assert!((a - closed).abs() < 1e-9 * closed, "μ = {mu}: a = {a}, rolling {closed}");
+    }
+    // Slipping below it: the centre accelerates at g (sin α − μ cos α).
+    let mu = 0.1;
+    let (v1, v2, _) = speeds(disk_on(alpha, mu), alpha, 1e-3, 0.2, 0.7);
+    let a = (v2 - v1) / 0.5;
+    let closed = G * (alpha.sin() - mu * alpha.cos());
+    assert!((a - closed).abs() < 1e-9 * closed, "μ = {mu}: a = {a}, slipping {closed}");
+}
+
+#[test]
+fn a_pendulum_striking_a_wall_rebounds_with_eps_n() {
+    // A rod of 1 m hinged at the origin with a disk of radius 0.05 m at its tip; a wall
+    // touches the disk when the rod hangs vertically.
+    let r = 0.05;
+    for eps in [0.5, 0.8] {
+        let phi0: f64 = -0.5;
+        let mut b = MultibodyBuilder::new([0.0, -G]);
+        b.add_body(
+            BodySpec::fixed("wall", [0.0, 0.0], 0.0)
+                .with_shape(Shape::HalfPlane { point: [r, 0.0], normal: [-1.0, 0.0] }),
+        );
+        b.add_body(
+            BodySpec::dynamic("bob", 1.0, 0.01, [phi0.sin(), -phi0.cos()], 0.0)
+                .with_shape(Shape::Disk { center: [0.0, 0.0], radius: r }),
+        );
+        b.add_joint(JointSpec::revolute(
+            "hinge",
+            "ground",
+            [0.0, 0.0],
+            "bob",
+            [-phi0.sin(), phi0.cos()],
+        ));
+        b.add_contact(law("hit", "wall", "bob", eps, 0.0));
+        let mb = b.build().unwrap();
+        let (q0, u0) = mb.initial_state();
+        let mut stepper = Stepper::new(mb, &q0, &u0, 0.0, options(1e-4)).unwrap();
+        let mut found = None;
+        while stepper.t() < 2.0 && found.is_none() {
+            let before = stepper.u().to_vec();
+            let report = stepper.step().unwrap();
+            if report.contacts[0].p_n > 1e-6 {
+                // The bob's speed normal to the wall, before and after: γ_N = −ẋ.
+                found = Some((before[0], report.u[0]));
+            }
+        }
+        let (pre, post) = found.expect("the bob reaches the wall");
+        assert!(pre > 0.5, "approach speed {pre}");
+        assert!((post + eps * pre).abs() < 1e-9 * pre, "ε = {eps}: {pre} → {post}");
+    }
+}
+
+/// n disks of 1 kg and radius 0.05 m on a line, without gravity, `gap` apart; the first
+/// approaches the others at 1 m/s. Returns the final velocities along the line.
+fn cradle(n: usize, gap: f64) -> Vec<f64> {
+    let r = 0.05;
+    let mut b = MultibodyBuilder::new([0.0, 0.0]);
+    for k in 0..n {
+        let x = if k == 0 { -0.05 } else { 2.0 * r * k as f64 + gap * (k - 1) as f64 };
+        let disk = BodySpec::dynamic(&format!("d{k}"), 1.0, 0.5 * r * r, [x, 0.0], 0.0)
+            .with_shape(Shape::Disk { center: [0.0, 0.0], radius: r });
+        b.add_body(if k == 0 { disk.with_velocity([1.0, 0.0], 0.0) } else { disk });
+    }
+    for k in 1..n {
+        b.add_contact(law(&format!("c{k}"), &format!("d{}", k - 1), &format!("d{k}"), 1.0, 0.0));
+    }
+    let mb = b.build().unwrap();
+    let (q0, u0) = mb.initial_state();
+    let mut stepper = Stepper::new(mb, &q0, &u0, 0.0, options(1e-4)).unwrap();
+    let energy = |u: &[f64]| 0.5 * u.iter().map(|v| v * v).sum::<f64>();
+    let (p0, e0) = (1.0, energy(&u0));
+    while stepper.t() < 0.5 {
+        stepper.step().unwrap();
+        let u = stepper.u();
+        let p: f64 = (0..n).map(|k| u[3 * k]).sum();
+        assert!((p - p0).abs() < 1e-14, "momentum {p} at t = {}", stepper.t());
+        assert!((energy(u) - e0).abs() < 1e-9 * e0, "energy {} at t = {}", energy(u), stepper.t());
+    }
+    (0..n).map(|k| stepper.u()[3 * k]).collect()
+}
+
+#[test]
+fn disks_a_little_apart_pass_the_striker_speed_to_the_last_one() {
+    // Gaps of 1 mm close in ten steps each, so the impacts come one at a time.
+    let v = cradle(4, 1e-3);
+    assert!((v[3] - 1.0).abs() < 1e-12 && v[..3].iter().all(|x| x.abs() < 1e-12), "{v:?}");
+}
+
+#[test]
+fn touching_disks_struck_at_one_end_follow_newtons_law_at_every_contact_at_once() {
+    // With three touching disks the impact at both contacts is one: Newton's law γ⁺ = −ε γ⁻
+    // at both (the second contact at rest before) gives −1/3, 2/3, 2/3 m/s, which conserves
+    // momentum and energy; the last disk does not take the striker's whole speed.
+    let v = cradle(3, 0.0);
+    let expected = [-1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0];
+    assert!(v.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-12), "{v:?}");
+}

@@ -1,0 +1,138 @@
+//! Declared scene files: the shipped example runs, scenes round-trip through TOML, `--set`
+//! reaches every declared field by its path, and bad input names the field.
+
+use moreau_models::bodies::{BodyType, JointSpec};
+use moreau_models::{ModelError, ModelKind, ModelParams, Scene};
+
+fn example() -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes/bodies/pendulum-wall.toml");
+    Scene::from_path(&path).unwrap()
+}
+
+fn spec(scene: &Scene) -> &moreau_models::bodies::SystemSpec {
+    match &scene.params {
+        ModelParams::Declared(s) => s,
+        other => panic!("not declared: {other:?}"),
+    }
+}
+
+#[test]
+fn the_pendulum_wall_scene_runs_and_rebounds_off_the_wall() {
+    let mut scene = example();
+    assert_eq!(scene.kind(), ModelKind::Declared);
+    assert!(scene.projection, "declared scenes project by default");
+    scene.t_end = 1.0;
+    let sim = scene.run().unwrap();
+    assert_eq!(sim.model.coordinate_names().to_vec(), ["bob.x", "bob.y", "bob.theta"]);
+    assert_eq!(sim.model.velocity_names().to_vec(), ["bob.vx", "bob.vy", "bob.omega"]);
+    assert_eq!(sim.model.contact_names(), ["hit"]);
+    // The bob never passes the wall (its centre stays left of x = 0 up to the projection's
+    // round-off) and hits it at least once.
+    let right = sim.record.q.iter().map(|q| q[0]).fold(f64::NEG_INFINITY, f64::max);
+    assert!(right < 1e-9, "{right}");
+    assert!(sim.record.p_n.iter().any(|p| p[0] > 0.0));
+    // Any declared scene draws: the wall, the bob and its hinge.
+    let drawing = sim.model.draw(&sim.record.q[0], 0.0);
+    assert!(drawing.bounds().is_some() && !drawing.circles.is_empty());
+}
+
+#[test]
+fn declared_scenes_round_trip_through_toml() {
+    let scene = example();
+    let text = scene.to_toml_string();
+    assert!(text.contains("[[bodies]]") && !text.contains("[params]"), "{text}");
+    assert_eq!(Scene::from_toml_str(&text).unwrap(), scene);
+    let report = Scene::report(ModelKind::Declared);
+    assert_eq!(Scene::from_toml_str(&report.to_toml_string()).unwrap(), report);
+}
+
+#[test]
+fn set_reaches_every_declared_field_by_its_path() {
+    let mut scene = example();
+    scene.set("bodies.bob.mass", "2").unwrap();
+    scene.set("bodies.bob.position.1", "-0.9").unwrap();
+    scene.set("contacts.hit.mu", "0.2").unwrap();
+    scene.set("gravity.1", "-1.62").unwrap();
+    scene.set("joints.hinge.anchor_a", "[0.01, 0.0]").unwrap();
+    // A field the file leaves at its default.
+    scene.set("bodies.bob.angle", "0.3").unwrap();
+    scene.set("bodies.1.omega", "1.5").unwrap();
+    scene.set("projection", "false").unwrap();
+    let s = spec(&scene);
+    let bob = &s.bodies[1];
+    assert_eq!((bob.mass, bob.position[1], bob.angle, bob.omega), (Some(2.0), -0.9, 0.3, 1.5));
+    assert_eq!(bob.kind, BodyType::Dynamic);
+    assert_eq!((s.contacts[0].mu, s.gravity[1]), (0.2, -1.62));
+    assert!(
+        matches!(&s.joints[0], JointSpec::Revolute { anchor_a, .. } if *anchor_a == [0.01, 0.0])
+    );
+    assert!(!scene.projection);
+    assert!(scene.keys().iter().any(|k| k == "bodies.bob.mass"), "{:?}", scene.keys());
+}
+
+#[test]
+fn bad_settings_name_the_path_and_leave_the_scene_alone() {
+    let mut scene = example();
+    let before = scene.clone();
+    match scene.set("bodies.bob.mas", "2") {
+        Err(ModelError::BadValue { key, reason, .. }) => {
+            assert_eq!(key, "bodies.bob.mas");
+            assert!(reason.contains("mas"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    match scene.set("bodies.bob.mass", "-1") {
+        Err(ModelError::BadValue { key, reason, .. }) => {
+            assert_eq!(key, "bodies.bob.mass");
+            assert!(reason.contains("bodies.bob.mass") && reason.contains("> 0"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    match scene.set("bodies.nobody.mass", "1") {
+        Err(ModelError::UnknownKey { key, accepted }) => {
+            assert_eq!(key, "bodies.nobody.mass");
+            assert!(accepted.iter().any(|k| k == "contacts.hit.eps_n"));
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(scene.set("bodies.bob.position", "[1, 2, 3]").is_err());
+    assert_eq!(scene, before);
+}
+
+#[test]
+fn malformed_declared_scenes_name_the_field() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenes/bodies/pendulum-wall.toml"),
+    )
+    .unwrap();
+    let unknown = text.replace("mass = 1.0", "mas = 1.0");
+    match Scene::from_toml_str(&unknown) {
+        Err(ModelError::Parse { field, message, .. }) => {
+            assert_eq!(field.as_deref(), Some("bodies.bob.mas"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let dangling = text.replace("body_b = \"bob\"\nanchor_b", "body_b = \"bobby\"\nanchor_b");
+    match Scene::from_toml_str(&dangling) {
+        Err(ModelError::BadValue { key, value, .. }) => {
+            assert_eq!((key.as_str(), value.as_str()), ("joints.hinge.body_b", "bobby"))
+        }
+        other => panic!("{other:?}"),
+    }
+    let joint_type = text.replace("type = \"revolute\"", "type = \"hinge\"");
+    match Scene::from_toml_str(&joint_type) {
+        Err(ModelError::Parse { field, .. }) => assert_eq!(field.as_deref(), Some("joints.hinge")),
+        other => panic!("{other:?}"),
+    }
+    let no_density_shape =
+        text.replace("mass = 1.0", "density = 1.0").replace("inertia = 0.00125", "");
+    let scene = Scene::from_toml_str(&no_density_shape).unwrap();
+    // From the disk's area: m = ρ π r², I = m r² / 2.
+    let model = scene.build().unwrap();
+    let moreau_models::AnyModel::Declared(mb) = model else { panic!("declared") };
+    let (m, i, c) = mb.mass_properties(1).unwrap();
+    let area = std::f64::consts::PI * 0.05 * 0.05;
+    assert!((m - area).abs() < 1e-15 && (i - 0.5 * area * 0.0025).abs() < 1e-15 && c == [0.0, 0.0]);
+}
