@@ -3,7 +3,9 @@
 
 use faer::{ColRef, MatRef};
 use moreau_kinematics::ContactPoint;
-use moreau_lcp::fc2d::{Fc2d, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions};
+use moreau_lcp::fc2d::{
+    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions,
+};
 use moreau_lcp::{
     Auto, Enumeration, Lcp, LcpRef, Lemke, Method, Pgs, PgsOptions, Solution, Solver, Status,
 };
@@ -17,7 +19,10 @@ mod joints;
 mod solve;
 mod step;
 use joints::Joints;
-use solve::{closed_form_residual, nonsmooth_gauss_seidel, one_contact_closed_form};
+use solve::{
+    FC2D_ROUTE_CONTACTS, Fc2dRoute, closed_form_residual, frictional_contact,
+    one_contact_closed_form,
+};
 
 /// The LCP solver held by a stepper.
 ///
@@ -115,6 +120,8 @@ struct Workspace {
     fc_warm: Vec<f64>,
     fc: Fc2d,
     nsgs: Option<Nsgs>,
+    /// The default choice's solver of many contacts.
+    fc_auto: Option<Fc2dAuto>,
     fc_solution: Fc2dSolution,
     /// The LCP (A column-major, b).
     a: Vec<f64>,
@@ -185,6 +192,10 @@ struct Core {
     contacts: Vec<ContactReport>,
     ws: Workspace,
 }
+
+/// The natural-map tolerance of the default choice's solver of many contacts: that of the
+/// shared LCP residual with which the dense route accepts a solution.
+const FC2D_TOLERANCE: f64 = 1e-10;
 
 /// A step count as f64, through i64: the baseline x86-64 target converts signed integers in
 /// one instruction and unsigned ones with a branch, and no run takes 2^63 steps.
@@ -311,6 +322,13 @@ impl<M: Mechanism> Stepper<M> {
                         ..NsgsOptions::default()
                     })?)
                 }
+                _ => None,
+            },
+            fc_auto: match &options.solver {
+                SolverChoice::Auto => Some(Fc2dAuto::new(Fc2dAutoOptions {
+                    tolerance: FC2D_TOLERANCE,
+                    ..Fc2dAutoOptions::default()
+                })?),
                 _ => None,
             },
             fc_solution: Fc2dSolution::new(),

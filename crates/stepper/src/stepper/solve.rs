@@ -93,15 +93,30 @@ pub(super) fn one_contact_closed_form(
     })
 }
 
-/// The nonsmooth Gauss-Seidel of `moreau_lcp` on the contact problem in (P_N, P_T),
+/// Contacts above which the default solver hands a step to the planar frictional-contact
+/// solvers (`Fc2dAuto`: block Gauss-Seidel, with exact solves of the clusters that stall)
+/// rather than to the dense LCP of eq. 7.41, whose pivoting costs O((3 n)³).
+pub(super) const FC2D_ROUTE_CONTACTS: usize = 24;
+
+/// Which solver of planar frictional contact a step uses.
+#[derive(Clone, Copy, PartialEq)]
+pub(super) enum Fc2dRoute {
+    /// The nonsmooth Gauss-Seidel of the Gauss-Seidel choice.
+    GaussSeidel,
+    /// `Fc2dAuto`, for the default choice beyond [`FC2D_ROUTE_CONTACTS`].
+    Auto,
+}
+
+/// A solver of `moreau_lcp` for planar frictional contact on the contact problem in (P_N, P_T),
 /// equivalent to the LCP of eq. 7.41: W is the Delassus matrix G = [W_N W_T]ᵀ M⁻¹ [W_N W_T]
 /// ordered by contact, q = (b_N, b_R) and μ per contact; a frictionless contact gets μ = 0
 /// and a tangential row of its own scale coupled to nothing, which keeps its P_T at zero.
 /// Warm-started from the previous step's impulses. Writes z = (P_N; P_R; ξ_L) of eq. 7.41
 /// into `ws.solution.z` and checks it with the LCP's own residual.
-pub(super) fn nonsmooth_gauss_seidel(
+pub(super) fn frictional_contact(
     ws: &mut Workspace,
     laws: &[moreau_setvalued::ContactLaw],
+    route: Fc2dRoute,
 ) -> Result<LcpInfo, LcpFailure> {
     let f = ws.q_m.len();
     let na = ws.active.len();
@@ -179,9 +194,18 @@ pub(super) fn nonsmooth_gauss_seidel(
     ws.fc
         .set_dense(MatRef::from_column_major_slice(w, n, n), &ws.fc_q[..n], &ws.fc_mu[..na])
         .map_err(LcpFailure::Input)?;
-    let nsgs = ws.nsgs.as_mut().expect("a stepper with the Gauss-Seidel choice holds its solver");
-    nsgs.solve_into(ws.fc.view(), Some(&ws.fc_warm[..n]), &mut ws.fc_solution)
-        .map_err(LcpFailure::Solver)?;
+    let warm = Some(&ws.fc_warm[..n]);
+    match route {
+        Fc2dRoute::GaussSeidel => {
+            let nsgs = ws.nsgs.as_mut().expect("the Gauss-Seidel choice holds its solver");
+            nsgs.solve_into(ws.fc.view(), warm, &mut ws.fc_solution)
+        }
+        Fc2dRoute::Auto => {
+            let auto = ws.fc_auto.as_mut().expect("the default choice holds its solver");
+            auto.solve_into(ws.fc.view(), warm, &mut ws.fc_solution)
+        }
+    }
+    .map_err(LcpFailure::Solver)?;
     // z = (P_N; P_R = P_T + μ P_N; ξ_L = max(0, −ξ_T)) of eq. 7.41, and its residual.
     let (r, u) = (&ws.fc_solution.r, &ws.fc_solution.u);
     let z = &mut ws.solution.z;
@@ -213,7 +237,7 @@ pub(super) fn nonsmooth_gauss_seidel(
         Err(_) => f64::INFINITY,
     };
     Ok(LcpInfo {
-        method: Method::Nsgs,
+        method: ws.fc_solution.method,
         status: ws.fc_solution.status,
         iterations: ws.fc_solution.iterations,
         residual,

@@ -428,10 +428,14 @@ impl Core {
                 &mut ws.solution,
             ) {
             info
-        } else if let (SolverChoice::Pgs { .. }, true) = (&options.solver, nf > 0) {
+        } else if let Some(route) = match options.solver {
             // The LCP of eq. 7.41 has zeros on the diagonal of its ξ_L block, where projected
             // Gauss-Seidel cannot pivot; it is run on the equivalent contact problem instead.
-            let info = nonsmooth_gauss_seidel(ws, laws)?;
+            SolverChoice::Pgs { .. } if nf > 0 => Some(Fc2dRoute::GaussSeidel),
+            SolverChoice::Auto if na > FC2D_ROUTE_CONTACTS => Some(Fc2dRoute::Auto),
+            _ => None,
+        } {
+            let info = frictional_contact(ws, laws, route)?;
             if info.status != Status::Solved {
                 return Err(LcpFailure::Status(info.status));
             }
