@@ -19,7 +19,11 @@ pub enum SolverChoice {
     /// when the LCP's residual passes), otherwise the robust strategy of `moreau_lcp::Auto`:
     /// z = 0 when b ≥ 0, the complementary basis named by the previous step's impulses
     /// (solved directly, taken when its residual passes), Lemke, Lemke with other covering
-    /// vectors, then enumeration for small problems.
+    /// vectors, then enumeration for small problems. Steps with more than 24 closed contacts
+    /// go to `moreau_lcp::fc2d::Fc2dAuto` on the equivalent frictional-contact problem
+    /// instead (block Gauss-Seidel warm-started from the previous impulses, exact solves of
+    /// the clusters that stall), whose cost grows with the contacts' couplings rather than as
+    /// the cube of the LCP's size.
     #[default]
     Auto,
     /// Lemke's complementary pivoting alone.
