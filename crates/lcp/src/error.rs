@@ -157,3 +157,33 @@ pub enum LcpError {
     #[error("i/o error: {0}")]
     Io(#[from] std::io::Error),
 }
+
+/// The rules shared by the solvers' options, each written once: every solver's options
+/// `validate` with them, and the error names the field.
+pub(crate) mod rules {
+    use super::LcpError;
+
+    /// [`LcpError::InvalidOption`] for field `name` with `reason`.
+    pub(crate) fn invalid(name: &'static str, reason: &str) -> LcpError {
+        LcpError::InvalidOption { name, reason: reason.to_string() }
+    }
+
+    /// A tolerance: finite and > 0.
+    pub(crate) fn tolerance(value: f64) -> Result<(), LcpError> {
+        if value.is_finite() && value > 0.0 {
+            Ok(())
+        } else {
+            Err(invalid("tolerance", "must be finite and > 0"))
+        }
+    }
+
+    /// A relaxation factor ω of Gauss-Seidel sweeps: in (0, 2).
+    pub(crate) fn omega(value: f64) -> Result<(), LcpError> {
+        if value > 0.0 && value < 2.0 { Ok(()) } else { Err(invalid("omega", "must be in (0, 2)")) }
+    }
+
+    /// A count of iterations, sweeps or contacts: at least 1.
+    pub(crate) fn count(name: &'static str, value: usize) -> Result<(), LcpError> {
+        if value >= 1 { Ok(()) } else { Err(invalid(name, "must be >= 1")) }
+    }
+}

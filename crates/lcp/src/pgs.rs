@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::rules;
 use crate::solution::{check_warm_start, finish_row_major};
 use crate::{LcpError, LcpRef, Method, Solution, Solver, Status};
 
@@ -18,6 +19,18 @@ pub struct PgsOptions {
     pub tolerance: f64,
     /// Largest number of sweeps over all rows. Default 10000.
     pub max_iterations: usize,
+}
+
+impl PgsOptions {
+    /// Checks the options: `0 < omega < 2`, `tolerance` finite and > 0, `max_iterations >= 1`.
+    ///
+    /// # Errors
+    /// [`LcpError::InvalidOption`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), LcpError> {
+        rules::omega(self.omega)?;
+        rules::tolerance(self.tolerance)?;
+        rules::count("max_iterations", self.max_iterations)
+    }
 }
 
 impl Default for PgsOptions {
@@ -68,18 +81,7 @@ impl Pgs {
     /// [`LcpError::InvalidOption`] unless `0 < omega < 2`, `tolerance` is finite and > 0,
     /// and `max_iterations >= 1`.
     pub fn new(options: PgsOptions) -> Result<Pgs, LcpError> {
-        let bad = |name: &'static str, reason: &str| {
-            Err(LcpError::InvalidOption { name, reason: reason.to_string() })
-        };
-        if !(options.omega > 0.0 && options.omega < 2.0) {
-            return bad("omega", "must be in (0, 2)");
-        }
-        if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
-            return bad("tolerance", "must be finite and > 0");
-        }
-        if options.max_iterations == 0 {
-            return bad("max_iterations", "must be at least 1");
-        }
+        options.validate()?;
         Ok(Pgs { options, ..Pgs::default() })
     }
 

@@ -1,5 +1,6 @@
 //! Options of the time-stepper: the step size h and the LCP solver.
 
+use moreau_lcp::PgsOptions;
 use serde::{Deserialize, Serialize};
 
 /// Which LCP solver a step uses when contacts are closed.
@@ -64,15 +65,11 @@ impl TryFrom<SolverTable> for SolverChoice {
             SolverTable::Lemke {} => Self::Lemke,
             SolverTable::Enumeration {} => Self::Enumeration,
             SolverTable::Pgs { tolerance, omega, max_iterations } => {
-                if !(tolerance > 0.0 && tolerance < 1.0) {
-                    return Err(format!("solver.tolerance = {tolerance} must lie in (0, 1)"));
-                }
-                if !(omega > 0.0 && omega < 2.0) {
-                    return Err(format!("solver.omega = {omega} must lie in (0, 2)"));
-                }
-                if max_iterations == 0 {
-                    return Err("solver.max_iterations must be at least 1".to_owned());
-                }
+                // The solver's own rules, so that a table is refused exactly when the
+                // solver would refuse its options.
+                PgsOptions { omega, tolerance, max_iterations }
+                    .validate()
+                    .map_err(|e| format!("solver.{e}"))?;
                 Self::Pgs { tolerance, omega, max_iterations }
             }
         })
@@ -236,7 +233,7 @@ mod tests {
             Ok(SolverChoice::Pgs { tolerance: 1e-8, omega: 1.2, max_iterations: 50 })
         );
         for (t, w, n, field) in [
-            (1.0, 1.0, 10, "tolerance"),
+            (-1e-8, 1.0, 10, "tolerance"),
             (0.0, 1.0, 10, "tolerance"),
             (1e-8, 2.0, 10, "omega"),
             (1e-8, 0.0, 10, "omega"),

@@ -9,6 +9,7 @@ use super::{
     Fc2dParts, Fc2dRef, Fc2dResidual, Fc2dSolution, Fc2dSolver, LcpRoute, LcpRouteOptions, Newton,
     NewtonOptions, Nsgs, NsgsOptions,
 };
+use crate::error::rules;
 use crate::{LcpError, Method, Status};
 
 /// Options of [`Fc2dAuto`]. Build them as `Fc2dAutoOptions { tolerance: 1e-6, ..Default::default() }`
@@ -157,24 +158,13 @@ impl Fc2dAuto {
     /// `window` and `max_cluster_contacts` are >= 1, `stall_factor > 1` and
     /// `0 < omega < 2`.
     pub fn new(options: Fc2dAutoOptions) -> Result<Fc2dAuto, LcpError> {
-        let bad = |name: &'static str, reason: &str| {
-            Err(LcpError::InvalidOption { name, reason: reason.to_string() })
-        };
-        if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
-            return bad("tolerance", "must be finite and > 0");
-        }
-        if options.max_sweeps == 0 {
-            return bad("max_sweeps", "must be >= 1");
-        }
-        if options.window == 0 {
-            return bad("window", "must be >= 1");
-        }
+        rules::tolerance(options.tolerance)?;
+        rules::count("max_sweeps", options.max_sweeps)?;
+        rules::count("window", options.window)?;
         if !(options.stall_factor > 1.0) {
-            return bad("stall_factor", "must be > 1");
+            return Err(rules::invalid("stall_factor", "must be > 1"));
         }
-        if options.max_cluster_contacts == 0 {
-            return bad("max_cluster_contacts", "must be >= 1");
-        }
+        rules::count("max_cluster_contacts", options.max_cluster_contacts)?;
         let lcp = LcpRoute::new(LcpRouteOptions {
             tolerance: options.tolerance,
             max_contacts: options.lcp_max_contacts,

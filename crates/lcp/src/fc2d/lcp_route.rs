@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::solution::check_warm_start;
 use super::{Fc2dRef, Fc2dSolution, Fc2dSolver};
+use crate::error::rules;
 use crate::{Auto, Enumeration, Lcp, LcpError, Lemke, Method, Solution, Solver, Status};
 
 /// Which LCP solver the [`LcpRoute`] hands the reformulated problem to.
@@ -80,12 +81,7 @@ impl LcpRoute {
     /// # Errors
     /// [`LcpError::InvalidOption`] unless `tolerance` is finite and > 0.
     pub fn new(options: LcpRouteOptions) -> Result<LcpRoute, LcpError> {
-        if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
-            return Err(LcpError::InvalidOption {
-                name: "tolerance",
-                reason: "must be finite and > 0".into(),
-            });
-        }
+        rules::tolerance(options.tolerance)?;
         Ok(LcpRoute { options, solution: Solution::new() })
     }
 

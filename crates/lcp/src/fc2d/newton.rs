@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::residual::project_cone;
 use super::solution::check_warm_start;
 use super::{Fc2dRef, Fc2dResidual, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions};
+use crate::error::rules;
 use crate::{LcpError, Method, Status};
 
 /// How [`Newton`] chooses the augmentation parameters ρ of Alart and Curnier's function.
@@ -186,15 +187,9 @@ impl Newton {
     /// finite and > 0, `regularization` is finite, >= 0 and below 1e-2, and
     /// `regularization_gain` is finite and >= 0.
     pub fn new(options: NewtonOptions) -> Result<Newton, LcpError> {
-        let bad = |name: &'static str, reason: &str| {
-            Err(LcpError::InvalidOption { name, reason: reason.to_string() })
-        };
-        if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
-            return bad("tolerance", "must be finite and > 0");
-        }
-        if options.max_iterations == 0 {
-            return bad("max_iterations", "must be >= 1");
-        }
+        let bad = |name: &'static str, reason: &str| Err(rules::invalid(name, reason));
+        rules::tolerance(options.tolerance)?;
+        rules::count("max_iterations", options.max_iterations)?;
         if !(options.armijo > 0.0 && options.armijo < 0.5) {
             return bad("armijo", "must be in (0, 1/2)");
         }

@@ -6,6 +6,7 @@ use super::local::{solve_bilateral, solve_contact};
 use super::residual::{natural_map, project_cone};
 use super::solution::check_warm_start;
 use super::{Fc2dRef, Fc2dSolution, Fc2dSolver};
+use crate::error::rules;
 use crate::{LcpError, Method, Status};
 
 /// Options of [`Nsgs`]. Build them as `NsgsOptions { tolerance: 1e-6, ..Default::default() }`
@@ -24,6 +25,18 @@ pub struct NsgsOptions {
     /// Keep [`Fc2dResidual::natural`](super::Fc2dResidual::natural) after every sweep in [`Fc2dSolution::history`]
     /// (which costs one product with W per sweep). Default false.
     pub keep_history: bool,
+}
+
+impl NsgsOptions {
+    /// Checks the options: `0 < omega < 2`, `tolerance` finite and > 0, `max_sweeps >= 1`.
+    ///
+    /// # Errors
+    /// [`LcpError::InvalidOption`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), LcpError> {
+        rules::omega(self.omega)?;
+        rules::tolerance(self.tolerance)?;
+        rules::count("max_sweeps", self.max_sweeps)
+    }
 }
 
 impl Default for NsgsOptions {
@@ -77,18 +90,7 @@ impl Nsgs {
     /// [`LcpError::InvalidOption`] unless `0 < omega < 2`, `tolerance` is finite and > 0
     /// and `max_sweeps >= 1`.
     pub fn new(options: NsgsOptions) -> Result<Nsgs, LcpError> {
-        let bad = |name: &'static str, reason: &str| {
-            Err(LcpError::InvalidOption { name, reason: reason.to_string() })
-        };
-        if !(options.omega > 0.0 && options.omega < 2.0) {
-            return bad("omega", "must be in (0, 2)");
-        }
-        if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
-            return bad("tolerance", "must be finite and > 0");
-        }
-        if options.max_sweeps == 0 {
-            return bad("max_sweeps", "must be >= 1");
-        }
+        options.validate()?;
         Ok(Nsgs { options, x: Vec::new(), q: Vec::new() })
     }
 
