@@ -1,13 +1,15 @@
 //! Lemke's complementary pivoting method with lexicographic degeneracy resolution.
 #![allow(non_snake_case)]
 
+mod kernels;
+mod tableau;
+
 use serde::{Deserialize, Serialize};
 
-use crate::dense::{Lu, TINY_MAX, pow2_inverse, refine, solve_tiny};
-use crate::solution::{
-    Chunk, check_warm_start, finish_row_major, finish_sparse, hmax, residual_chunks,
-    residual_of_zero,
-};
+use kernels::{Isa, LANES};
+
+use crate::dense::{Lu, TINY_MAX, refine, solve_tiny};
+use crate::solution::{Chunk, check_warm_start, finish_row_major, finish_sparse, residual_of_zero};
 use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 
 const NONE: usize = usize::MAX;
@@ -138,12 +140,13 @@ impl LemkeOptions {
 ///
 /// **Cost.** A condensed n x (n + 2) tableau (rows: basic variables, columns: the n + 1
 /// non-basic variables and q̄), stored column by column with each column padded to a
-/// multiple of four rows, is pivoted by plain loops over a preallocated buffer: about
-/// n (n + 2) multiply-adds per pivot, four rows per operation. The set-up, pivots and
-/// residual also have a copy compiled for AVX2, chosen at run time when the processor has
-/// it; both copies give the same results bit for bit (no FMA, the same order of
-/// operations). Accepting the tableau's own z costs one product with M; the LU re-solve
-/// runs only when that z fails the residual test. Warm starts are checked and ignored.
+/// multiple of four rows, is pivoted over a preallocated buffer: about n (n + 2)
+/// multiply-adds per pivot, four rows per operation. The set-up, ratio test, pivot and
+/// residual are each written once over four-lane vectors and compiled twice, for AVX2
+/// (chosen at run time when the processor has it) and as portable code; both give the same
+/// results bit for bit (no FMA, reductions whose result does not depend on the order).
+/// Accepting the tableau's own z costs one product with M; the LU re-solve runs only when
+/// that z fails the residual test. Warm starts are checked and ignored.
 ///
 /// **Secondary ray.** For copositive-plus M (for example positive semidefinite) a
 /// secondary ray proves that the LCP has no solution (Cottle, Pang & Stone 1992,
@@ -170,8 +173,8 @@ struct Workspace {
     h: usize,
     /// Chunks per column, `h / LANES`.
     nb: usize,
-    /// Whether the AVX2 copy of the kernels runs (detected on the first solve).
-    avx: bool,
+    /// The instruction set of the kernels (detected on the first solve).
+    isa: Isa,
     row_scaled: bool,
     /// The tie tolerance of the solve in progress ([`LemkeOptions::tie_tolerance`]).
     tie_rel: f64,
@@ -186,8 +189,6 @@ struct Workspace {
     q_pad: Vec<Chunk>,
     /// Three columns of scratch for the kernels of run-time height (n > 32).
     scratch: Vec<Chunk>,
-    /// The row mask of a pivot, for the kernels of run-time height.
-    keep: Vec<[u64; LANES]>,
     q: Vec<f64>,
     d: Vec<f64>,
     /// The condensed tableau, column-major: n + 2 columns of h rows.
@@ -392,19 +393,9 @@ impl Lemke {
     }
 }
 
-/// Tableau columns are padded to a multiple of this many rows (one [`Chunk`]), so that the
-/// kernels run in whole chunks with no remainder loop; the padding rows stay zero.
-const LANES: usize = 4;
-
-/// Column heights up to this (n <= 32) get kernels of fixed size (const generics), which
-/// the compiler unrolls and whose accumulators it keeps in registers.
-const FIXED_MAX: usize = 32;
-
-/// Chunks per column at [`FIXED_MAX`]: the size of the kernels' local arrays.
-const MAX_CHUNKS: usize = FIXED_MAX / LANES;
-
 /// The bookkeeping arrays (`basic`, `nonbasic`, `row_of`, `col_of`) hold at least this
-/// many entries, a power of two above the 2 n + 1 <= 65 variables of the fixed heights.
+/// many entries, a power of two above the 2 n + 1 <= 65 variables of the fixed heights
+/// (n <= 32).
 const IDX: usize = 128;
 
 /// 0, 1, 2, ...: the initial bookkeeping of the fixed heights is copied from it.
@@ -418,49 +409,10 @@ static IOTA: [usize; IDX] = {
     v
 };
 
-/// Row masks of a pivot for the fixed heights: `KEEP[FIXED_MAX - 1 - r + i]` is zero for
-/// i = r and all ones otherwise, so the window from `FIXED_MAX - 1 - r` holds the masks of
-/// rows 0, 1, ... (all bits set but in row r).
-static KEEP: [u64; 2 * FIXED_MAX] = {
-    let mut k = [u64::MAX; 2 * FIXED_MAX];
-    k[FIXED_MAX - 1] = 0;
-    k
-};
-
 /// n rounded up to a multiple of [`LANES`].
 #[inline]
 fn padded_height(n: usize) -> usize {
     n.div_ceil(LANES) * LANES
-}
-
-/// Whether this processor runs AVX and AVX2 instructions (the wider copy of the kernels).
-fn avx2_available() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx") && std::arch::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
-/// Chunk b of `src`, zero past its end.
-#[inline(always)]
-fn load_chunk(src: &[f64], b: usize) -> Chunk {
-    let i = b * LANES;
-    match src.get(i..i + LANES) {
-        Some(c) => [c[0], c[1], c[2], c[3]],
-        None => {
-            let mut c = [0.0; LANES];
-            for (l, v) in c.iter_mut().enumerate() {
-                if let Some(&x) = src.get(i + l) {
-                    *v = x;
-                }
-            }
-            c
-        }
-    }
 }
 
 /// `max(a, b)` as one compare (`maxsd`); a NaN in `b` is ignored, unlike `f64::max` it
@@ -487,128 +439,6 @@ fn status_for(r: Residual, tol: f64, otherwise: Status) -> Status {
     if r.relative <= tol { Status::Solved } else { otherwise }
 }
 
-/// Calls `$ws.$f::<H, AVX>(...)` with H the workspace's column height when it has a
-/// kernel of fixed size, H = 0 (run-time height) otherwise.
-macro_rules! by_height {
-    ($ws:ident . $f:ident :: <$avx:literal> ( $($a:expr),* )) => {
-        match $ws.h {
-            4 => $ws.$f::<4, $avx>($($a),*),
-            8 => $ws.$f::<8, $avx>($($a),*),
-            12 => $ws.$f::<12, $avx>($($a),*),
-            16 => $ws.$f::<16, $avx>($($a),*),
-            20 => $ws.$f::<20, $avx>($($a),*),
-            24 => $ws.$f::<24, $avx>($($a),*),
-            28 => $ws.$f::<28, $avx>($($a),*),
-            32 => $ws.$f::<32, $avx>($($a),*),
-            _ => $ws.$f::<0, $avx>($($a),*),
-        }
-    };
-}
-
-/// How the ratio test's first pass ended.
-enum Ratio {
-    /// One row attains the minimum ratio and no other ties with it.
-    Row(usize),
-    /// Two or more rows tie within the tolerance: the lexicographic rule decides.
-    Tied { ptol: f64, theta: f64, eps: f64 },
-    /// No finite ratio (no blocking row, or ratios beyond the range of f64).
-    NoFinite,
-}
-
-/// Rows with a set bit among the four bits of `m`.
-const POP4: [u8; 16] = [0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4];
-
-/// The first pass of the ratio test on the entering column `a` (times `sign`) and q̄ `c`
-/// (chunks of four rows, padding rows zero): `ptol = pivot_rel · max |a_i|`, θ = the
-/// smallest `c_i / a_i` over `a_i > ptol`, the first row attaining it, and the count of
-/// rows with `a_i > ptol` and `c_i − θ a_i <= eps`, `eps = tie_rel · max(max |c_i|, MIN_POSITIVE)`.
-///
-/// Maxima and minima are taken lane by lane (lane = row mod 4) and then over the lanes in
-/// the order of [`hmax`]-like trees that [`avx::ratio`] follows too, with the same
-/// comparisons, so both give the same result bit for bit.
-#[inline(always)]
-fn ratio_portable(a: &[Chunk], c: &[Chunk], sign: f64, pivot_rel: f64, tie_rel: f64) -> Ratio {
-    let c = &c[..a.len()];
-    let mut amax = [0.0f64; LANES];
-    let mut cmax = [0.0f64; LANES];
-    for (ac, cc) in a.iter().zip(c) {
-        for l in 0..LANES {
-            amax[l] = fmax(amax[l], ac[l].abs());
-            cmax[l] = fmax(cmax[l], cc[l].abs());
-        }
-    }
-    let ptol = pivot_rel * hmax(amax);
-    let mut rmin = [f64::INFINITY; LANES];
-    for (ac, cc) in a.iter().zip(c) {
-        for l in 0..LANES {
-            let ai = sign * ac[l];
-            let ratio = if ai > ptol { cc[l] / ai } else { f64::INFINITY };
-            rmin[l] = fmin(rmin[l], ratio);
-        }
-    }
-    let theta = hmin(rmin);
-    if !(theta < f64::INFINITY) {
-        return Ratio::NoFinite;
-    }
-    let eps = tie_rel * fmax(hmax(cmax), f64::MIN_POSITIVE);
-    let mut first = NONE;
-    let mut count = 0usize;
-    for (b, (ac, cc)) in a.iter().zip(c).enumerate() {
-        for l in 0..LANES {
-            let ai = sign * ac[l];
-            let valid = ai > ptol;
-            if first == NONE && valid && cc[l] / ai == theta {
-                first = b * LANES + l;
-            }
-            count += usize::from(valid && cc[l] - theta * ai <= eps);
-        }
-    }
-    if count <= 1 { Ratio::Row(first) } else { Ratio::Tied { ptol, theta, eps } }
-}
-
-/// `min` over the four lanes of a chunk in the tree `min(min(a0, a2), min(a1, a3))`, by
-/// [`fmin`].
-#[inline(always)]
-fn hmin(a: Chunk) -> f64 {
-    fmin(fmin(a[0], a[2]), fmin(a[1], a[3]))
-}
-
-/// The AVX copies of kernels that the compiler does not vectorise well by itself.
-#[cfg(target_arch = "x86_64")]
-mod avx;
-mod tableau;
-
-/// The column updates of a pivot in row r with `inv = 1 / T_rs`: every column x of `cols`
-/// (columns of `nb` chunks) becomes `x + ρ v` with `ρ = −(x_r inv)` and x_r cleared first
-/// (`keep`: all bits set but in row r; `v`: the pivot column with 1 in row r).
-#[inline(always)]
-fn update_columns<const H: usize>(
-    cols: &mut [Chunk],
-    v: &[Chunk],
-    keep: &[[u64; LANES]],
-    nb: usize,
-    r: usize,
-    inv: f64,
-) {
-    let (v, keep) = (&v[..nb], &keep[..nb]);
-    let (rb, rl) = (r / LANES, r % LANES);
-    for col in cols.chunks_exact_mut(nb) {
-        let x_r = col[rb][rl];
-        // Large problems skip the columns with a zero in the pivot row (unchanged); the
-        // kernels of fixed size update them too rather than branch.
-        if H == 0 && x_r == 0.0 {
-            continue;
-        }
-        let rho = -(x_r * inv);
-        for b in 0..nb {
-            for l in 0..LANES {
-                let x = f64::from_bits(col[b][l].to_bits() & keep[b][l]);
-                col[b][l] = x + rho * v[b][l];
-            }
-        }
-    }
-}
-
 impl Solver for Lemke {
     fn solve_into(
         &mut self,
@@ -633,18 +463,18 @@ mod tests {
         rng.uniform(-1.0, 1.0)
     }
 
-    /// The AVX2 and the baseline copies of the kernels give the same pivots, z, w and
+    /// The kernels compiled for AVX2 and in portable code give the same pivots, z, w and
     /// residual, bit for bit, on SPD, non-symmetric and degenerate problems of sizes 1 to
     /// 40 (fixed-size and run-time-size kernels), with both covering vectors.
     #[test]
-    fn avx2_and_baseline_kernels_agree_bit_for_bit() {
-        if !avx2_available() {
+    fn avx2_and_portable_kernels_agree_bit_for_bit() {
+        if !Isa::detect().is_wide() {
             // A pass here would claim an agreement that was never checked.
             assert!(
                 std::env::var_os("MOREAU_LCP_ALLOW_NO_SIMD").is_some(),
-                "this processor has no AVX2, so the AVX2 copy of Lemke's kernels cannot be \
-                 compared with the baseline copy; set MOREAU_LCP_ALLOW_NO_SIMD=1 to skip the \
-                 comparison on such a machine"
+                "this processor lacks AVX2 (x86-64-v3: AVX, AVX2, FMA, BMI1/2, LZCNT), so \
+                 the AVX2 compilation of Lemke's kernels cannot be compared with the portable \
+                 one; set MOREAU_LCP_ALLOW_NO_SIMD=1 to skip the comparison on such a machine"
             );
             eprintln!("skipped: no AVX2 on this processor (MOREAU_LCP_ALLOW_NO_SIMD is set)");
             return;
@@ -677,7 +507,7 @@ mod tests {
                     };
                     fast.solve_covering(lcp.view(), cover, &mut a).expect("valid");
                     plain.ws.prepare(n);
-                    plain.ws.avx = false;
+                    plain.ws.isa = Isa::Portable;
                     plain.solve_covering(lcp.view(), cover2, &mut b).expect("valid");
                     assert_eq!(a.status, b.status, "n = {n}, trial {trial}");
                     assert_eq!(a.iterations, b.iterations, "n = {n}, trial {trial}");

@@ -370,14 +370,6 @@ pub(crate) fn finish_sparse(
 /// padded to a multiple of four rows).
 pub(crate) type Chunk = [f64; 4];
 
-/// `max` over the four lanes of a chunk, by [`fmax`], in the tree
-/// `max(max(a0, a2), max(a1, a3))` that the AVX kernels follow (equal results also when a
-/// lane is NaN).
-#[inline(always)]
-pub(crate) fn hmax(a: Chunk) -> f64 {
-    fmax(fmax(a[0], a[2]), fmax(a[1], a[3]))
-}
-
 /// The residual from the maxima over the rows of the terms of `Acc::row` (with
 /// `equation` zero): for kernels that take them lane by lane.
 #[inline(always)]
@@ -403,60 +395,6 @@ pub(crate) fn residual_from_maxima(
         finite,
     }
     .finish()
-}
-
-/// The residual of (z, w) for `w = M z + q` as computed (so `equation` is zero), from
-/// chunks of four rows, with `abs` the row sums `Σ_j |M_ij z_j|`; rows past n hold zero in
-/// every argument (they change no maximum). Each row's terms are those of `Acc::row` and
-/// maxima do not depend on their order, so the value is that of [`finish_row_major`]'s
-/// row-by-row loop for the same w and sums; written lane by lane, it vectorises.
-#[inline(always)]
-pub(crate) fn residual_chunks(q: &[Chunk], z: &[Chunk], w: &[Chunk], abs: &[Chunk]) -> Residual {
-    let nb = q.len();
-    let (z, w, abs) = (&z[..nb], &w[..nb], &abs[..nb]);
-    let mut zm = [0.0f64; 4];
-    for c in z {
-        for l in 0..4 {
-            zm[l] = fmax(zm[l], c[l].abs());
-        }
-    }
-    let z_max = hmax(zm);
-    let mut q_max = [0.0f64; 4];
-    let mut natural = [0.0f64; 4];
-    let mut compl = [0.0f64; 4];
-    let mut z_violation = [0.0f64; 4];
-    let mut w_violation = [0.0f64; 4];
-    let mut relative = [0.0f64; 4];
-    // Zero while every z_i and w_i is finite, NaN otherwise.
-    let mut bad = [0.0f64; 4];
-    for b in 0..nb {
-        for l in 0..4 {
-            let (qi, zi, wi, ai) = (q[b][l], z[b][l], w[b][l], abs[b][l]);
-            bad[l] += zi * 0.0 + wi * 0.0;
-            q_max[l] = fmax(q_max[l], qi.abs());
-            natural[l] = fmax(natural[l], if zi < wi { zi } else { wi }.abs());
-            compl[l] = fmax(compl[l], (zi * wi).abs());
-            z_violation[l] = fmax(z_violation[l], -zi);
-            w_violation[l] = fmax(w_violation[l], -wi);
-            let s = fmax(qi.abs(), ai);
-            let w_rel = ratio(-wi, s);
-            let wp = ratio(wi, s);
-            // z_i > 0 implies z_max >= z_i > 0.
-            let zr = zi / z_max;
-            let c = if zi > 0.0 && wi > 0.0 { if zr < wp { zr } else { wp } } else { 0.0 };
-            relative[l] = fmax(relative[l], fmax(w_rel, c));
-        }
-    }
-    residual_from_maxima(
-        hmax(q_max),
-        z_max,
-        hmax(natural),
-        hmax(compl),
-        hmax(z_violation),
-        hmax(w_violation),
-        hmax(relative),
-        bad.iter().all(|&v| v == 0.0),
-    )
 }
 
 /// The result of a solve: z, w = M z + q, status, method, iterations and residual.

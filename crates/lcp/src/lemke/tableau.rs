@@ -1,7 +1,10 @@
-//! Lemke's method on the condensed tableau: set-up, ratio test with the lexicographic rule,
-//! pivots and the checked candidate.
+//! The bookkeeping of Lemke's method on the condensed tableau: the basis, the pivot loop
+//! around the kernels, the lexicographic rule for tied rows, and the checked candidate with
+//! its LU fallback. The numerical kernels (set-up, ratio test, pivot, candidate residual)
+//! are in `kernels`.
 #![allow(non_snake_case)]
 
+use super::kernels::{self, Isa, LANES, Lanes4, Ratio, WithLanes};
 use super::*;
 
 impl Workspace {
@@ -11,7 +14,7 @@ impl Workspace {
             return;
         }
         if self.prepared.is_none() {
-            self.avx = avx2_available();
+            self.isa = Isa::detect();
         }
         self.prepared = Some(n);
         self.n = n;
@@ -23,7 +26,6 @@ impl Workspace {
         self.basis_cols.resize(n * n, 0.0);
         self.q_pad.resize(nb, [0.0; LANES]);
         self.scratch.resize(3 * nb, [0.0; LANES]);
-        self.keep.resize(nb, [0; LANES]);
         self.q.resize(n, 0.0);
         self.d.resize(n, 1.0);
         self.tab.resize((n + 2) * nb, [0.0; LANES]);
@@ -48,9 +50,8 @@ impl Workspace {
         self.lu.reserve(n);
     }
 
-    /// Set-up, pivoting and the tableau's candidate (into `out`), with the kernels compiled
-    /// for AVX2 when the processor has it. Returns how the pivoting ended and the pivots.
-    #[allow(unsafe_code)]
+    /// Set-up, pivoting and the tableau's candidate (into `out`), with the kernels of the
+    /// workspace's token and column height. Returns how the pivoting ended and the pivots.
     pub(super) fn run(
         &mut self,
         lcp: LcpRef<'_>,
@@ -58,51 +59,51 @@ impl Workspace {
         out: &mut Solution,
     ) -> (End, usize) {
         self.tie_rel = opts.tie_tolerance;
-        #[cfg(target_arch = "x86_64")]
-        if self.avx {
-            // SAFETY: `self.avx` is set only by `avx2_available`, which detected AVX and
-            // AVX2 on this processor; `run_avx2` needs nothing else.
-            return unsafe { self.run_avx2(lcp, opts, out) };
+        let isa = self.isa;
+        macro_rules! sized {
+            ($h:literal) => {
+                isa.vectorize(Sized::<$h> { ws: self, lcp, opts, out })
+            };
         }
-        self.run_plain(lcp, opts, out)
-    }
-
-    /// [`Self::run_sized`] for the baseline target.
-    pub(super) fn run_plain(
-        &mut self,
-        lcp: LcpRef<'_>,
-        opts: &LemkeOptions,
-        out: &mut Solution,
-    ) -> (End, usize) {
-        by_height!(self.run_sized::<false>(lcp, opts, out))
-    }
-
-    /// [`Self::run_sized`] compiled with 256-bit AVX instructions. Multiplications and
-    /// additions stay separate (no FMA), so every result is bit for bit that of the
-    /// baseline copy.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx,avx2")]
-    pub(super) fn run_avx2(
-        &mut self,
-        lcp: LcpRef<'_>,
-        opts: &LemkeOptions,
-        out: &mut Solution,
-    ) -> (End, usize) {
-        by_height!(self.run_sized::<true>(lcp, opts, out))
+        match self.h {
+            4 => sized!(4),
+            8 => sized!(8),
+            12 => sized!(12),
+            16 => sized!(16),
+            20 => sized!(20),
+            24 => sized!(24),
+            28 => sized!(28),
+            32 => sized!(32),
+            _ => sized!(0),
+        }
     }
 
     /// The body of [`Self::run`] for columns of H rows (H = 0: `self.h`, any height), with
-    /// the AVX kernels when `AVX` (only inside [`Self::run_avx2`]).
+    /// the kernels of token `simd`. Always inlined, so that it and every kernel are
+    /// compiled for the token's instruction set inside [`Isa::vectorize`].
     #[inline(always)]
-    pub(super) fn run_sized<const H: usize, const AVX: bool>(
+    fn run_sized<S: Lanes4, const H: usize>(
         &mut self,
+        simd: S,
         lcp: LcpRef<'_>,
         opts: &LemkeOptions,
         out: &mut Solution,
     ) -> (End, usize) {
-        self.init_tableau::<H, AVX>(lcp);
-        let ended = self.pivot_loop::<H, AVX>(opts);
-        self.tableau_candidate::<H, AVX>(out, 0.0);
+        kernels::set_up::<S, H>(
+            simd,
+            lcp.m(),
+            self.nb,
+            &mut self.m_cols,
+            &mut self.tab,
+            &self.d,
+            self.row_scaled,
+            &self.q,
+            &mut self.q_pad,
+            &mut self.scratch,
+        );
+        self.init_basis::<H>();
+        let ended = self.pivot_loop::<S, H>(simd, opts);
+        self.tableau_candidate::<S, H>(simd, out, 0.0);
         if matches!(ended.0, End::Complementary) && !(out.residual.relative <= opts.tolerance) {
             // A degenerate basic variable that should be zero but holds round-off (z_j of
             // order 1e-16 ‖z‖∞) makes the rows where it is the only term fail the
@@ -112,7 +113,7 @@ impl Workspace {
             let first = out.residual;
             std::mem::swap(&mut out.z, &mut self.z_tab);
             std::mem::swap(&mut out.w, &mut self.w_tab);
-            self.tableau_candidate::<H, AVX>(out, ROUND_OFF_ZERO * z_max);
+            self.tableau_candidate::<S, H>(simd, out, ROUND_OFF_ZERO * z_max);
             if !(out.residual.relative < first.relative) {
                 std::mem::swap(&mut out.z, &mut self.z_tab);
                 std::mem::swap(&mut out.w, &mut self.w_tab);
@@ -124,118 +125,8 @@ impl Workspace {
 
     /// Chunks per column: H / [`LANES`], or `self.nb` for H = 0.
     #[inline(always)]
-    pub(super) fn chunks<const H: usize>(&self) -> usize {
+    fn chunks<const H: usize>(&self) -> usize {
         if H == 0 { self.nb } else { H / LANES }
-    }
-
-    /// Tableau `x_B = q̄ + T x_N` for the basis {w}: `T = [M | d]`, `q̄ = q`, stored
-    /// column by column (n + 2 columns of h rows: the n + 1 non-basic variables, then q̄).
-    /// Variables: `w_i = i`, `z_i = n + i`, `z_0 = 2 n`.
-    ///
-    /// Each row is scaled by a power of two r_i near `1 / max_j |M_ij|` (exact in floating
-    /// point). Scaling row i of (M, d, q) by r_i > 0 only scales w_i, so the pivot sequence
-    /// is the same in exact arithmetic, while the relative pivot tolerance and the tie
-    /// tests become independent of the magnitudes of the rows.
-    ///
-    /// With [`Covering::RowScaled`] the column of z_0 holds ones in the scaled rows.
-    ///
-    /// M is read once, column by column as it is stored, into the unscaled padded copy
-    /// (which the residual reads) while the row maxima are taken; the tableau's columns
-    /// are then the copy's times the row scales.
-    #[allow(unsafe_code)]
-    #[inline(always)]
-    pub(super) fn init_tableau<const H: usize, const AVX: bool>(&mut self, lcp: LcpRef<'_>) {
-        let n = self.n;
-        let nb = self.chunks::<H>();
-        let m = lcp.m();
-        #[cfg(target_arch = "x86_64")]
-        if AVX
-            && H != 0
-            && let Some(mc) = m.try_as_col_major()
-        {
-            // SAFETY: AVX is true only in the copy that `Workspace::run` calls after
-            // detecting AVX and AVX2 on this processor.
-            unsafe {
-                avx::init_columns::<H>(
-                    n,
-                    |j| mc.col(j).as_slice(),
-                    &mut self.m_cols,
-                    &mut self.tab,
-                    &self.d,
-                    self.row_scaled,
-                    &self.q,
-                    &mut self.q_pad,
-                );
-            }
-            self.init_basis::<H>();
-            return;
-        }
-        let mut local = [[0.0; LANES]; MAX_CHUNKS];
-        let big: &mut [Chunk] = if H == 0 {
-            let big = &mut self.scratch[..nb];
-            big.fill([0.0; LANES]);
-            big
-        } else {
-            &mut local[..nb]
-        };
-        let m_cols = &mut self.m_cols[..n * nb];
-        if let Some(mc) = m.try_as_col_major() {
-            for (j, dst) in m_cols.chunks_exact_mut(nb).enumerate() {
-                let src = mc.col(j).as_slice();
-                for b in 0..nb {
-                    let c = load_chunk(src, b);
-                    dst[b] = c;
-                    for l in 0..LANES {
-                        big[b][l] = fmax(big[b][l], c[l].abs());
-                    }
-                }
-            }
-        } else {
-            for (j, dst) in m_cols.chunks_exact_mut(nb).enumerate() {
-                let col = m.col(j);
-                let dst = dst.as_flattened_mut();
-                dst.fill(0.0);
-                for i in 0..n {
-                    dst[i] = col[i];
-                }
-                for (b, c) in dst.as_chunks::<LANES>().0.iter().enumerate() {
-                    for l in 0..LANES {
-                        big[b][l] = fmax(big[b][l], c[l].abs());
-                    }
-                }
-            }
-        }
-        // The row scales (1 for a zero row and the padding).
-        for c in big.iter_mut() {
-            for v in c.iter_mut() {
-                *v = if *v > 0.0 { pow2_inverse(*v) } else { 1.0 };
-            }
-        }
-        let r: &[Chunk] = big;
-        let tab = &mut self.tab[..(n + 2) * nb];
-        let (t_m, t_rest) = tab.split_at_mut(n * nb);
-        for (dst, src) in t_m.chunks_exact_mut(nb).zip(m_cols.chunks_exact(nb)) {
-            for b in 0..nb {
-                for l in 0..LANES {
-                    dst[b][l] = src[b][l] * r[b][l];
-                }
-            }
-        }
-        let (t_d, t_q) = t_rest.split_at_mut(nb);
-        for b in 0..nb {
-            let d = load_chunk(&self.d, b);
-            let q = load_chunk(&self.q, b);
-            self.q_pad[b] = q;
-            for l in 0..LANES {
-                t_d[b][l] = if self.row_scaled {
-                    if b * LANES + l < n { 1.0 } else { 0.0 }
-                } else {
-                    d[l] * r[b][l]
-                };
-                t_q[b][l] = q[l] * r[b][l];
-            }
-        }
-        self.init_basis::<H>();
     }
 
     /// The basis {w}: `w_i` basic in row i, `z_j` non-basic in column j, `z_0` in
@@ -272,40 +163,59 @@ impl Workspace {
         }
     }
 
-    #[allow(unsafe_code)]
+    /// The pivots from the basis {w} until z_0 leaves, a ray or the pivot limit: the first
+    /// step brings in z_0 (column n) with every row taking part with `a_i = d_i`; each later
+    /// step brings in the complement of the variable that left, with the rows of `T_is < 0`
+    /// taking part with `a_i = -T_is`. The ratio test's first pass
+    /// ([`kernels::ratio`]) names the row unless two or more rows tie, when the
+    /// lexicographic rule ([`Self::select_tied`]) decides, or unless no ratio is finite
+    /// ([`Self::select_row_exact`]). The pivot's column updates are [`kernels::pivot`]; the
+    /// variables then change places ([`Self::exchange`]). For the fixed heights the
+    /// bookkeeping arrays hold at least [`IDX`] entries and are indexed modulo that length
+    /// (every index is below 2 n + 1 <= 65), which needs no bounds checks.
     #[inline(always)]
-    pub(super) fn pivot_loop<const H: usize, const AVX: bool>(
+    fn pivot_loop<S: Lanes4, const H: usize>(
         &mut self,
+        simd: S,
         opts: &LemkeOptions,
     ) -> (End, usize) {
-        #[cfg(target_arch = "x86_64")]
-        if AVX && H != 0 {
-            // SAFETY: AVX is true only in the copy that `Workspace::run` calls after
-            // detecting AVX and AVX2 on this processor.
-            return unsafe { avx::pivot_loop::<H>(self, opts) };
-        }
         let n = self.n;
+        let nb = self.chunks::<H>();
         let z0 = 2 * n;
-        // First pivot: z_0 enters and the row with the most negative q_i / d_i leaves.
-        let Some(r) = self.select_row::<H, AVX>(n, true, opts) else {
-            return (End::Ray, 0);
-        };
-        let mut leaving = self.pivot::<H>(r, n);
-        let mut pivots = 1;
+        let (len, m) = if H != 0 { (IDX, IDX - 1) } else { (self.basic.len(), usize::MAX) };
+        let (pr, tr) = (opts.pivot_tolerance, opts.tie_tolerance);
+        let mut s = n;
+        let mut pivots = 0usize;
         loop {
-            if leaving == z0 {
+            let initial = pivots == 0;
+            let sign = if initial { 1.0 } else { -1.0 };
+            let tab = &self.tab[..(n + 2) * nb];
+            let (a, c) = (&tab[s * nb..(s + 1) * nb], &tab[(n + 1) * nb..]);
+            let r = match kernels::ratio::<S, H>(simd, a, c, sign, pr, tr) {
+                Ratio::Row(r) => r,
+                Ratio::Tied { ptol, theta, eps } => self.select_tied(s, initial, ptol, theta, eps),
+                Ratio::NoFinite => match self.select_row_exact(s, initial, opts) {
+                    Some(r) => r,
+                    None => return (End::Ray, pivots),
+                },
+            };
+            let leaving = self.basic[..len][r & m];
+            // When z_0 leaves, the method ends and only q̄ (the basic values) is read
+            // afterwards, so only q̄ is updated.
+            let last = leaving == z0;
+            let first_col = if last { n + 1 } else { 0 };
+            let tab = &mut self.tab[..(n + 2) * nb];
+            kernels::pivot::<S, H>(simd, tab, nb, first_col, s, r, last, &mut self.scratch);
+            self.exchange::<H>(r, s);
+            pivots += 1;
+            if last {
                 return (End::Complementary, pivots);
             }
             if pivots >= opts.max_pivots {
                 return (End::Limit, pivots);
             }
             let entering = if leaving < n { leaving + n } else { leaving - n };
-            let s = self.col_of[entering];
-            let Some(r) = self.select_row::<H, AVX>(s, false, opts) else {
-                return (End::Ray, pivots);
-            };
-            leaving = self.pivot::<H>(r, s);
-            pivots += 1;
+            s = self.col_of[..len][entering & m];
         }
     }
 
@@ -324,47 +234,8 @@ impl Workspace {
         if r != NONE { if r == i { 1.0 } else { 0.0 } } else { -self.entry(i, self.col_of[j]) }
     }
 
-    /// The ratio test for entering column `s`. In the first step (`initial`), every row
-    /// takes part with `a_i = d_i`; afterwards the rows with `T_is < 0` take part with
-    /// `a_i = -T_is`. The minimum ratio `θ = min q̄_i / a_i` over `a_i > ptol` and the first
-    /// row attaining it are found lane by lane; the rows tied with it within the tie
-    /// tolerance are counted, and only when there are two or more does the lexicographic
-    /// rule ([`Self::select_tied`]) decide.
-    #[allow(unsafe_code)]
-    #[inline(always)]
-    pub(super) fn select_row<const H: usize, const AVX: bool>(
-        &mut self,
-        s: usize,
-        initial: bool,
-        opts: &LemkeOptions,
-    ) -> Option<usize> {
-        let n = self.n;
-        let nb = self.chunks::<H>();
-        let sign = if initial { 1.0 } else { -1.0 };
-        let a = &self.tab[s * nb..(s + 1) * nb];
-        let c = &self.tab[(n + 1) * nb..(n + 2) * nb];
-        let (pr, tr) = (opts.pivot_tolerance, opts.tie_tolerance);
-        #[cfg(target_arch = "x86_64")]
-        let first = if AVX {
-            // SAFETY: AVX is true only in the copy that `Workspace::run` calls after
-            // detecting AVX and AVX2 on this processor.
-            unsafe { avx::ratio(a, c, sign, pr, tr) }
-        } else {
-            ratio_portable(a, c, sign, pr, tr)
-        };
-        #[cfg(not(target_arch = "x86_64"))]
-        let first = ratio_portable(a, c, sign, pr, tr);
-        match first {
-            Ratio::Row(r) => Some(r),
-            Ratio::Tied { ptol, theta, eps } => {
-                Some(self.select_tied(s, initial, ptol, theta, eps))
-            }
-            Ratio::NoFinite => self.select_row_exact(s, initial, opts),
-        }
-    }
-
     /// The ratio test row by row, comparing ratios without dividing: for the rare case of
-    /// no finite ratio in [`Self::select_row`] (a ray, or ratios beyond the range of f64).
+    /// no finite ratio in [`kernels::ratio`] (a ray, or ratios beyond the range of f64).
     #[inline(never)]
     pub(super) fn select_row_exact(
         &mut self,
@@ -458,80 +329,6 @@ impl Workspace {
         }
         self.ties = ties;
         pick
-    }
-
-    /// Exchanges the basic variable of row r with the non-basic variable of column s and
-    /// returns the variable that left the basis.
-    ///
-    /// With `inv = 1 / T_rs`, every other column j gets `ρ_j = −(T_rj inv)` in row r and
-    /// `T_ij + T_is ρ_j` in the other rows, and column s becomes `T_is inv` with `inv` in
-    /// row r (the leaving variable's column): the operations, and so the roundings, of the
-    /// row update `row_i += T_is · row_r / (−T_rs)`. Row r is selected by bit masks
-    /// (from [`KEEP`] for the fixed heights), not by a compare per lane, which the
-    /// compiler would turn into branches on r, nor by a scalar store into a chunk that the
-    /// next kernel reads whole. All columns, s included, go through one loop; column s is
-    /// then overwritten with `v inv` (v: column s with 1 in row r).
-    ///
-    /// When z_0 leaves, the pivot ends the method and only q̄ (the basic values) is read
-    /// afterwards, so only q̄ is updated.
-    #[inline(always)]
-    pub(super) fn pivot<const H: usize>(&mut self, r: usize, s: usize) -> usize {
-        let n = self.n;
-        let nb = self.chunks::<H>();
-        let leaving = self.basic[r];
-        let last = leaving == 2 * n;
-        // The columns to update: all n + 2, or q̄ alone in the last pivot.
-        let (first_col, ncols) = if last { (n + 1, 1) } else { (0, n + 2) };
-        let tab = &mut self.tab[..(n + 2) * nb];
-        let inv = 1.0 / tab[s * nb + r / LANES][r % LANES];
-        // Bit masks that clear row r.
-        let mut local_keep = [[0u64; LANES]; MAX_CHUNKS];
-        let keep: &[[u64; LANES]] = if H == 0 {
-            let keep = &mut self.keep[..nb];
-            for b in 0..nb {
-                for l in 0..LANES {
-                    keep[b][l] = if b * LANES + l == r { 0 } else { u64::MAX };
-                }
-            }
-            keep
-        } else {
-            let window = &KEEP[FIXED_MAX - 1 - r..][..H];
-            for b in 0..nb {
-                for l in 0..LANES {
-                    local_keep[b][l] = window[b * LANES + l];
-                }
-            }
-            &local_keep[..nb]
-        };
-        // v: column s with 1 in row r, so that row r of each column receives ρ_j itself.
-        let mut local = [[0.0; LANES]; MAX_CHUNKS];
-        let v: &mut [Chunk] = if H == 0 { &mut self.scratch[..nb] } else { &mut local[..nb] };
-        let one = 1.0f64.to_bits();
-        let u = &tab[s * nb..(s + 1) * nb];
-        for b in 0..nb {
-            for l in 0..LANES {
-                let k = keep[b][l];
-                v[b][l] = f64::from_bits((u[b][l].to_bits() & k) | (one & !k));
-            }
-        }
-        let v: &[Chunk] = v;
-        update_columns::<H>(
-            &mut tab[first_col * nb..(first_col + ncols) * nb],
-            v,
-            keep,
-            nb,
-            r,
-            inv,
-        );
-        if !last {
-            for (b, c) in tab[s * nb..(s + 1) * nb].iter_mut().enumerate() {
-                for l in 0..LANES {
-                    c[l] = v[b][l] * inv;
-                }
-            }
-        }
-        self.exchange::<H>(r, s);
-        leaving
     }
 
     /// The bookkeeping of a pivot: the basic variable of row r and the non-basic variable
@@ -653,72 +450,45 @@ impl Workspace {
 
     /// Writes the basic values of the tableau as z into `out` (values at or below
     /// `zero_below` taken as 0; `zero_below = 0` clamps at 0), with `w = M z + q` and its
-    /// residual (status left to the caller).
-    ///
-    /// w is accumulated column by column in ascending order, each row summing its terms
-    /// `M_ij z_j` in that order. For heights with a fixed kernel every column takes part
-    /// (a non-basic z_j = 0 adds zero), which costs less than branching on the basis; w and
-    /// the row sums then stay in registers.
-    #[allow(unsafe_code)]
+    /// residual (status left to the caller), by [`kernels::candidate`].
     #[inline(always)]
-    pub(super) fn tableau_candidate<const H: usize, const AVX: bool>(
+    fn tableau_candidate<S: Lanes4, const H: usize>(
         &mut self,
+        simd: S,
         out: &mut Solution,
         zero_below: f64,
     ) {
         let n = self.n;
         let nb = self.chunks::<H>();
-        #[cfg(target_arch = "x86_64")]
-        if AVX && H != 0 {
-            // SAFETY: AVX is true only in the copy that `Workspace::run` calls after
-            // detecting AVX and AVX2 on this processor.
-            out.residual = unsafe {
-                avx::candidate::<H>(
-                    n,
-                    &self.m_cols,
-                    &self.q_pad,
-                    self.tab[(n + 1) * nb..(n + 2) * nb].as_flattened(),
-                    &self.row_of[n..2 * n],
-                    zero_below,
-                    &mut out.z,
-                    &mut out.w,
-                )
-            };
-            return;
-        }
-        let mut lz = [[0.0; LANES]; MAX_CHUNKS];
-        let mut lw = [[0.0; LANES]; MAX_CHUNKS];
-        let mut la = [[0.0; LANES]; MAX_CHUNKS];
-        let (z, w, abs): (&mut [Chunk], &mut [Chunk], &mut [Chunk]) = if H == 0 {
-            let (z, rest) = self.scratch[..3 * nb].split_at_mut(nb);
-            let (w, abs) = rest.split_at_mut(nb);
-            z.fill([0.0; LANES]);
-            abs.fill([0.0; LANES]);
-            (z, w, abs)
-        } else {
-            (&mut lz[..nb], &mut lw[..nb], &mut la[..nb])
-        };
-        let q = &self.q_pad[..nb];
-        w.copy_from_slice(q);
-        let qbar = self.tab[(n + 1) * nb..(n + 2) * nb].as_flattened();
-        for (j, col) in self.m_cols[..n * nb].chunks_exact(nb).enumerate() {
-            let r = self.row_of[n + j];
-            if H == 0 && r == NONE {
-                continue;
-            }
-            let v = qbar[if r < n { r } else { 0 }];
-            let zj = if r < n && v > zero_below { v } else { 0.0 };
-            for b in 0..nb {
-                for l in 0..LANES {
-                    let t = col[b][l] * zj;
-                    w[b][l] += t;
-                    abs[b][l] += t.abs();
-                    z[b][l] = if b * LANES + l == j { zj } else { z[b][l] };
-                }
-            }
-        }
-        out.residual = residual_chunks(q, z, w, abs);
-        out.z.copy_from_slice(&z.as_flattened()[..n]);
-        out.w.copy_from_slice(&w.as_flattened()[..n]);
+        out.residual = kernels::candidate::<S, H>(
+            simd,
+            nb,
+            &self.m_cols,
+            &self.q_pad,
+            self.tab[(n + 1) * nb..(n + 2) * nb].as_flattened(),
+            &self.row_of[n..2 * n],
+            zero_below,
+            &mut out.z[..n],
+            &mut out.w[..n],
+            &mut self.scratch,
+        );
+    }
+}
+
+/// [`Workspace::run_sized`] for columns of H rows, as a computation that
+/// [`Isa::vectorize`] compiles for its token.
+struct Sized<'w, 'l, 'o, 's, const H: usize> {
+    ws: &'w mut Workspace,
+    lcp: LcpRef<'l>,
+    opts: &'o LemkeOptions,
+    out: &'s mut Solution,
+}
+
+impl<const H: usize> WithLanes for Sized<'_, '_, '_, '_, H> {
+    type Output = (End, usize);
+
+    #[inline(always)]
+    fn run<S: Lanes4>(self, simd: S) -> (End, usize) {
+        self.ws.run_sized::<S, H>(simd, self.lcp, self.opts, self.out)
     }
 }
