@@ -15,7 +15,8 @@
 //! | [`nalgebra`] | `nalgebra` | the geometry types of [`kinematics::planar`] (points, vectors, Jacobians) |
 //!
 //! A mechanism of one's own implements [`stepper::Mechanism`] and
-//! [`kinematics::ContactKinematics`]; `examples/box_on_incline` is one, with its Jacobians
+//! [`kinematics::ContactKinematics`], both in [`stepper::prelude`] with what they use;
+//! `examples/box_on_incline` is one, with its Jacobians
 //! checked, its run, its record and its impacts, and `docs/theory.md` holds the equations.
 //!
 //! # Example

@@ -5,7 +5,7 @@ use std::str::FromStr;
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::{BilateralPoint, ConcreteOp, Mechanism};
+use moreau_stepper::{BilateralPoint, ConcreteOp, Mechanism, SharedWork};
 use serde::{Deserialize, Serialize};
 
 use crate::bodies::{Multibody, SystemSpec};
@@ -351,19 +351,6 @@ impl Mechanism for AnyModel {
     fn constant_mass_matrix(&self) -> bool {
         dispatch!(self, m => m.constant_mass_matrix())
     }
-    #[inline(always)]
-    fn evaluate(
-        &self,
-        q: &[f64],
-        u: &[f64],
-        t: f64,
-        mass: Option<&mut [f64]>,
-        h: &mut [f64],
-        gaps: &mut [f64],
-        memo: &mut [f64],
-    ) {
-        dispatch!(self, m => m.evaluate(q, u, t, mass, h, gaps, memo))
-    }
     #[inline]
     fn num_bilaterals(&self) -> usize {
         dispatch!(self, m => m.num_bilaterals())
@@ -373,21 +360,8 @@ impl Mechanism for AnyModel {
         dispatch!(self, m => m.bilateral(i, q, t, w))
     }
     #[inline]
-    fn memo_len(&self) -> usize {
-        dispatch!(self, m => m.memo_len())
-    }
-    #[inline(always)]
-    fn midpoint_contacts(
-        &self,
-        which: &[usize],
-        q: &[f64],
-        t: f64,
-        memo: &[f64],
-        w_n: &mut [f64],
-        w_t: &mut [f64],
-        points: &mut [ContactPoint],
-    ) {
-        dispatch!(self, m => m.midpoint_contacts(which, q, t, memo, w_n, w_t, points))
+    fn shared_work(&self) -> Option<&dyn SharedWork> {
+        dispatch!(self, m => m.shared_work())
     }
     /// Runs `op` with the model inside, so that a stepper of an `AnyModel` runs the loop
     /// compiled for that model's type (chosen once per run).

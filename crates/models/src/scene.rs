@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use moreau_stepper::{
     Observer, Record, Recorder, RunSummary, SolverChoice, StepReport, Stepper, StepperOptions,
+    UnknownSolver,
 };
 use serde::{Deserialize, Serialize};
 
@@ -390,9 +391,7 @@ impl Scene {
 
     /// The stepper's options: Δt, the solver and the projection.
     pub fn stepper_options(&self) -> StepperOptions {
-        let mut options = StepperOptions::new(self.dt).with_solver(self.solver.clone());
-        options.projection = self.projection;
-        options
+        StepperOptions::new(self.dt).with_solver(self.solver).with_projection(self.projection)
     }
 
     /// A stepper at the model's initial state and t = 0, for stepping by hand.
@@ -557,7 +556,7 @@ impl Scene {
             reason,
         };
         if key == "solver" {
-            self.solver = SolverChoice::parse(value.trim()).map_err(|e| bad(e.to_string()))?;
+            self.solver = value.trim().parse().map_err(|e: UnknownSolver| bad(e.to_string()))?;
             return Ok(());
         }
         let targets = self.targets(key)?;

@@ -3,7 +3,7 @@
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::Mechanism;
+use moreau_stepper::{Mechanism, SharedWork};
 use serde::{Deserialize, Serialize};
 
 use crate::ModelError;
@@ -489,6 +489,20 @@ impl Mechanism for SliderCrank {
     fn forces(&self, q: &[f64], u: &[f64], _t: f64, h: &mut [f64]) {
         self.forces_at((q[1] - q[0]).sin(), q[0].cos(), q[1].cos(), u, h);
     }
+    fn shared_work(&self) -> Option<&dyn SharedWork> {
+        Some(self)
+    }
+    fn potential_energy(&self, q: &[f64], _t: f64) -> Option<f64> {
+        let p = &self.params;
+        Some(
+            (0.5 * p.m1 + p.m2 + p.m3) * p.g * p.l1 * q[0].sin()
+                + (0.5 * p.m2 + p.m3) * p.g * p.l2 * q[1].sin(),
+        )
+    }
+}
+
+/// M, h, the gaps and the closed corners' kinematics from one set of sines and cosines.
+impl SharedWork for SliderCrank {
     fn evaluate(
         &self,
         q: &[f64],
@@ -524,12 +538,5 @@ impl Mechanism for SliderCrank {
         points: &mut [ContactPoint],
     ) {
         self.corners_at(which, &Angles::from_memo(memo), w_n, w_t, points);
-    }
-    fn potential_energy(&self, q: &[f64], _t: f64) -> Option<f64> {
-        let p = &self.params;
-        Some(
-            (0.5 * p.m1 + p.m2 + p.m3) * p.g * p.l1 * q[0].sin()
-                + (0.5 * p.m2 + p.m3) * p.g * p.l2 * q[1].sin(),
-        )
     }
 }

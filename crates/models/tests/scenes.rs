@@ -151,7 +151,7 @@ fn set_accepts_scene_and_model_keys() {
     scene.set("y0", "1.5").unwrap();
     let ModelParams::Ball(p) = &scene.params else { panic!("wrong model") };
     assert_eq!((p.eps_n, p.init.v0, p.r, p.init.y0), (0.5, 2.0, 0.2, 1.5));
-    assert_eq!((scene.dt, scene.t_end, scene.solver.clone()), (0.002, 3.0, SolverChoice::Lemke));
+    assert_eq!((scene.dt, scene.t_end, scene.solver), (0.002, 3.0, SolverChoice::Lemke));
     scene.set("solver", "pgs").unwrap();
     assert!(scene.keys().contains(&"solver.tolerance".to_string()));
     scene.set("solver.tolerance", "1e-8").unwrap();

@@ -1,16 +1,19 @@
 //! Checking a mechanism's shared-work overrides against its separate methods.
 //!
-//! [`Mechanism::evaluate`] and [`Mechanism::midpoint_contacts`] exist so that a mechanism can
-//! compute M, h, the gaps and the closed contacts' kinematics at one q with shared work (the
-//! sines and cosines of the same angles, say). Their defaults call the separate methods; an
-//! override must give the same values, and [`check_evaluate`] tells whether it does.
+//! [`SharedWork`] exists so that a mechanism can compute M, h, the gaps and the closed
+//! contacts' kinematics at one q with shared work (the sines and cosines of the same angles,
+//! say). It must give the values of the separate methods, and [`check_evaluate`] tells
+//! whether it does.
 
 use moreau_kinematics::ContactPoint;
 
+#[cfg(doc)]
+use crate::SharedWork;
+use crate::mechanism::{evaluate, midpoint_contacts};
 use crate::stepper::check_state;
 use crate::{Mechanism, StepError};
 
-/// Where an override of [`Mechanism::evaluate`] or [`Mechanism::midpoint_contacts`] differs
+/// Where an override of [`SharedWork::evaluate`] or [`SharedWork::midpoint_contacts`] differs
 /// from the separate methods by more than the tolerance.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 #[error(
@@ -32,9 +35,9 @@ pub struct EvaluateMismatch {
     pub scaled: f64,
 }
 
-/// Compares, at the state (q, u, t), [`Mechanism::evaluate`] with [`Mechanism::mass_matrix`],
+/// Compares, at the state (q, u, t), [`SharedWork::evaluate`] with [`Mechanism::mass_matrix`],
 /// [`Mechanism::forces`] and [`moreau_kinematics::ContactKinematics::normal_gaps`], and then
-/// [`Mechanism::midpoint_contacts`] (with the memo that `evaluate` left) with
+/// [`SharedWork::midpoint_contacts`] (with the memo that `evaluate` left) with
 /// [`moreau_kinematics::ContactKinematics::contacts`], for all contacts at once and for each
 /// contact alone. Returns the first entry whose scaled difference
 /// `|a − b| / max(1, |a|, |b|)` exceeds `tol` (NaN in both counts as equal), or `None` when
@@ -51,7 +54,7 @@ pub struct EvaluateMismatch {
 /// ```
 /// use moreau_kinematics::{ContactKinematics, ContactPoint};
 /// use moreau_setvalued::ContactLaw;
-/// use moreau_stepper::{Mechanism, check_evaluate};
+/// use moreau_stepper::{Mechanism, SharedWork, check_evaluate};
 ///
 /// /// A pendulum of length 1 whose bob meets a floor 0.9 below the pivot: q = (θ). Its
 /// /// `evaluate` shares sin θ and cos θ, and has the sign of gravity wrong.
@@ -69,6 +72,9 @@ pub struct EvaluateMismatch {
 ///     fn laws(&self) -> &[ContactLaw] { &self.laws }
 ///     fn mass_matrix(&self, _q: &[f64], _t: f64, m: &mut [f64]) { m[0] = 1.0; }
 ///     fn forces(&self, q: &[f64], _u: &[f64], _t: f64, h: &mut [f64]) { h[0] = -9.81 * q[0].sin(); }
+///     fn shared_work(&self) -> Option<&dyn SharedWork> { Some(self) }
+/// }
+/// impl SharedWork for Pendulum {
 ///     fn evaluate(
 ///         &self, q: &[f64], _u: &[f64], _t: f64, mass: Option<&mut [f64]>, h: &mut [f64],
 ///         gaps: &mut [f64], _memo: &mut [f64],
@@ -77,6 +83,13 @@ pub struct EvaluateMismatch {
 ///         if let Some(m) = mass { m[0] = 1.0; }
 ///         h[0] = 9.81 * s;
 ///         gaps[0] = 0.9 - c;
+///     }
+///     fn memo_len(&self) -> usize { 0 }
+///     fn midpoint_contacts(
+///         &self, which: &[usize], q: &[f64], t: f64, _memo: &[f64], w_n: &mut [f64],
+///         w_t: &mut [f64], points: &mut [ContactPoint],
+///     ) {
+///         self.contacts(which, q, t, w_n, w_t, points);
 ///     }
 /// }
 ///
@@ -109,8 +122,8 @@ pub fn check_evaluate<M: Mechanism + ?Sized>(
     };
 
     let (mut m1, mut h1, mut g1) = (vec![0.0; f * f], vec![0.0; f], vec![0.0; n]);
-    let mut memo = vec![f64::NAN; mech.memo_len()];
-    mech.evaluate(q, u, t, Some(&mut m1), &mut h1, &mut g1, &mut memo);
+    let mut memo = vec![f64::NAN; mech.shared_work().map_or(0, |s| s.memo_len())];
+    evaluate(mech, q, u, t, Some(&mut m1), &mut h1, &mut g1, &mut memo);
     let (mut m2, mut h2, mut g2) = (vec![0.0; f * f], vec![0.0; f], vec![0.0; n]);
     mech.mass_matrix(q, t, &mut m2);
     mech.forces(q, u, t, &mut h2);
@@ -121,7 +134,7 @@ pub fn check_evaluate<M: Mechanism + ?Sized>(
         }
     }
     // Without M, evaluate writes the same h and gaps.
-    mech.evaluate(q, u, t, None, &mut h2, &mut g2, &mut memo);
+    evaluate(mech, q, u, t, None, &mut h2, &mut g2, &mut memo);
     for (what, a, b) in [("h", &h2, &h1), ("g_N", &g2, &g1)] {
         if let Some(m) = compare(what, a, b) {
             return Ok(Some(m));
@@ -135,7 +148,7 @@ pub fn check_evaluate<M: Mechanism + ?Sized>(
         let k = which.len();
         let fresh = contacts_of(k * f, k, |w_n, w_t, p| mech.contacts(&which, q, t, w_n, w_t, p));
         let kept = contacts_of(k * f, k, |w_n, w_t, p| {
-            mech.midpoint_contacts(&which, q, t, &memo, w_n, w_t, p);
+            midpoint_contacts(mech, &which, q, t, &memo, w_n, w_t, p);
         });
         let scalars = |p: &[ContactPoint], g: fn(&ContactPoint) -> f64| -> Vec<f64> {
             p.iter().map(g).collect()

@@ -64,12 +64,6 @@ pub enum StepError {
         /// Requested end time (s).
         t_end: f64,
     },
-    /// An unknown solver name.
-    #[error("unknown LCP solver '{name}'; accepted: auto, lemke, pgs, enum")]
-    UnknownSolver {
-        /// The rejected name.
-        name: String,
-    },
     /// The LCP of a step has no acceptable solution from the chosen solver.
     ///
     /// The instance is kept so that it can be written with `Lcp::write_siconos` and examined.

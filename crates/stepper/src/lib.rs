@@ -77,6 +77,28 @@
 //!   Universidade do Minho.
 #![deny(missing_docs)]
 
+/// Everything a hand-derived mechanism needs, in one import: the two traits to implement
+/// ([`Mechanism`] and its supertrait `ContactKinematics`), their value types, the contact law,
+/// and the stepper with its options, record and error.
+///
+/// ```
+/// use moreau_stepper::prelude::*;
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let law = ContactLaw::new(0.5, 0.0, 0.3)?;
+/// let options = StepperOptions::new(1e-3).with_solver(SolverChoice::Lemke);
+/// assert_eq!((law.mu(), options.dt), (0.3, 1e-3));
+/// # Ok(())
+/// # }
+/// ```
+pub mod prelude {
+    pub use crate::{
+        BilateralPoint, Mechanism, Record, SharedWork, SolverChoice, StepError, StepReport,
+        Stepper, StepperOptions,
+    };
+    pub use moreau_kinematics::{ContactKinematics, ContactPoint};
+    pub use moreau_setvalued::ContactLaw;
+}
+
 mod check;
 mod dense;
 mod error;
@@ -89,8 +111,8 @@ mod stepper;
 
 pub use check::{EvaluateMismatch, check_evaluate};
 pub use error::StepError;
-pub use mechanism::{BilateralPoint, ConcreteOp, Mechanism};
+pub use mechanism::{BilateralPoint, ConcreteOp, Mechanism, SharedWork};
 pub use observer::{Impact, Observer, Record, Recorder};
-pub use options::{SolverChoice, StepperOptions};
+pub use options::{SolverChoice, StepperOptions, UnknownSolver};
 pub use rows::{RowIter, Rows};
 pub use stepper::{ContactReport, ContactState, LcpInfo, RunSummary, StepReport, Stepper};

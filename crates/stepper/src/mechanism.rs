@@ -51,56 +51,13 @@ pub trait Mechanism: ContactKinematics {
         BilateralPoint { g: f64::NAN, w_hat: f64::NAN }
     }
 
-    /// Everything the stepper evaluates at the midpoint of a step, in one call: M(q, t) into
-    /// `mass` (skipped when `None`, as when a constant M is already factorised), h(q, u, t)
-    /// into `h` and the normal gaps of all contacts into `gaps`.
-    ///
-    /// `memo` (length [`Self::memo_len`]) keeps what the same step's
-    /// [`Self::midpoint_contacts`] may reuse at this q, such as the sines and cosines of the
-    /// angles. The stepper passes it back unchanged, and only at the same q and t.
-    ///
-    /// The default calls [`Self::mass_matrix`], [`Self::forces`] and
-    /// [`ContactKinematics::normal_gaps`] and keeps nothing. Override it when they share
-    /// work; it must give the same values.
-    fn evaluate(
-        &self,
-        q: &[f64],
-        u: &[f64],
-        t: f64,
-        mass: Option<&mut [f64]>,
-        h: &mut [f64],
-        gaps: &mut [f64],
-        memo: &mut [f64],
-    ) {
-        let _ = memo;
-        if let Some(m) = mass {
-            self.mass_matrix(q, t, m);
-        }
-        self.forces(q, u, t, h);
-        self.normal_gaps(q, t, gaps);
-    }
-
-    /// The length of the `memo` that [`Self::evaluate`] fills for
-    /// [`Self::midpoint_contacts`]: 0 by default.
-    fn memo_len(&self) -> usize {
-        0
-    }
-
-    /// [`ContactKinematics::contacts`] at the q and t of the last [`Self::evaluate`], which
-    /// left `memo` as it was. The default ignores `memo` and calls `contacts`; an override
-    /// must give the same values.
-    fn midpoint_contacts(
-        &self,
-        which: &[usize],
-        q: &[f64],
-        t: f64,
-        memo: &[f64],
-        w_n: &mut [f64],
-        w_t: &mut [f64],
-        points: &mut [ContactPoint],
-    ) {
-        let _ = memo;
-        self.contacts(which, q, t, w_n, w_t, points);
+    /// The mechanism's [`SharedWork`], when it shares work between M, h, the gaps and the
+    /// closed contacts' kinematics: `None` by default. A mechanism that implements
+    /// [`SharedWork`] returns `Some(self)`, and the stepper then calls it instead of
+    /// [`Self::mass_matrix`], [`Self::forces`] and [`ContactKinematics::normal_gaps`] once per
+    /// step; [`crate::check_evaluate`] checks that it gives the same values.
+    fn shared_work(&self) -> Option<&dyn SharedWork> {
+        None
     }
 
     /// Runs `op` with the mechanism that does the work: `self` by default. A type that
@@ -113,6 +70,96 @@ pub trait Mechanism: ContactKinematics {
         Self: Sized,
     {
         op.run(self)
+    }
+}
+
+/// An opt-in speed hook: everything the stepper evaluates at the midpoint of a step, in one
+/// call, for a mechanism whose M, h, gaps and contact kinematics share work (the sines and
+/// cosines of the same angles, say). A mechanism that implements it says so through
+/// [`Mechanism::shared_work`]; its values must be those of the [`Mechanism`] methods, which
+/// [`crate::check_evaluate`] verifies.
+pub trait SharedWork {
+    /// M(q, t) into `mass` (skipped when `None`, as when a constant M is already
+    /// factorised), h(q, u, t) into `h` and the normal gaps of all contacts into `gaps`.
+    ///
+    /// `memo` (length [`Self::memo_len`]) keeps what the same step's
+    /// [`Self::midpoint_contacts`] may reuse at this q. The stepper passes it back unchanged,
+    /// and only at the same q and t.
+    #[allow(clippy::too_many_arguments)]
+    fn evaluate(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        t: f64,
+        mass: Option<&mut [f64]>,
+        h: &mut [f64],
+        gaps: &mut [f64],
+        memo: &mut [f64],
+    );
+
+    /// The length of the `memo` that [`Self::evaluate`] fills for
+    /// [`Self::midpoint_contacts`].
+    fn memo_len(&self) -> usize;
+
+    /// [`ContactKinematics::contacts`] at the q and t of the last [`Self::evaluate`], which
+    /// left `memo` as it was.
+    #[allow(clippy::too_many_arguments)]
+    fn midpoint_contacts(
+        &self,
+        which: &[usize],
+        q: &[f64],
+        t: f64,
+        memo: &[f64],
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+        points: &mut [ContactPoint],
+    );
+}
+
+/// M, h and the gaps at the midpoint: through the mechanism's [`SharedWork`] when it has one,
+/// otherwise by [`Mechanism::mass_matrix`], [`Mechanism::forces`] and
+/// [`ContactKinematics::normal_gaps`].
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn evaluate<M: Mechanism + ?Sized>(
+    mech: &M,
+    q: &[f64],
+    u: &[f64],
+    t: f64,
+    mass: Option<&mut [f64]>,
+    h: &mut [f64],
+    gaps: &mut [f64],
+    memo: &mut [f64],
+) {
+    match mech.shared_work() {
+        Some(shared) => shared.evaluate(q, u, t, mass, h, gaps, memo),
+        None => {
+            if let Some(m) = mass {
+                mech.mass_matrix(q, t, m);
+            }
+            mech.forces(q, u, t, h);
+            mech.normal_gaps(q, t, gaps);
+        }
+    }
+}
+
+/// The closed contacts' kinematics at the midpoint of the last [`evaluate`]: through the
+/// mechanism's [`SharedWork`] when it has one, otherwise [`ContactKinematics::contacts`].
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn midpoint_contacts<M: Mechanism + ?Sized>(
+    mech: &M,
+    which: &[usize],
+    q: &[f64],
+    t: f64,
+    memo: &[f64],
+    w_n: &mut [f64],
+    w_t: &mut [f64],
+    points: &mut [ContactPoint],
+) {
+    match mech.shared_work() {
+        Some(shared) => shared.midpoint_contacts(which, q, t, memo, w_n, w_t, points),
+        None => mech.contacts(which, q, t, w_n, w_t, points),
     }
 }
 

@@ -2,19 +2,18 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::StepError;
-
 /// Which LCP solver a step uses when contacts are closed.
 ///
 /// Whatever the choice, a step whose LCP solution fails the residual test stops the run with
-/// [`StepError::LcpFailed`]; the choice trades robustness for speed, never correctness.
+/// [`crate::StepError::LcpFailed`]; the choice trades robustness for speed, never correctness.
 ///
 /// Read from a table such as `{ kind = "pgs", tolerance = 1e-10, omega = 1.0,
 /// max_iterations = 10000 }`: a field the kind does not have is refused for every kind, and
 /// PGS' settings must lie in their ranges (tolerance in (0, 1), ω in (0, 2), at least one
 /// sweep).
-#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Default, Serialize, Deserialize)]
 #[serde(try_from = "SolverTable", into = "SolverTable")]
+#[non_exhaustive]
 pub enum SolverChoice {
     /// The default: a single active contact in closed form (stick or slip either way, taken
     /// when the LCP's residual passes), otherwise the robust strategy of `moreau_lcp::Auto`:
@@ -95,21 +94,7 @@ impl SolverChoice {
         Self::Pgs { tolerance: 1e-10, omega: 1.0, max_iterations: 10_000 }
     }
 
-    /// Parses a solver name: `auto`, `lemke`, `pgs` (with [`Self::pgs_default`]) or `enum`.
-    ///
-    /// # Errors
-    /// [`StepError::UnknownSolver`] naming the accepted values.
-    pub fn parse(name: &str) -> Result<Self, StepError> {
-        match name {
-            "auto" => Ok(Self::Auto),
-            "lemke" => Ok(Self::Lemke),
-            "pgs" => Ok(Self::pgs_default()),
-            "enum" | "enumeration" => Ok(Self::Enumeration),
-            other => Err(StepError::UnknownSolver { name: other.to_owned() }),
-        }
-    }
-
-    /// The short name accepted by [`Self::parse`].
+    /// The short name that [`str::parse`] accepts (`auto`, `lemke`, `pgs`, `enum`).
     pub fn name(&self) -> &'static str {
         match self {
             Self::Auto => "auto",
@@ -120,9 +105,34 @@ impl SolverChoice {
     }
 }
 
+/// A solver name that is none of `auto`, `lemke`, `pgs`, `enum` (or `enumeration`).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown LCP solver '{name}'; accepted: auto, lemke, pgs, enum")]
+pub struct UnknownSolver {
+    /// The name given.
+    pub name: String,
+}
+
+impl std::str::FromStr for SolverChoice {
+    type Err = UnknownSolver;
+
+    /// Parses a solver name: `auto`, `lemke`, `pgs` (with [`SolverChoice::pgs_default`]) or
+    /// `enum`.
+    fn from_str(name: &str) -> Result<Self, UnknownSolver> {
+        match name {
+            "auto" => Ok(Self::Auto),
+            "lemke" => Ok(Self::Lemke),
+            "pgs" => Ok(Self::pgs_default()),
+            "enum" | "enumeration" => Ok(Self::Enumeration),
+            other => Err(UnknownSolver { name: other.to_owned() }),
+        }
+    }
+}
+
 /// Options of a [`crate::Stepper`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[non_exhaustive]
 pub struct StepperOptions {
     /// Time step Δt (s); must be finite and positive.
     pub dt: f64,
@@ -168,6 +178,20 @@ impl StepperOptions {
     /// The same options with an active-set threshold (see [`Self::gap_tolerance`]).
     pub fn with_gap_tolerance(mut self, gap_tolerance: f64) -> Self {
         self.gap_tolerance = gap_tolerance;
+        self
+    }
+
+    /// The same options with or without the projection of the positions (see
+    /// [`Self::projection`]).
+    pub fn with_projection(mut self, projection: bool) -> Self {
+        self.projection = projection;
+        self
+    }
+
+    /// The same options with or without friction rows for frictionless contacts (see
+    /// [`Self::friction_rows_when_frictionless`]).
+    pub fn with_friction_rows_when_frictionless(mut self, rows: bool) -> Self {
+        self.friction_rows_when_frictionless = rows;
         self
     }
 

@@ -58,9 +58,9 @@ pub struct LcpInfo {
     pub status: Status,
     /// Pivots or sweeps used.
     pub iterations: usize,
-    /// The largest entry of the shared residual of `moreau_lcp::Residual`; for a single
-    /// frictionless contact solved in closed form, the equation error |A P_N + b| (z = −b/A
-    /// with A > 0 > b needs no check).
+    /// The shared residual's scale-free acceptance measure (`moreau_lcp::Residual::relative`)
+    /// of the accepted (P_N, P_R, ξ_L) on the step's LCP, whichever method produced it; 0 for
+    /// the zero impulse of separating contacts, which solves the LCP exactly.
     pub residual: f64,
 }
 

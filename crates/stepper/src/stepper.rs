@@ -276,7 +276,7 @@ impl<M: Mechanism> Stepper<M> {
             q_m: vec![0.0; f],
             q_e: vec![0.0; f],
             gaps: vec![0.0; n],
-            memo: vec![0.0; mechanism.memo_len()],
+            memo: vec![0.0; mechanism.shared_work().map_or(0, |s| s.memo_len())],
             mass: vec![0.0; f * f],
             h: vec![0.0; f],
             u_free: vec![0.0; f],

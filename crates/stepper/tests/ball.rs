@@ -195,7 +195,7 @@ fn every_solver_gives_the_same_bouncing_ball() {
     use moreau_stepper::SolverChoice;
     let reference = run(0.7, 1e-3, 3.0);
     for solver in [SolverChoice::Lemke, SolverChoice::pgs_default(), SolverChoice::Enumeration] {
-        let opts = StepperOptions::new(1e-3).with_solver(solver.clone());
+        let opts = StepperOptions::new(1e-3).with_solver(solver);
         let mut s = Stepper::new(Ball::new(0.7), &[Y0], &[0.0], 0.0, opts).unwrap();
         let r = s.record_until(3.0).unwrap();
         // PGS's update z − (Az + b)/A rounds differently from −b/A; near the accumulation

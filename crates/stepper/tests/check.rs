@@ -3,7 +3,7 @@
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::{Mechanism, StepError, check_evaluate};
+use moreau_stepper::{Mechanism, SharedWork, StepError, check_evaluate};
 use moreau_testsupport::Rod;
 
 /// The shared test rod, q = (x, y, φ), with overrides of `evaluate` and `midpoint_contacts`
@@ -60,6 +60,12 @@ impl Mechanism for SharedRod {
     fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]) {
         self.rod.forces(q, u, t, h);
     }
+    fn shared_work(&self) -> Option<&dyn SharedWork> {
+        Some(self)
+    }
+}
+
+impl SharedWork for SharedRod {
     fn evaluate(
         &self,
         q: &[f64],

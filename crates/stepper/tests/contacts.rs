@@ -64,7 +64,7 @@ fn frictionless_contacts_give_the_same_trajectory_with_or_without_friction_rows(
         let rod = Rod::new(0.5, 0.0);
         let q0 = [0.0, 0.4, 0.3];
         let u0 = [1.0, -1.0, 2.0];
-        let base = StepperOptions::new(1e-3).with_solver(solver.clone());
+        let base = StepperOptions::new(1e-3).with_solver(solver);
         let mut full = base.clone();
         full.friction_rows_when_frictionless = true;
         let mut a = Stepper::new(rod.clone(), &q0, &u0, 0.0, base).unwrap();
@@ -141,7 +141,7 @@ fn invalid_input_is_rejected_with_typed_errors() {
     assert!(ContactLaw::new(1.5, 0.0, 0.1).is_err());
     assert!(ContactLaw::new(0.5, -0.1, 0.1).is_err());
     assert!(ContactLaw::new(0.5, 0.0, -0.1).is_err());
-    assert!(SolverChoice::parse("simplex").is_err());
+    assert!("simplex".parse::<SolverChoice>().is_err());
 
     // A mass matrix that is not positive definite stops the first step.
     let mut b = ball();

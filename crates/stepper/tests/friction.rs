@@ -35,7 +35,7 @@ fn slide_with(
 fn block_sticks_when_tan_alpha_is_at_most_mu() {
     for solver in [SolverChoice::Auto, SolverChoice::Lemke, SolverChoice::pgs_default()] {
         for (alpha, mu) in [(0.2, 0.3), (0.29, 0.3), (0.3f64.atan() - 1e-6, 0.3)] {
-            let (d, v, state) = slide(alpha, mu, solver.clone(), 1.0);
+            let (d, v, state) = slide(alpha, mu, solver, 1.0);
             // PGS stops at its tolerance of 1e-10 per step; the pivoting solvers are exact.
             let tol = if matches!(solver, SolverChoice::Pgs { .. }) { 1e-7 } else { 1e-12 };
             assert!(d.abs() < tol && v.abs() < tol, "{solver:?} α = {alpha}: d = {d}, v = {v}");
@@ -49,7 +49,7 @@ fn block_slides_with_the_coulomb_acceleration() {
     for solver in [SolverChoice::Auto, SolverChoice::Lemke, SolverChoice::pgs_default()] {
         for (alpha, mu) in [(0.5, 0.3), (0.8, 0.1), (0.4, 0.0)] {
             let t = 1.0;
-            let (d, v, state) = slide(alpha, mu, solver.clone(), t);
+            let (d, v, state) = slide(alpha, mu, solver, t);
             let a = G * (alpha.sin() - mu * alpha.cos());
             // The midpoint rule integrates a constant acceleration exactly.
             assert!((v - a * t).abs() < 1e-9 * (1.0 + a), "{solver:?}: v = {v}, a t = {}", a * t);

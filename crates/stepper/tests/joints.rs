@@ -187,7 +187,7 @@ fn pendulum_start(phi: f64, l: f64) -> [f64; 3] {
 /// energy error of the maximal form.
 fn pendulum_pair(dt: f64) -> (f64, f64, f64) {
     let (m, l, phi0) = (1.5, 0.8, 1.0);
-    let options = StepperOptions { projection: true, ..StepperOptions::new(dt) };
+    let options = StepperOptions::new(dt).with_projection(true);
     let mut maximal =
         Stepper::new(Pendulum { m, l }, &pendulum_start(phi0, l), &[0.0; 3], 0.0, options).unwrap();
     let mut minimal =
@@ -397,4 +397,15 @@ fn constraints_that_cannot_be_solved_are_typed_errors() {
         matches!(e, StepError::NonFinite { what: "bilateral constraint", index: 0, .. }),
         "{e}"
     );
+}
+
+#[test]
+fn a_stepper_of_a_shareable_mechanism_is_send_and_sync() {
+    fn send_sync<T: Send + Sync>() {}
+    send_sync::<Stepper<Pendulum>>();
+    send_sync::<Stepper<DrivenBall>>();
+    send_sync::<StepperOptions>();
+    send_sync::<moreau_stepper::SolverChoice>();
+    send_sync::<moreau_stepper::Record>();
+    send_sync::<StepError>();
 }

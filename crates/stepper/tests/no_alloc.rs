@@ -59,7 +59,7 @@ fn stepping_does_not_allocate() {
     // rod lying on both ends; a looser tolerance keeps this test about allocation.
     let pgs = SolverChoice::Pgs { tolerance: 1e-6, omega: 1.0, max_iterations: 100_000 };
     for solver in [SolverChoice::Auto, SolverChoice::Lemke, pgs] {
-        let opts = StepperOptions::new(1e-3).with_solver(solver.clone());
+        let opts = StepperOptions::new(1e-3).with_solver(solver);
         let (q0, u0) = ([0.0, 0.4, 0.3], [1.0, -1.0, 2.0]);
         let mut rod = Stepper::new(Rod::new(0.3, 0.4), &q0, &u0, 0.0, opts).unwrap();
         // A first run sizes every buffer: the rod bounces on one end, then on both, and

@@ -75,11 +75,11 @@ pub(super) fn one_contact_closed_form(
         w.push(b[r] + (0..S).map(|c| A[r + c * S] * z[c]).sum::<f64>());
     }
     let residual = moreau_lcp::Residual::compute_column_major(S, A, b, z, w);
-    (residual.relative <= CLOSED_FORM_TOLERANCE).then(|| LcpInfo {
+    (residual.relative <= CLOSED_FORM_TOLERANCE).then_some(LcpInfo {
         method: Method::ClosedForm,
         status: Status::Solved,
         iterations: 0,
-        residual: residual.max(),
+        residual: residual.relative,
     })
 }
 
@@ -199,7 +199,7 @@ pub(super) fn nonsmooth_gauss_seidel(
         ColRef::from_slice(&ws.b[..s]),
     );
     let residual = match lcp {
-        Ok(lcp) => moreau_lcp::Residual::compute(lcp, z, w).max(),
+        Ok(lcp) => moreau_lcp::Residual::compute(lcp, z, w).relative,
         Err(_) => f64::INFINITY,
     };
     Ok(LcpInfo {

@@ -53,7 +53,8 @@ impl Core {
         }
         let new_mass = !(ws.factored && mech.constant_mass_matrix());
         let mass = new_mass.then_some(&mut ws.mass[..f * f]);
-        mech.evaluate(
+        crate::mechanism::evaluate(
+            mech,
             &ws.q_m[..f],
             &self.u[..f],
             t_m,
@@ -304,7 +305,8 @@ impl Core {
         }
         ws.frictional.clear();
         let na = ws.active.len();
-        mech.midpoint_contacts(
+        crate::mechanism::midpoint_contacts(
+            mech,
             &ws.active,
             &ws.q_m,
             t_m,
@@ -460,7 +462,7 @@ impl Core {
                 method: ws.solution.method,
                 status: ws.solution.status,
                 iterations: ws.solution.iterations,
-                residual: ws.solution.residual.max(),
+                residual: ws.solution.residual.relative,
             }
         };
 
@@ -542,13 +544,15 @@ impl Core {
             *u_e = u + y * p_n;
         }
         ws.prev[i] = [p_n, 0.0, 0.0];
-        // z = −b/A and w = A z + b are each one rounding from exact: the equation error is
-        // the residual.
+        // z = −b/A > 0 and w = A z + b = 0 up to one rounding: the shared residual reduces to
+        // the equation error, scaled as `moreau_lcp::Residual::relative` scales it.
+        let w = a * p_n + b;
+        let residual = moreau_lcp::Residual::compute_column_major(1, &[a], &[b], &[p_n], &[w]);
         let info = LcpInfo {
             method: Method::ClosedForm,
             status: Status::Solved,
             iterations: 0,
-            residual: (a * p_n + b).abs(),
+            residual: residual.relative,
         };
         Ok(Some((1, info)))
     }
