@@ -20,20 +20,28 @@
 //! | [`Cam`] (7.4) | y | cam/follower (μ = 0, rheonomic) | [`CamParams`] |
 //! | [`PainleveRod`] (7.5) | x, y, phi | lower end/ground | [`PainleveParams`] |
 //!
+//! Besides these, any planar mechanism can be DECLARED ([`bodies`]): dynamic, fixed and driven
+//! bodies with shapes, joints (revolute, prismatic, weld, point-on-line, motor, and clearance
+//! joints as contacts), force elements and contacts between shapes, in Rust with
+//! [`bodies::MultibodyBuilder`] or in a scene file; Moreau builds the mechanism
+//! ([`bodies::Multibody`]: maximal coordinates, M, h, the joints' rows and the contacts' force
+//! directions) and runs it with the same stepper.
+//!
 //! Contacts a scene does not need can be switched off (the woodpecker's beak, the
 //! slider-crank's upper or lower guide surface): they are then not listed at all, so the
 //! number of contacts and the LCP shrink. Contacts with μ = 0 stay frictionless and get only
 //! their normal row in the stepper.
 //!
 //! # What it is not for
-//! It is not a general multibody modeller: no body or joint library, no collision detection.
-//! The time-stepping is `moreau-stepper`'s, the LCP solvers `moreau-lcp`'s; figures and the
+//! It does not detect collisions itself (the shapes and the narrow phase are
+//! `moreau-kinematics`'), has no three-dimensional bodies and no flexible ones, and does not
+//! reduce declared mechanisms to minimal coordinates. The time-stepping is `moreau-stepper`'s, the LCP solvers `moreau-lcp`'s; figures and the
 //! report are written by the `xtask` runner.
 //!
 //! # Principal types
 //! [`ModelKind`] names the models, [`ModelParams`] holds any model's parameters, [`AnyModel`]
 //! is any built model as one `Mechanism`, [`Scene`] runs one and returns a [`Simulation`],
-//! [`Drawing`] draws one, [`ModelError`] is every failure.
+//! [`Drawing`] draws one, [`ModelError`] is every failure; [`bodies`] declares mechanisms.
 //!
 //! # Example
 //! ```
@@ -51,6 +59,36 @@
 //! // Scenes round-trip through TOML.
 //! let again = Scene::from_toml_str(&scene.to_toml_string())?;
 //! assert_eq!(again, scene);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! A declared mechanism, built in Rust and stepped:
+//! ```
+//! use moreau_kinematics::Shape;
+//! use moreau_models::bodies::{BodySpec, ContactSpec, MultibodyBuilder};
+//! use moreau_stepper::{Stepper, StepperOptions};
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! // A disk of radius 0.1 m dropped from 0.5 m onto a floor, ε_N = 0.5.
+//! let mut builder = MultibodyBuilder::new([0.0, -9.81]);
+//! builder.add_body(BodySpec::fixed("floor", [0.0, 0.0], 0.0)
+//!     .with_shape(Shape::HalfPlane { point: [0.0, 0.0], normal: [0.0, 1.0] }));
+//! builder.add_body(BodySpec::dynamic("ball", 1.0, 0.005, [0.0, 0.5], 0.0)
+//!     .with_shape(Shape::Disk { center: [0.0, 0.0], radius: 0.1 }));
+//! builder.add_contact(ContactSpec {
+//!     name: "bounce".into(), body_a: "floor".into(), shape_a: 0, body_b: "ball".into(),
+//!     shape_b: 0, eps_n: 0.5, eps_t: 0.0, mu: 0.0, margin: None,
+//! });
+//! let ball = builder.build()?;
+//! let (q0, u0) = ball.initial_state();
+//! let mut stepper = Stepper::new(ball, &q0, &u0, 0.0, StepperOptions::new(1e-3))?;
+//! let mut bounced = false;
+//! while stepper.t() < 0.4 {
+//!     bounced |= stepper.step()?.contacts[0].p_n > 0.0;
+//! }
+//! // It falls 0.4 m in sqrt(0.8 / 9.81) ≈ 0.286 s, and comes back up at half the speed.
+//! assert!(bounced && stepper.u()[1] > 0.0);
 //! # Ok(())
 //! # }
 //! ```

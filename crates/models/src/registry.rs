@@ -182,6 +182,9 @@ impl ModelParams {
 
 /// Any model of the report, as one [`Mechanism`] type (dispatching by `match`; a stepper of
 /// an `AnyModel` runs the model's own type through [`Mechanism::with_concrete`]).
+// One model is built per run and stepped in place, so the size of the largest variant costs
+// nothing, while boxing it would take the declared mechanism out of `with_concrete`'s reach.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub enum AnyModel {
     /// Bouncing ball.

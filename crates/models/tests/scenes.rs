@@ -303,8 +303,9 @@ fn trajectory<M: moreau_stepper::Mechanism + Clone>(
 #[test]
 fn a_scene_built_model_steps_exactly_as_its_concrete_type() {
     // `AnyModel` hands the stepper the model inside (`Mechanism::with_concrete`); the
-    // trajectories must be those of the model's own type, bit for bit.
-    for kind in ModelKind::ALL {
+    // trajectories must be those of the model's own type, bit for bit (a declared mechanism's
+    // joints included).
+    for kind in ModelKind::ALL.into_iter().chain([ModelKind::Declared]) {
         let scene = Scene::report(kind);
         let steps = 3000;
         let any = trajectory(scene.build().unwrap(), &scene, steps);
@@ -315,6 +316,7 @@ fn a_scene_built_model_steps_exactly_as_its_concrete_type() {
             AnyModel::SliderCrankIdeal(m) => trajectory(m, &scene, steps),
             AnyModel::Cam(m) => trajectory(m, &scene, steps),
             AnyModel::Painleve(m) => trajectory(m, &scene, steps),
+            AnyModel::Declared(m) => trajectory(m, &scene, steps),
         };
         assert_eq!(any.len(), 2 * steps * (1 + 2 * scene.build().unwrap().initial_state().0.len()));
         assert!(any == concrete, "{kind}");

@@ -43,7 +43,9 @@ pub struct ContactHandle(pub usize);
 /// assert_eq!(pendulum.coordinate_names(), ["bob.x", "bob.y", "bob.theta"]);
 /// assert_eq!(pendulum.num_bilaterals(), 2);
 /// let (q0, u0) = pendulum.initial_state();
-/// let mut stepper = Stepper::new(pendulum, &q0, &u0, 0.0, StepperOptions::new(1e-3))?;
+/// // The projection keeps the positions on the joint despite the midpoint rule's drift.
+/// let options = StepperOptions { projection: true, ..StepperOptions::new(1e-3) };
+/// let mut stepper = Stepper::new(pendulum, &q0, &u0, 0.0, options)?;
 /// while stepper.t() < 0.1 {
 ///     stepper.step()?;
 /// }

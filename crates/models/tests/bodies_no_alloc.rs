@@ -1,0 +1,71 @@
+//! A declared scene steps without touching the heap once warm, its contacts changing or not.
+#![allow(unsafe_code)] // A counting global allocator needs `unsafe impl GlobalAlloc`.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+use moreau_kinematics::Shape;
+use moreau_models::LawParams;
+use moreau_models::bodies::{AutoContacts, BodySpec, JointSpec, MultibodyBuilder};
+use moreau_stepper::{Stepper, StepperOptions};
+
+struct Counting;
+
+thread_local! {
+    /// Allocations made by this thread (the harness allocates on its own threads).
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn a_declared_scene_steps_without_allocating() {
+    // A hinged rod with a box at its end swinging onto a floor, and a disk bouncing beside it:
+    // joints, automatic contacts opening and closing, polygons and disks.
+    let mut b = MultibodyBuilder::new([0.0, -9.81]);
+    b.add_body(
+        BodySpec::fixed("floor", [0.0, 0.0], 0.0)
+            .with_shape(Shape::HalfPlane { point: [0.0, 0.0], normal: [0.0, 1.0] }),
+    );
+    b.add_body(BodySpec::with_density("arm", 100.0, [0.5, 0.4], 0.0).with_shape(Shape::Polygon {
+        vertices: vec![[-0.5, -0.02], [0.5, -0.02], [0.5, 0.02], [-0.5, 0.02]],
+    }));
+    b.add_body(
+        BodySpec::dynamic("ball", 1.0, 0.005, [2.0, 0.5], 0.0)
+            .with_shape(Shape::Disk { center: [0.0, 0.0], radius: 0.1 }),
+    );
+    b.add_joint(JointSpec::revolute("pivot", "ground", [0.0, 0.4], "arm", [-0.5, 0.0]));
+    b.auto_contacts(AutoContacts::new(LawParams::new(0.5, 0.0, 0.3)));
+    let mb = b.build().unwrap();
+    let (q0, u0) = mb.initial_state();
+    let mut options = StepperOptions::new(1e-3);
+    options.projection = true;
+    let mut stepper = Stepper::new(mb, &q0, &u0, 0.0, options).unwrap();
+    while stepper.t() < 3.0 {
+        stepper.step().unwrap();
+    }
+    let before = ALLOCATIONS.with(Cell::get);
+    let mut closed = 0;
+    while stepper.t() < 6.0 {
+        let report = stepper.step().unwrap();
+        closed += report.contacts.iter().filter(|c| c.active).count();
+    }
+    let n = ALLOCATIONS.with(Cell::get) - before;
+    assert!(closed > 0, "no contact closed");
+    assert_eq!(n, 0, "{n} allocations in 3000 steps");
+}
