@@ -51,8 +51,7 @@ fn allocations(text: &str, warm: f64, until: f64) -> (usize, usize) {
 #[test]
 fn the_declared_woodpecker_steps_without_allocating() {
     // Two cycles after the first two: impacts of the beak, sticking and slipping edges.
-    let (n, closed) =
-        allocations(include_str!("../../../scenes/bodies/woodpecker.toml"), 0.3, 0.6);
+    let (n, closed) = allocations(include_str!("../../../scenes/bodies/woodpecker.toml"), 0.3, 0.6);
     assert!(closed > 100, "{closed} closed contacts");
     assert_eq!(n, 0, "{n} allocations in 3000 steps");
 }
