@@ -44,7 +44,7 @@ pub struct ContactHandle(pub usize);
 /// assert_eq!(pendulum.num_bilaterals(), 2);
 /// let (q0, u0) = pendulum.initial_state();
 /// // The projection keeps the positions on the joint despite the midpoint rule's drift.
-/// let options = StepperOptions { projection: true, ..StepperOptions::new(1e-3) };
+/// let options = StepperOptions::new(1e-3).with_projection(true);
 /// let mut stepper = Stepper::new(pendulum, &q0, &u0, 0.0, options)?;
 /// while stepper.t() < 0.1 {
 ///     stepper.step()?;
