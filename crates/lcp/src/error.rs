@@ -177,6 +177,16 @@ pub(crate) mod rules {
         }
     }
 
+    /// A tolerance on the shared LCP residual's relative measure, which never exceeds 1: in
+    /// (0, 1), since 1 or more would accept any z.
+    pub(crate) fn relative_tolerance(value: f64) -> Result<(), LcpError> {
+        if value > 0.0 && value < 1.0 {
+            Ok(())
+        } else {
+            Err(invalid("tolerance", "must be in (0, 1)"))
+        }
+    }
+
     /// A relaxation factor ω of Gauss-Seidel sweeps: in (0, 2).
     pub(crate) fn omega(value: f64) -> Result<(), LcpError> {
         if value > 0.0 && value < 2.0 { Ok(()) } else { Err(invalid("omega", "must be in (0, 2)")) }

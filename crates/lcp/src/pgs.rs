@@ -22,13 +22,14 @@ pub struct PgsOptions {
 }
 
 impl PgsOptions {
-    /// Checks the options: `0 < omega < 2`, `tolerance` finite and > 0, `max_iterations >= 1`.
+    /// Checks the options: `0 < omega < 2`, `0 < tolerance < 1` (the relative residual never
+    /// exceeds 1), `max_iterations >= 1`.
     ///
     /// # Errors
     /// [`LcpError::InvalidOption`] naming the first field out of range.
     pub fn validate(&self) -> Result<(), LcpError> {
         rules::omega(self.omega)?;
-        rules::tolerance(self.tolerance)?;
+        rules::relative_tolerance(self.tolerance)?;
         rules::count("max_iterations", self.max_iterations)
     }
 }
@@ -78,8 +79,7 @@ impl Pgs {
     /// A solver with the given options.
     ///
     /// # Errors
-    /// [`LcpError::InvalidOption`] unless `0 < omega < 2`, `tolerance` is finite and > 0,
-    /// and `max_iterations >= 1`.
+    /// [`LcpError::InvalidOption`] when [`PgsOptions::validate`] refuses the options.
     pub fn new(options: PgsOptions) -> Result<Pgs, LcpError> {
         options.validate()?;
         Ok(Pgs { options, ..Pgs::default() })

@@ -233,7 +233,7 @@ mod tests {
             Ok(SolverChoice::Pgs { tolerance: 1e-8, omega: 1.2, max_iterations: 50 })
         );
         for (t, w, n, field) in [
-            (-1e-8, 1.0, 10, "tolerance"),
+            (1.0, 1.0, 10, "tolerance"),
             (0.0, 1.0, 10, "tolerance"),
             (1e-8, 2.0, 10, "omega"),
             (1e-8, 0.0, 10, "omega"),
