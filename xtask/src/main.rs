@@ -31,7 +31,7 @@ enum Command {
         #[arg(long)]
         jobs: Option<usize>,
     },
-    /// Run one model and write its record as CSV (the `moreau simulate` command).
+    /// Run one model or scene file and write its record as CSV (the `moreau simulate` command).
     Simulate(SimulateArgs),
     /// Run a parameter sweep; one CSV row per member (the `moreau sweep` command).
     Sweep(SweepArgs),

@@ -79,7 +79,7 @@ pub struct MergeArgs {
 /// The subcommands.
 #[derive(Subcommand, Clone, Debug)]
 pub enum Command {
-    /// Run one model and write its record as CSV.
+    /// Run one model or scene file and write its record as CSV.
     Simulate(SimulateArgs),
     /// Run the Cartesian product of parameter values in parallel; one CSV row per member.
     Sweep(SweepArgs),
