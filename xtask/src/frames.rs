@@ -1,15 +1,104 @@
 //! Frame strips (drawings of a mechanism at chosen instants, with a caption under each) as
 //! SVG and PNG, and animated SVGs of the motion.
+//!
+//! A frame of a run is made by [`frame`] from the model's own drawing (`AnyModel::draw`) at a
+//! row of its record, painted by role ([`paint`]); [`motion`] makes the frames of an
+//! animation. The report's strips and `cargo xtask frames` all go through these.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow};
+use moreau_models::{AnyModel, Drawing, ModelKind, Role};
+use moreau_stepper::Record;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
 use crate::plot::{clip_polyline, register_fonts};
+
+/// Paint of a drawing element by its role.
+pub fn paint(role: Role) -> Paint {
+    let p = |stroke: (u8, u8, u8), width: u32, fill: Option<(u8, u8, u8)>| Paint {
+        stroke,
+        width,
+        fill,
+    };
+    match role {
+        Role::Ground | Role::Guide => p((60, 60, 60), 3, None),
+        Role::Pole => p((90, 90, 90), 1, Some((215, 215, 215))),
+        Role::Sleeve => p((0, 84, 147), 2, Some((120, 170, 220))),
+        Role::Bird => p((150, 90, 0), 2, Some((240, 200, 110))),
+        Role::Beak => p((150, 40, 0), 2, Some((230, 120, 50))),
+        Role::Joint => p((0, 0, 0), 2, Some((255, 255, 255))),
+        Role::Crank => p((0, 100, 60), 3, None),
+        Role::Rod => p((0, 84, 147), 3, None),
+        Role::Slider => p((0, 84, 147), 2, Some((120, 170, 220))),
+        Role::Cam => p((90, 60, 20), 2, Some((225, 205, 170))),
+        Role::Follower => p((0, 84, 147), 2, Some((120, 170, 220))),
+        Role::Ball => p((0, 84, 147), 2, Some((120, 170, 220))),
+        Role::ContactPoint => p((200, 0, 0), 2, Some((230, 30, 30))),
+        _ => p((0, 0, 0), 1, None),
+    }
+}
+
+/// A model's drawing as frame shapes; contact markers are drawn last, on top.
+pub fn shapes(drawing: &Drawing) -> Vec<Shape> {
+    let mut out = Vec::new();
+    let mut top = Vec::new();
+    for l in &drawing.polylines {
+        let s = Shape::Poly { points: l.points.clone(), closed: l.closed, paint: paint(l.role) };
+        if l.role == Role::ContactPoint { top.push(s) } else { out.push(s) }
+    }
+    for c in &drawing.circles {
+        let s = Shape::Circle { center: c.center, radius: c.radius, paint: paint(c.role) };
+        if c.role == Role::ContactPoint { top.push(s) } else { out.push(s) }
+    }
+    out.extend(top);
+    out
+}
+
+/// The frame of row `row` of a run of `model`: the model's drawing at (q, t) of the row, with
+/// `caption` under it and the strip's window.
+///
+/// The report's models mark their closed contacts in their own drawings; a declared
+/// mechanism's drawing shows its bodies and joints only, so the contacts active in the row
+/// are marked here, at the midpoint of their two surface points.
+pub fn frame(model: &AnyModel, record: &Record, row: usize, caption: Vec<String>) -> Frame {
+    let (q, t) = (&record.q[row], record.t[row]);
+    let mut drawing = model.draw(q, t);
+    if model.kind() == ModelKind::Declared
+        && let Some(active) = record.active.get(row)
+        && active.iter().any(|&a| a)
+    {
+        let size = drawing.bounds().map_or(1.0, |b| b.width().max(b.height()));
+        let points = model.contact_points(q, t);
+        for (p, _) in points.iter().zip(active).filter(|(_, a)| **a) {
+            drawing.circle(Role::ContactPoint, *p, 0.012 * size);
+        }
+    }
+    Frame { t, shapes: shapes(&drawing), caption, window: None }
+}
+
+/// Rows of a record at `count` evenly spaced times from `t0` to `t1` (the first row at or
+/// after each time), for an animation.
+pub fn motion_rows(record: &Record, t0: f64, t1: f64, count: usize) -> Vec<usize> {
+    (0..count)
+        .filter_map(|j| {
+            let t = t0 + (t1 - t0) * j as f64 / (count.max(2) - 1) as f64;
+            record.t.iter().position(|&tk| tk >= t - 1e-12)
+        })
+        .collect()
+}
+
+/// Frames of the motion of a run at `count` evenly spaced rows between `t0` and `t1`, each
+/// captioned with its time, for an animation.
+pub fn motion(model: &AnyModel, record: &Record, t0: f64, t1: f64, count: usize) -> Vec<Frame> {
+    motion_rows(record, t0, t1, count)
+        .into_iter()
+        .map(|k| frame(model, record, k, vec![format!("t = {:.4} s", record.t[k])]))
+        .collect()
+}
 
 /// One drawn shape in world coordinates (metres, y up).
 #[derive(Clone, Debug, PartialEq)]

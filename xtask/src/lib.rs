@@ -1,8 +1,9 @@
 //! Moreau's task runner: reproduces every figure and table of the reference report from the
 //! project's own simulations, and runs the speed/accuracy study.
 //!
-//! **For**: `cargo xtask reproduce` and `tradeoff` (see `main.rs`), and `cargo xtask
-//! simulate|sweep|merge`, which run the `moreau` command's code from the `moreau-cli` crate.
+//! **For**: `cargo xtask reproduce` and `tradeoff` (see `main.rs`), `cargo xtask
+//! simulate|sweep|merge`, which run the `moreau` command's code from the `moreau-cli` crate,
+//! and `cargo xtask frames`, which draws any scene ([`scene_frames`]).
 //! **Not for**: use as a library by other crates; the package is not published. Users who
 //! simulate install the `moreau` command instead (`cargo install --path crates/cli`).
 //!
@@ -32,4 +33,5 @@ pub mod frames;
 pub mod plot;
 pub mod report;
 pub mod reproduce;
+pub mod scene_frames;
 pub mod tradeoff;

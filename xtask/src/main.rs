@@ -1,5 +1,5 @@
 //! `cargo xtask`: reproduce the report and run the speed/accuracy study; `simulate`, `sweep`
-//! and `merge` run the `moreau` command's code.
+//! and `merge` run the `moreau` command's code; `frames` draws any scene.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use moreau_cli::cli::{self, MergeArgs, SimulateArgs, SweepArgs};
+use xtask::scene_frames::FramesArgs;
 use xtask::{reproduce, tradeoff};
 
 #[derive(Parser)]
@@ -30,7 +31,7 @@ enum Command {
         #[arg(long)]
         jobs: Option<usize>,
     },
-    /// Run one model and write its record as CSV (the `moreau simulate` command).
+    /// Run one model or scene file and write its record as CSV (the `moreau simulate` command).
     Simulate(SimulateArgs),
     /// Run a parameter sweep; one CSV row per member (the `moreau sweep` command).
     Sweep(SweepArgs),
@@ -48,6 +49,8 @@ enum Command {
     },
     /// Join the CSV parts of a sharded sweep (the `moreau merge` command).
     Merge(MergeArgs),
+    /// Pictures of any scene: a strip of frames (SVG, PNG) and an animated SVG of the run.
+    Frames(FramesArgs),
 }
 
 fn main() -> ExitCode {
@@ -85,6 +88,7 @@ fn run(command: Command) -> Result<()> {
             );
         }
         Command::Merge(args) => cli::Command::Merge(args).run()?,
+        Command::Frames(args) => args.run()?,
     }
     Ok(())
 }

@@ -12,9 +12,11 @@ use crate::{parts, simulate, sweep};
 /// Arguments of `simulate`.
 #[derive(Args, Clone, Debug)]
 pub struct SimulateArgs {
-    /// Model: ball, woodpecker, slider-crank, slider-crank-ideal, cam, painleve.
-    pub model: String,
-    /// Scene file (TOML) to start from instead of the report's scene.
+    /// Model: ball, woodpecker, slider-crank, slider-crank-ideal, cam, painleve; optional
+    /// with --scene, which names the model or declares the mechanism.
+    pub model: Option<String>,
+    /// Scene file (TOML) to start from instead of the report's scene: a report model's or a
+    /// declared mechanism's.
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Override a scene key: --set key=value (repeatable; each entry once).
@@ -40,12 +42,14 @@ pub struct SimulateArgs {
 /// Arguments of `sweep`.
 #[derive(Args, Clone, Debug)]
 pub struct SweepArgs {
-    /// Model: ball, woodpecker, slider-crank, slider-crank-ideal, cam, painleve.
-    pub model: String,
+    /// Model: ball, woodpecker, slider-crank, slider-crank-ideal, cam, painleve; optional
+    /// with --scene, which names the model or declares the mechanism.
+    pub model: Option<String>,
     /// Swept key and its values: --set key=v1,v2,... (repeatable; each entry once).
     #[arg(long = "set", value_name = "KEY=V1,V2,...")]
     pub sets: Vec<String>,
-    /// Scene file (TOML) to start from instead of the report's scene.
+    /// Scene file (TOML) to start from instead of the report's scene: a report model's or a
+    /// declared mechanism's.
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Run only part K of N (members i with i mod N = K − 1).
@@ -75,7 +79,7 @@ pub struct MergeArgs {
 /// The subcommands.
 #[derive(Subcommand, Clone, Debug)]
 pub enum Command {
-    /// Run one model and write its record as CSV.
+    /// Run one model or scene file and write its record as CSV.
     Simulate(SimulateArgs),
     /// Run the Cartesian product of parameter values in parallel; one CSV row per member.
     Sweep(SweepArgs),

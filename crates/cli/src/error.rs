@@ -143,6 +143,28 @@ pub enum CliError {
         /// The missing member indices (a list, shortened when long).
         members: String,
     },
+    /// Neither a model nor a scene file was given, so there is nothing to run.
+    #[error(
+        "no model to run: name one ({accepted}) or give a scene file with --scene FILE, \
+         which names its model or declares its bodies"
+    )]
+    NoModel {
+        /// The accepted model names.
+        accepted: String,
+    },
+    /// The model named on the command line is not the model the scene file describes.
+    #[error(
+        "the model '{given}' disagrees with the scene file {path}, which describes model \
+         '{in_scene}'; leave out the model name to run the scene's own"
+    )]
+    ModelMismatch {
+        /// The model named on the command line.
+        given: String,
+        /// The scene file.
+        path: PathBuf,
+        /// The scene's model (`declared` for a declared mechanism).
+        in_scene: String,
+    },
     /// A damaged sweep part: a cut-off or altered row.
     #[error("{part}: line {line} is damaged ({reason})")]
     DamagedPart {

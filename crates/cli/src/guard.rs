@@ -20,14 +20,19 @@
 //! Before the first step, Δt is compared with the stability limit 2/ω_max of the smooth
 //! dynamics: the midpoint scheme is the leapfrog scheme for the smooth part, stable for
 //! ω Δt < 2, with ω_max² the largest eigenvalue of M⁻¹K, K = −sym(∂h/∂q) taken by central
-//! differences at the initial state. After every step, a mechanism without drives (every model
-//! but the cam) must not gain energy: the run stops when T + V exceeds its initial value by
-//! more than [`ENERGY_GROWTH`] times max(T₀ + |V₀|, [`ENERGY_FLOOR`]). And every entry of q and
-//! u must stay below [`MAGNITUDE_FACTOR`] (1 + max |q₀, u₀|).
+//! differences at the initial state. After every step, a mechanism without drives (every report
+//! model but the cam; a declared mechanism without driven bodies, motors and applied forces or
+//! torques, see [`energy_bound_applies`]) must not gain energy: the run stops when T + V
+//! exceeds its initial value by more than [`ENERGY_GROWTH`] times max(T₀ + |V₀|,
+//! [`ENERGY_FLOOR`]) (for a declared mechanism, T₀ + |V₀| + m |g| ℓ with m its dynamic mass
+//! and ℓ the diagonal of the region it occupies, since its V has an arbitrary zero). A driven
+//! mechanism gets the stability and magnitude checks only. And every entry of q and u must
+//! stay below [`MAGNITUDE_FACTOR`] (1 + max |q₀, u₀|).
 
 use std::ops::ControlFlow;
 
 use moreau_kinematics::ContactKinematics;
+use moreau_models::bodies::{BodyType, ForceSpec, JointSpec};
 use moreau_models::{AnyModel, ModelError, ModelKind, Scene};
 use moreau_stepper::{Mechanism, Observer, RunSummary, StepError, StepReport};
 
@@ -103,6 +108,44 @@ pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
 /// but the cam, whose rotating cam does work on the follower.
 pub fn energy_cannot_grow(kind: ModelKind) -> bool {
     kind != ModelKind::Cam
+}
+
+/// Whether the energy T + V of this built model cannot grow, so that the energy test
+/// applies: for a report model as [`energy_cannot_grow`]; a declared mechanism qualifies when
+/// nothing does work on it from outside, that is when it has no driven body (whose prescribed
+/// motion pushes through contacts and joints), no motor and no applied force or torque (whose
+/// work the potential V does not count). Springs, dampers, gravity, joints and contacts keep
+/// it.
+pub fn energy_bound_applies(model: &AnyModel) -> bool {
+    match model {
+        AnyModel::Declared(m) => {
+            let spec = m.spec();
+            !spec.bodies.iter().any(|b| b.kind == BodyType::Driven)
+                && !spec.joints.iter().any(|j| matches!(j, JointSpec::Motor { .. }))
+                && !spec
+                    .forces
+                    .iter()
+                    .any(|f| matches!(f, ForceSpec::Force { .. } | ForceSpec::Torque { .. }))
+        }
+        other => energy_cannot_grow(other.kind()),
+    }
+}
+
+/// The energy scale of the energy test (J): max(T₀ + |V₀|, [`ENERGY_FLOOR`]) for a report
+/// model. A declared mechanism's V has its zero wherever the scene's origin happens to be, so
+/// that T₀ + |V₀| may vanish for a mechanism that starts at rest level with the origin (a rod
+/// released horizontally from a hinge at the origin); its scale adds m |g| ℓ, the work gravity
+/// can do on the total mass m of the dynamic bodies over the diagonal ℓ of the region the
+/// mechanism occupies at the start.
+fn energy_scale(model: &AnyModel, t0: f64, v0: f64) -> f64 {
+    let base = t0 + v0.abs();
+    let AnyModel::Declared(m) = model else { return base.max(ENERGY_FLOOR) };
+    let mass: f64 =
+        (0..m.body_names().len()).filter_map(|i| m.mass_properties(i)).map(|p| p.0).sum();
+    let g = m.spec().gravity;
+    let (q0, _) = m.initial_state();
+    let size = model.draw(&q0, 0.0).bounds().map_or(0.0, |b| b.width().hypot(b.height()));
+    (base + mass * g[0].hypot(g[1]) * size).max(ENERGY_FLOOR)
 }
 
 /// The largest natural angular frequency ω_max (rad/s) of the smooth dynamics at the
@@ -235,12 +278,12 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
         let f = q0.len();
         let mut mass = vec![0.0; f * f];
         model.mass_matrix(&q0, 0.0, &mut mass);
-        let energy_bound = energy_cannot_grow(model.kind())
+        let energy_bound = energy_bound_applies(model)
             .then(|| {
                 let v0 = model.potential_energy(&q0, 0.0)?;
                 let t0 = kinetic(model, &q0, &u0, 0.0, &mut mass);
                 let e0 = t0 + v0;
-                Some((e0, e0 + ENERGY_GROWTH * (t0 + v0.abs()).max(ENERGY_FLOOR)))
+                Some((e0, e0 + ENERGY_GROWTH * energy_scale(model, t0, v0)))
             })
             .flatten();
         let largest = q0.iter().chain(&u0).fold(0.0f64, |m, x| m.max(x.abs()));

@@ -1,7 +1,7 @@
 //! Key numbers of a run, per model: as a JSON object for `summary.json` and the report, and
 //! as a fixed list of columns for sweep CSVs.
 
-use moreau_models::{ModelKind, ModelParams};
+use moreau_models::{AnyModel, ModelKind, ModelParams};
 use moreau_stepper::ContactState;
 use serde::Serialize;
 use serde_json::{Value, json};
@@ -272,6 +272,133 @@ pub fn painleve(run: &RunResult) -> PainleveKeys {
     }
 }
 
+/// The first hard impact of a contact of a declared mechanism.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct FirstImpact {
+    /// End time of the impact step (s).
+    pub t: f64,
+    /// Normal relative velocity before the impact, γ_N⁻ < 0 (m/s).
+    pub gamma_pre: f64,
+    /// Normal relative velocity after it, γ_N⁺ (m/s); −ε_N γ_N⁻ for a lone frictionless
+    /// contact.
+    pub gamma_post: f64,
+    /// Its normal impulse P_N (N s).
+    pub p_n: f64,
+}
+
+/// Key numbers of one contact of a declared mechanism.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ContactKeys {
+    /// The contact's name.
+    pub name: String,
+    /// Hard impacts: closings with γ_N⁻ below −[`RunResult::impact_speed`] (softer
+    /// closings are the scheme's way of coming to rest, not impacts).
+    pub impacts: usize,
+    /// The first hard impact.
+    pub first_impact: Option<FirstImpact>,
+}
+
+/// Key numbers of a declared mechanism: per contact, the energy at the end and the energy the
+/// impulses removed, and the final state.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct DeclaredKeys {
+    /// The contacts, in the order of the contact list.
+    pub contacts: Vec<ContactKeys>,
+    /// Total energy T + V at the last row (J).
+    pub energy_end: f64,
+    /// Kinetic energy removed by the contact impulses over the run (J).
+    pub dissipated: f64,
+    /// The coordinates q at the last row, by name.
+    pub q_end: Vec<(String, f64)>,
+}
+
+/// Key numbers of a declared mechanism.
+pub fn declared(run: &RunResult) -> DeclaredKeys {
+    let r = run.record();
+    let model = run.model();
+    let threshold = run.impact_speed();
+    let contacts = model
+        .contact_names()
+        .into_iter()
+        .enumerate()
+        .map(|(i, name)| {
+            let mut hard = r.impacts_at(i).filter(|h| h.gamma_n_before < -threshold);
+            let first_impact = hard.next().map(|h| FirstImpact {
+                t: h.t,
+                gamma_pre: h.gamma_n_before,
+                gamma_post: h.gamma_n_after,
+                p_n: h.p_n,
+            });
+            let impacts = first_impact.map_or(0, |_| 1 + hard.count());
+            ContactKeys { name, impacts, first_impact }
+        })
+        .collect();
+    let last = r.len().saturating_sub(1);
+    let energy_end = r.kinetic.get(last).copied().unwrap_or(f64::NAN)
+        + r.potential.get(last).copied().unwrap_or(0.0);
+    let q_end = match r.q.last() {
+        Some(q) => {
+            model.coordinate_names().iter().map(str::to_owned).zip(q.iter().copied()).collect()
+        }
+        None => Vec::new(),
+    };
+    DeclaredKeys {
+        contacts,
+        energy_end,
+        dissipated: r.cumulative_dissipation.last().copied().unwrap_or(0.0),
+        q_end,
+    }
+}
+
+/// Names of the key-number columns of a sweep over a declared mechanism: for each contact
+/// `<contact>.impacts`, `<contact>.first_impact_t`, `<contact>.first_impact_gamma_pre`,
+/// `<contact>.first_impact_gamma_post` and `<contact>.first_impact_p_n`; then `energy_end`,
+/// `dissipated`, and `<coordinate>.end` for each coordinate (`bob.x.end`, ...).
+pub fn declared_columns(model: &AnyModel) -> Vec<String> {
+    let mut out = Vec::new();
+    for c in model.contact_names() {
+        for k in [
+            "impacts",
+            "first_impact_t",
+            "first_impact_gamma_pre",
+            "first_impact_gamma_post",
+            "first_impact_p_n",
+        ] {
+            out.push(format!("{c}.{k}"));
+        }
+    }
+    out.extend(["energy_end".to_owned(), "dissipated".to_owned()]);
+    out.extend(model.coordinate_names().iter().map(|q| format!("{q}.end")));
+    out
+}
+
+/// The key-number columns of a sweep over `model`: [`columns`] of its kind for a report
+/// model, [`declared_columns`] for a declared mechanism.
+pub fn columns_of(model: &AnyModel) -> Vec<String> {
+    match model.kind() {
+        ModelKind::Declared => declared_columns(model),
+        kind => columns(kind).iter().map(|s| (*s).to_owned()).collect(),
+    }
+}
+
+fn declared_row(run: &RunResult) -> Vec<Option<f64>> {
+    let k = declared(run);
+    let mut out = Vec::new();
+    for c in &k.contacts {
+        let f = c.first_impact;
+        out.push(Some(c.impacts as f64));
+        out.extend([
+            f.map(|i| i.t),
+            f.map(|i| i.gamma_pre),
+            f.map(|i| i.gamma_post),
+            f.map(|i| i.p_n),
+        ]);
+    }
+    out.extend([Some(k.energy_end), Some(k.dissipated)]);
+    out.extend(k.q_end.iter().map(|(_, x)| Some(*x)));
+    out
+}
+
 /// The key numbers of a run as JSON, with the run's name, Δt and parameters.
 pub fn summary(run: &RunResult) -> Value {
     let numbers = match run.spec.kind {
@@ -281,8 +408,7 @@ pub fn summary(run: &RunResult) -> Value {
         ModelKind::SliderCrankIdeal => json!(ideal(run)),
         ModelKind::Cam => json!(cam(run)),
         ModelKind::Painleve => json!(painleve(run)),
-        // A declared mechanism has no report quantities of its own.
-        ModelKind::Declared => json!({}),
+        ModelKind::Declared => json!(declared(run)),
     };
     let params: serde_json::Map<String, Value> =
         parameters(&run.scene).into_iter().map(|(k, v)| (k, Value::String(v))).collect();
@@ -296,7 +422,8 @@ pub fn summary(run: &RunResult) -> Value {
     })
 }
 
-/// Names of the key-number columns of a sweep over `kind`.
+/// Names of the key-number columns of a sweep over the report model `kind` (none for
+/// [`ModelKind::Declared`], whose columns depend on the scene: see [`declared_columns`]).
 pub fn columns(kind: ModelKind) -> &'static [&'static str] {
     match kind {
         ModelKind::Ball => &[
@@ -326,7 +453,8 @@ pub fn columns(kind: ModelKind) -> &'static [&'static str] {
     }
 }
 
-/// The key numbers of a run in the order of [`columns`] (`None` when not defined).
+/// The key numbers of a run in the order of [`columns_of`] its model (`None` when not
+/// defined).
 pub fn row(run: &RunResult) -> Vec<Option<f64>> {
     match run.spec.kind {
         ModelKind::Ball => {
@@ -379,6 +507,6 @@ pub fn row(run: &RunResult) -> Vec<Option<f64>> {
             let k = painleve(run);
             vec![Some(k.x_end), Some(k.phi_end), k.first_stick_time, k.lift_off_time]
         }
-        ModelKind::Declared => Vec::new(),
+        ModelKind::Declared => declared_row(run),
     }
 }

@@ -1,13 +1,15 @@
-//! The `moreau` command: run one model of the reference report to CSV, run parameter sweeps
-//! in parallel (sharded over machines if need be) and merge their parts, with guards that
-//! keep a run from passing off a meaningless result or losing data.
+//! The `moreau` command: run any scene to CSV (one of the reference report's models, or a
+//! mechanism declared in a scene file), run parameter sweeps in parallel (sharded over machines
+//! if need be) and merge their parts, with guards that keep a run from passing off a
+//! meaningless result or losing data.
 //!
-//! **For**: users who simulate the models and scenes of `moreau-models` from the command line
-//! or a job script (`cargo install --path crates/cli`, then `moreau simulate|sweep|merge`),
-//! and programs that want the same runs, key numbers and sweep files as a library
-//! ([`simulate`], [`sweep`], [`parts`], [`keys`], [`analysis`]). **Not for**: figures and the
-//! reproduction report (the repository's `cargo xtask reproduce`), or mechanisms other than
-//! the models' (use `moreau-stepper` directly).
+//! **For**: users who simulate the models and scene files of `moreau-models` from the command
+//! line or a job script (`cargo install --path crates/cli`, then `moreau simulate|sweep|merge`,
+//! with a model name or `--scene FILE`), and programs that want the same runs, key numbers and
+//! sweep files as a library ([`simulate`], [`sweep`], [`parts`], [`keys`], [`analysis`]).
+//! **Not for**: figures and the reproduction report (the repository's `cargo xtask reproduce`
+//! and `cargo xtask frames`), or hand-derived mechanisms that no scene file can hold (run them
+//! with `moreau-stepper` directly).
 //!
 //! What a run guarantees ([`guard`]): Δt ≤ t_end, t_end a whole number of steps and the last
 //! row at t_end, at most [`guard::DEFAULT_MAX_STEPS`] steps unless asked for, a stop with a
@@ -27,7 +29,7 @@
 //! assert_eq!(grid.member(1), [("eps_n".into(), "0.1".into()), ("dt".into(), "1e-4".into())]);
 //!
 //! // A ball dropped from 1 m for 0.5 s: the last row lies at t_end.
-//! let options = SimulateOptions { model: "ball".into(), tf: Some(0.5), ..Default::default() };
+//! let options = SimulateOptions { model: Some("ball".into()), tf: Some(0.5), ..Default::default() };
 //! let result = run(&options)?;
 //! assert_eq!(result.record().t.last(), Some(&0.5));
 //! // A time step longer than the run is refused.

@@ -3,7 +3,7 @@
 
 use anyhow::{Context, Result};
 use moreau_kinematics::ContactKinematics;
-use moreau_models::{AnyModel, ModelKind, Scene, Simulation};
+use moreau_models::{AnyModel, ModelKind, ModelParams, Scene, Simulation};
 use moreau_stepper::{ContactState, Record};
 
 use serde::Serialize;
@@ -186,9 +186,13 @@ pub fn gaps(model: &AnyModel, record: &Record) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// The scene's gravitational acceleration g (m/s²): its parameter `g`, which every model
-/// has; 0 for a model without one.
+/// The scene's gravitational acceleration g (m/s²): its parameter `g`, which every report
+/// model has, or the magnitude of a declared mechanism's `gravity`; 0 for a model without
+/// one.
 pub fn gravity(scene: &Scene) -> f64 {
+    if let ModelParams::Declared(spec) = &scene.params {
+        return spec.gravity[0].hypot(spec.gravity[1]);
+    }
     parameters(scene)
         .into_iter()
         .find(|(k, _)| k == "g")
@@ -196,13 +200,20 @@ pub fn gravity(scene: &Scene) -> f64 {
         .unwrap_or(0.0)
 }
 
-/// Every leaf of a TOML value as (dotted key, text).
+/// Every leaf of a TOML value as (dotted key, text); the elements of an array of tables are
+/// named by their `name` (or their index), as `--set` names them (`bodies.bob.mass`).
 fn toml_leaves(value: &toml::Value, prefix: &str, out: &mut Vec<(String, String)>) {
+    let join = |k: &str| if prefix.is_empty() { k.to_owned() } else { format!("{prefix}.{k}") };
     match value {
         toml::Value::Table(t) => {
             for (k, v) in t {
-                let key = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
-                toml_leaves(v, &key, out);
+                toml_leaves(v, &join(k), out);
+            }
+        }
+        toml::Value::Array(items) if !items.is_empty() && items.iter().all(|v| v.is_table()) => {
+            for (i, item) in items.iter().enumerate() {
+                let name = item.get("name").and_then(toml::Value::as_str);
+                toml_leaves(item, &join(&name.map_or_else(|| i.to_string(), str::to_owned)), out);
             }
         }
         toml::Value::String(s) => out.push((prefix.to_owned(), s.clone())),
@@ -210,10 +221,15 @@ fn toml_leaves(value: &toml::Value, prefix: &str, out: &mut Vec<(String, String)
     }
 }
 
-/// The model parameters of a scene as (dotted key, text), without the model's name.
+/// The model parameters of a scene as (dotted key, text), without the model's name; a
+/// declared mechanism's declaration by its `--set` paths (`gravity`, `bodies.bob.mass`, ...).
 pub fn parameters(scene: &Scene) -> Vec<(String, String)> {
     let mut out = Vec::new();
-    if let Ok(v) = toml::Value::try_from(&scene.params) {
+    let value = match &scene.params {
+        ModelParams::Declared(spec) => toml::Value::try_from(spec.as_ref()),
+        params => toml::Value::try_from(params),
+    };
+    if let Ok(v) = value {
         toml_leaves(&v, "", &mut out);
     }
     out.retain(|(k, _)| k != "model");

@@ -18,9 +18,11 @@ use crate::runs::{RunResult, RunSpec, run_info};
 #[derive(Clone, Debug, Default)]
 pub struct SimulateOptions {
     /// Model name (`ball`, `woodpecker`, `slider-crank`, `slider-crank-ideal`, `cam`,
-    /// `painleve`).
-    pub model: String,
-    /// A scene file to start from instead of the model's report scene.
+    /// `painleve`); `None` to take the model from the scene file. When both are given they
+    /// must agree.
+    pub model: Option<String>,
+    /// A scene file to start from instead of the model's report scene: a report model's
+    /// (with `[params]`) or a declared mechanism's (with `[[bodies]]`).
     pub scene: Option<PathBuf>,
     /// `key=value` overrides; each scene entry may be set once.
     pub sets: Vec<String>,
@@ -60,20 +62,37 @@ pub fn parse_model(name: &str) -> Result<ModelKind> {
     Ok(name.parse::<ModelKind>()?)
 }
 
-/// The scene of a model: the scene file or the model's report scene.
+/// The scene to start from: the scene file when one is given (a report model's or a declared
+/// mechanism's), otherwise the named model's report scene.
 ///
 /// # Errors
-/// Unknown model, unreadable scene or a scene of another model.
-pub fn base_scene(model: &str, scene: Option<&Path>) -> Result<Scene> {
-    let kind = parse_model(model)?;
-    let scene = match scene {
-        Some(path) => Scene::from_path(path)?,
-        None => Scene::report(kind),
-    };
-    if scene.kind() != kind {
-        bail!("the scene file describes model '{}', not '{}'", scene.kind(), kind);
+/// [`CliError::NoModel`] when neither is given; [`CliError::ModelMismatch`] when both are and
+/// the file describes another model; an unknown model name; an unreadable or invalid scene
+/// file (the models' error, naming the field).
+pub fn base_scene(model: Option<&str>, scene: Option<&Path>) -> Result<Scene> {
+    match (model, scene) {
+        (None, None) => {
+            Err(CliError::NoModel { accepted: ModelKind::ALL.map(ModelKind::name).join(", ") }
+                .into())
+        }
+        (Some(name), None) => Ok(Scene::report(parse_model(name)?)),
+        (given, Some(path)) => {
+            let scene = Scene::from_path(path)?;
+            if let Some(name) = given
+                && name != scene.kind().name()
+            {
+                // An unknown name is refused as such before the disagreement is reported.
+                parse_model(name)?;
+                return Err(CliError::ModelMismatch {
+                    given: name.to_owned(),
+                    path: path.to_owned(),
+                    in_scene: scene.kind().name().to_owned(),
+                }
+                .into());
+            }
+            Ok(scene)
+        }
     }
-    Ok(scene)
 }
 
 /// Applies `key=value` overrides to a scene in order, refusing a key that sets an entry an
@@ -107,10 +126,9 @@ pub fn apply_sets(scene: &mut Scene, sets: &[(String, String)]) -> Result<()> {
 /// The scene of the options: the scene file or the model's report scene, with overrides.
 ///
 /// # Errors
-/// Unknown model, unreadable scene, a scene of another model, a key given twice, unknown keys
-/// or bad values.
+/// As [`base_scene`]; a key given twice, unknown keys or bad values.
 pub fn scene(options: &SimulateOptions) -> Result<Scene> {
-    let mut scene = base_scene(&options.model, options.scene.as_deref())?;
+    let mut scene = base_scene(options.model.as_deref(), options.scene.as_deref())?;
     let mut sets: Vec<(String, String)> = Vec::new();
     if let Some(dt) = options.dt {
         sets.push(("dt".into(), dt.to_string()));
@@ -194,18 +212,33 @@ pub fn run(options: &SimulateOptions) -> Result<RunResult> {
     Ok(RunResult { spec, scene, sim, info })
 }
 
-/// The CSV header of a record of `model`: `t`, the coordinate and velocity names,
-/// `PN1, PT1, ...` and `A1, ...`.
+/// The CSV header of a record of `model`: `t`, the coordinate and velocity names, then
+/// each contact's impulses and whether it was active in the row.
+///
+/// A report model's contacts are numbered (`PN1, PT1, PN2, PT2, ...`, then `A1, A2, ...`); a
+/// declared mechanism's columns are named after its bodies and contacts: `<body>.x`,
+/// `<body>.y`, `<body>.theta` for each dynamic body in declaration order, then `<body>.vx`,
+/// `<body>.vy`, `<body>.omega`, then `<contact>.PN, <contact>.PT` for each contact and
+/// `<contact>.active` for each contact, in the order of the contact list.
 pub fn header(model: &AnyModel) -> Vec<String> {
-    let n = model.contact_names().len();
     let mut h = vec!["t".to_owned()];
-    h.extend(model.coordinate_names().iter().map(|s| (*s).to_owned()));
-    h.extend(model.velocity_names().iter().map(|s| (*s).to_owned()));
-    for i in 1..=n {
-        h.push(format!("PN{i}"));
-        h.push(format!("PT{i}"));
+    h.extend(model.coordinate_names().iter().map(str::to_owned));
+    h.extend(model.velocity_names().iter().map(str::to_owned));
+    if model.kind() == ModelKind::Declared {
+        let names = model.contact_names();
+        for c in &names {
+            h.push(format!("{c}.PN"));
+            h.push(format!("{c}.PT"));
+        }
+        h.extend(names.iter().map(|c| format!("{c}.active")));
+    } else {
+        let n = model.contact_names().len();
+        for i in 1..=n {
+            h.push(format!("PN{i}"));
+            h.push(format!("PT{i}"));
+        }
+        h.extend((1..=n).map(|i| format!("A{i}")));
     }
-    h.extend((1..=n).map(|i| format!("A{i}")));
     h
 }
 

@@ -7,7 +7,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use moreau_models::{ModelKind, Scene};
+use moreau_models::{AnyModel, Scene};
 use rayon::prelude::*;
 
 use crate::error::CliError;
@@ -21,9 +21,11 @@ use crate::simulate::{apply_sets, base_scene, check_record_every, partial_path, 
 /// What to sweep.
 #[derive(Clone, Debug)]
 pub struct SweepOptions {
-    /// Model name.
-    pub model: String,
-    /// A scene file to start from instead of the model's report scene.
+    /// Model name; `None` to take the model from the scene file. When both are given they
+    /// must agree.
+    pub model: Option<String>,
+    /// A scene file to start from instead of the model's report scene: a report model's or a
+    /// declared mechanism's.
     pub scene: Option<PathBuf>,
     /// The swept parameters (`key=v1,v2,...`), each scene entry at most once.
     pub axes: Vec<Axis>,
@@ -39,8 +41,21 @@ impl SweepOptions {
     /// A sweep of `model` over `axes`, all members, default limits, not resumed.
     pub fn new(model: &str, axes: Vec<Axis>) -> Self {
         Self {
-            model: model.to_owned(),
+            model: Some(model.to_owned()),
             scene: None,
+            axes,
+            shard: None,
+            max_steps: None,
+            resume: false,
+        }
+    }
+
+    /// A sweep of the scene file `scene` (a report model's or a declared mechanism's) over
+    /// `axes`, all members, default limits, not resumed.
+    pub fn scene(scene: &Path, axes: Vec<Axis>) -> Self {
+        Self {
+            model: None,
+            scene: Some(scene.to_owned()),
             axes,
             shard: None,
             max_steps: None,
@@ -49,12 +64,13 @@ impl SweepOptions {
     }
 }
 
-/// The CSV columns of a sweep: `member`, `members`, the swept keys, the model's key numbers,
-/// `steps`, `lcp_solves`, `wall_seconds`, `status`, `error` and the row's `check`.
-pub fn header(kind: ModelKind, axes: &[Axis]) -> Vec<String> {
+/// The CSV columns of a sweep: `member`, `members`, the swept keys as given (`eps_n`,
+/// `bodies.block.mass`, ...), the model's key numbers ([`keys::columns_of`]), `steps`,
+/// `lcp_solves`, `wall_seconds`, `status`, `error` and the row's `check`.
+pub fn header(model: &AnyModel, axes: &[Axis]) -> Vec<String> {
     let mut h = vec!["member".to_owned(), "members".to_owned()];
     h.extend(axes.iter().map(|a| a.key.clone()));
-    h.extend(keys::columns(kind).iter().map(|s| (*s).to_owned()));
+    h.extend(keys::columns_of(model));
     h.extend(
         ["steps", "lcp_solves", "wall_seconds", "status", "error", "check"].map(str::to_owned),
     );
@@ -106,15 +122,30 @@ fn member_scene(base: &Scene, grid: &Grid, i: u64, max_steps: u64) -> Result<Sce
     Ok(scene)
 }
 
-/// Runs one member and returns its row (without the check).
-fn member_row(scene: &Scene, grid: &Grid, i: u64, max_steps: u64) -> (Vec<String>, &'static str) {
+/// Runs one member and returns its row (without the check); `columns` are the key-number
+/// columns of the base scene, which a declared member must keep (a member that changes the
+/// contact list or the bodies fails rather than shifting its numbers under other names).
+fn member_row(
+    scene: &Scene,
+    columns: &[String],
+    grid: &Grid,
+    i: u64,
+    max_steps: u64,
+) -> (Vec<String>, &'static str) {
     let kind = scene.kind();
     let mut row = vec![i.to_string(), grid.len().to_string()];
     row.extend(grid.member(i).into_iter().map(|(_, v)| v));
     let start = Instant::now();
-    let empty =
-        |row: &mut Vec<String>| row.extend(keys::columns(kind).iter().map(|_| String::new()));
-    let status = match run_scene(scene, max_steps) {
+    let empty = |row: &mut Vec<String>| row.extend(columns.iter().map(|_| String::new()));
+    let same_columns = scene.build().map(|m| keys::columns_of(&m) == columns);
+    let run = match same_columns {
+        Ok(false) => Err(anyhow::anyhow!(
+            "the member's contacts or bodies differ from the base scene's, so its key numbers \
+             would not match the columns"
+        )),
+        _ => run_scene(scene, max_steps),
+    };
+    let status = match run {
         Ok(sim) => {
             let spec = RunSpec { name: format!("member {i}"), kind, sets: grid.member(i) };
             let info = run_info(&spec.name, scene, &sim);
@@ -170,7 +201,7 @@ pub fn run_with_warnings(
     out: &Path,
     warn: &mut dyn FnMut(&str),
 ) -> Result<SweepSummary> {
-    let base = base_scene(&options.model, options.scene.as_deref())?;
+    let base = base_scene(options.model.as_deref(), options.scene.as_deref())?;
     let kind = base.kind();
     let max_steps = options.max_steps.unwrap_or(DEFAULT_MAX_STEPS);
     let grid = Grid::new(options.axes.clone())?;
@@ -195,7 +226,9 @@ pub fn run_with_warnings(
         shard,
         version: env!("CARGO_PKG_VERSION").to_owned(),
     };
-    let columns = header(kind, grid.axes());
+    let base_model = base.build()?;
+    let key_columns = keys::columns_of(&base_model);
+    let columns = header(&base_model, grid.axes());
     if out.is_dir() {
         return Err(CliError::Output { path: out.to_owned(), reason: "is a folder".into() }.into());
     }
@@ -252,7 +285,7 @@ pub fn run_with_warnings(
             return;
         }
         let row = member_scene(&base, &grid, i, max_steps).map(|scene| {
-            let (mut row, status) = member_row(&scene, &grid, i, max_steps);
+            let (mut row, status) = member_row(&scene, &key_columns, &grid, i, max_steps);
             row.push(row_check(&row));
             (row, status)
         });

@@ -10,7 +10,7 @@ use moreau_cli::{CliError, Divergence};
 
 fn ball(sets: &[&str]) -> SimulateOptions {
     SimulateOptions {
-        model: "ball".into(),
+        model: Some("ball".into()),
         sets: sets.iter().map(|s| (*s).to_owned()).collect(),
         ..SimulateOptions::default()
     }
@@ -36,7 +36,7 @@ fn a_key_given_twice_is_refused_aliases_included() -> Result<()> {
     ensure!(matches!(cli_error(&e), Some(CliError::RepeatedKey { .. })), "{e:#}");
     // On the woodpecker, `mu` sets all three contacts' μ, so `beak.mu` after it repeats one.
     let wood = SimulateOptions {
-        model: "woodpecker".into(),
+        model: Some("woodpecker".into()),
         sets: vec!["mu=0.2".into(), "beak.mu=0.3".into()],
         ..SimulateOptions::default()
     };
@@ -87,7 +87,7 @@ fn solver_tables_are_validated() -> Result<()> {
 fn divergence_stops_the_run_naming_cause_and_step() -> Result<()> {
     // The woodpecker's torsion spring: ω_max ≈ 458 rad/s, so Δt = 1e-2 s is above 2/ω_max.
     let wood = SimulateOptions {
-        model: "woodpecker".into(),
+        model: Some("woodpecker".into()),
         dt: Some(1e-2),
         ..SimulateOptions::default()
     };
@@ -108,7 +108,7 @@ fn divergence_stops_the_run_naming_cause_and_step() -> Result<()> {
     ensure!(e_total.iter().all(|&e| e <= e_total[0] + 1e-9), "energy grew");
     // The ideal slider-crank with an absurd rod inertia gains energy: stopped with the step.
     let ideal = SimulateOptions {
-        model: "slider-crank-ideal".into(),
+        model: Some("slider-crank-ideal".into()),
         sets: vec!["j2=1e30".into()],
         ..SimulateOptions::default()
     };
@@ -187,7 +187,7 @@ fn streamed_records_equal_the_kept_ones() -> Result<()> {
     ensure!(e.contains("no/such"), "{e}");
     let bad = dir.path().join("bad.csv");
     let wood = SimulateOptions {
-        model: "woodpecker".into(),
+        model: Some("woodpecker".into()),
         dt: Some(1e-2),
         ..SimulateOptions::default()
     };

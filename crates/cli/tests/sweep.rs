@@ -90,7 +90,7 @@ fn sweep_rejects_unknown_keys_before_running() -> Result<()> {
 fn simulate_writes_named_columns() -> Result<()> {
     let dir = tempfile::tempdir()?;
     let o = SimulateOptions {
-        model: "woodpecker".into(),
+        model: Some("woodpecker".into()),
         tf: Some(0.01),
         sets: vec!["beak.eps_n=0.4".into()],
         ..SimulateOptions::default()
@@ -120,25 +120,26 @@ fn simulate_writes_named_columns() -> Result<()> {
 
 #[test]
 fn simulate_errors_list_what_is_accepted() {
-    let bad_model = SimulateOptions { model: "pendulum".into(), ..SimulateOptions::default() };
+    let bad_model =
+        SimulateOptions { model: Some("pendulum".into()), ..SimulateOptions::default() };
     let e = format!("{:#}", moreau_cli::simulate::run(&bad_model).unwrap_err());
     assert!(e.contains("slider-crank") && e.contains("woodpecker"), "{e}");
     let bad_key = SimulateOptions {
-        model: "ball".into(),
+        model: Some("ball".into()),
         sets: vec!["mass=2".into()],
         ..SimulateOptions::default()
     };
     let e = format!("{:#}", moreau_cli::simulate::run(&bad_key).unwrap_err());
     assert!(e.contains("mass") && e.contains("eps_n") && e.contains("init.y0"), "{e}");
     let bad_value = SimulateOptions {
-        model: "ball".into(),
+        model: Some("ball".into()),
         sets: vec!["eps_n=1.5".into()],
         ..SimulateOptions::default()
     };
     let e = format!("{:#}", moreau_cli::simulate::run(&bad_value).unwrap_err());
     assert!(e.contains("eps_n"), "{e}");
     let bad_solver = SimulateOptions {
-        model: "ball".into(),
+        model: Some("ball".into()),
         solver: Some("newton".into()),
         ..SimulateOptions::default()
     };

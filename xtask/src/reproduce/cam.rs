@@ -4,10 +4,10 @@ use anyhow::{Result, bail};
 use moreau_models::{AnyModel, CamParams, ModelKind, Role};
 use serde_json::json;
 
-use super::{Ctx, Entry, Output, focus, motion, names, shapes};
+use super::{Ctx, Entry, Output, focus, names};
 use crate::analysis::ContactStateExt;
 use crate::analysis::{self, EventKind};
-use crate::frames::{Frame, Strip};
+use crate::frames::{Frame, Strip, frame, motion};
 use crate::keys;
 use crate::plot::{Figure, LegendAt, Mark, Panel, Series};
 use crate::runs::{RunResult, RunSpec};
@@ -135,15 +135,13 @@ fn fig8_22(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
     let model = run.model();
     let frames: Vec<Frame> = picks
         .iter()
-        .map(|(k, what)| Frame {
-            t: r.t[*k],
-            shapes: shapes(&model.draw(&r.q[*k], r.t[*k])),
-            caption: vec![
+        .map(|(k, what)| {
+            let caption = vec![
                 format!("t = {:.1} ms", 1e3 * r.t[*k]),
                 what.clone(),
                 format!("g_N = {:.3} mm", 1e3 * gap[*k]),
-            ],
-            window: None,
+            ];
+            frame(model, r, *k, caption)
         })
         .collect();
     let last = picks.last().map_or(0.0, |(k, _)| r.t[*k]);
@@ -175,7 +173,7 @@ fn fig8_22(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
         cell_height: 200,
         window,
     };
-    let anim = motion(run, 0.0, period, 50);
+    let anim = motion(model, r, 0.0, period, 50);
     let files = strip.write(ctx.out, e.stem, &anim, 0.08)?;
     let rebound: Vec<f64> = lobes.first().map(|l| l.rebound_heights.clone()).unwrap_or_default();
     Ok(Output {

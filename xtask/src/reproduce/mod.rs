@@ -23,7 +23,6 @@ use moreau_models::{Drawing, Role};
 use rayon::prelude::*;
 use serde_json::{Value, json};
 
-use crate::frames::{Frame, Paint, Shape};
 use crate::keys;
 use crate::report::{FigureReport, Report, RunInfo};
 use crate::runs::{RunResult, RunSpec};
@@ -259,74 +258,6 @@ fn reproduce(options: &Options, start: Instant) -> Result<Summary> {
     report.write(&options.out)?;
     let files = figures.iter().map(|f| f.files.len()).sum::<usize>() + 3;
     Ok(Summary { files, total_seconds, simulation_seconds, figures })
-}
-
-/// Paint of a drawing element by its role.
-fn paint(role: Role) -> Paint {
-    let p = |stroke: (u8, u8, u8), width: u32, fill: Option<(u8, u8, u8)>| Paint {
-        stroke,
-        width,
-        fill,
-    };
-    match role {
-        Role::Ground | Role::Guide => p((60, 60, 60), 3, None),
-        Role::Pole => p((90, 90, 90), 1, Some((215, 215, 215))),
-        Role::Sleeve => p((0, 84, 147), 2, Some((120, 170, 220))),
-        Role::Bird => p((150, 90, 0), 2, Some((240, 200, 110))),
-        Role::Beak => p((150, 40, 0), 2, Some((230, 120, 50))),
-        Role::Joint => p((0, 0, 0), 2, Some((255, 255, 255))),
-        Role::Crank => p((0, 100, 60), 3, None),
-        Role::Rod => p((0, 84, 147), 3, None),
-        Role::Slider => p((0, 84, 147), 2, Some((120, 170, 220))),
-        Role::Cam => p((90, 60, 20), 2, Some((225, 205, 170))),
-        Role::Follower => p((0, 84, 147), 2, Some((120, 170, 220))),
-        Role::Ball => p((0, 84, 147), 2, Some((120, 170, 220))),
-        Role::ContactPoint => p((200, 0, 0), 2, Some((230, 30, 30))),
-        _ => p((0, 0, 0), 1, None),
-    }
-}
-
-/// A model's drawing as frame shapes; contact markers are drawn last, on top.
-pub(crate) fn shapes(drawing: &Drawing) -> Vec<Shape> {
-    let mut out = Vec::new();
-    let mut top = Vec::new();
-    for l in &drawing.polylines {
-        let s = Shape::Poly { points: l.points.clone(), closed: l.closed, paint: paint(l.role) };
-        if l.role == Role::ContactPoint { top.push(s) } else { out.push(s) }
-    }
-    for c in &drawing.circles {
-        let s = Shape::Circle { center: c.center, radius: c.radius, paint: paint(c.role) };
-        if c.role == Role::ContactPoint { top.push(s) } else { out.push(s) }
-    }
-    out.extend(top);
-    out
-}
-
-/// Rows of a run at `count` evenly spaced times from `t0` to `t1`, for an animation.
-pub(crate) fn motion_rows(run: &RunResult, t0: f64, t1: f64, count: usize) -> Vec<usize> {
-    let r = run.record();
-    (0..count)
-        .filter_map(|j| {
-            let t = t0 + (t1 - t0) * j as f64 / (count.max(2) - 1) as f64;
-            r.t.iter().position(|&tk| tk >= t - 1e-12)
-        })
-        .collect()
-}
-
-/// Frames of the motion of a run at evenly spaced rows between `t0` and `t1` (`count`
-/// frames), for an animation.
-pub(crate) fn motion(run: &RunResult, t0: f64, t1: f64, count: usize) -> Vec<Frame> {
-    let r = run.record();
-    let model = run.model();
-    motion_rows(run, t0, t1, count)
-        .into_iter()
-        .map(|k| Frame {
-            t: r.t[k],
-            shapes: shapes(&model.draw(&r.q[k], r.t[k])),
-            caption: vec![format!("t = {:.4} s", r.t[k])],
-            window: None,
-        })
-        .collect()
 }
 
 /// Bounds [x0, y0, x1, y1] of the elements of a drawing whose role is not in `skip`.

@@ -4,9 +4,9 @@ use anyhow::{Context, Result};
 use moreau_models::{AnyModel, ModelKind, Role};
 use serde_json::json;
 
-use super::{Ctx, Entry, Output, focus, follow, motion_rows, names, shapes};
+use super::{Ctx, Entry, Output, focus, follow, names};
 use crate::analysis::ContactStateExt;
-use crate::frames::{Frame, Strip};
+use crate::frames::{Frame, Strip, frame, motion_rows};
 use crate::keys;
 use crate::plot::{Figure, Panel, Series};
 use crate::runs::{RunResult, RunSpec};
@@ -181,7 +181,7 @@ fn fig8_10(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
             rows.push(row);
         }
     }
-    let anim_rows = motion_rows(run, cycle.start, cycle.end, 48);
+    let anim_rows = motion_rows(r, cycle.start, cycle.end, 48);
     let focus_of = |row: usize| {
         focus(&model.draw(&r.q[row], r.t[row]), &[Role::Pole]).unwrap_or([-0.01, -0.01, 0.01, 0.01])
     };
@@ -197,16 +197,12 @@ fn fig8_10(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
                 .filter(|ev| ev.row == row)
                 .map(|ev| format!("{}: {}", ev.contact, ev.kind.name()))
                 .collect();
-            Frame {
-                t: r.t[row],
-                shapes: shapes(&model.draw(&r.q[row], r.t[row])),
-                caption: vec![
-                    format!("t = {:.4} s (+{:.1} ms)", r.t[row], 1e3 * (r.t[row] - cycle.start)),
-                    state_line(&phases[row]),
-                    if what.is_empty() { String::new() } else { what.join(", ") },
-                ],
-                window: Some(window),
-            }
+            let caption = vec![
+                format!("t = {:.4} s (+{:.1} ms)", r.t[row], 1e3 * (r.t[row] - cycle.start)),
+                state_line(&phases[row]),
+                if what.is_empty() { String::new() } else { what.join(", ") },
+            ];
+            Frame { window: Some(window), ..frame(model, r, row, caption) }
         })
         .collect();
     let strip = Strip {
@@ -223,11 +219,9 @@ fn fig8_10(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
     let anim: Vec<Frame> = anim_rows
         .iter()
         .zip(&windows[rows.len()..])
-        .map(|(&row, &window)| Frame {
-            t: r.t[row],
-            shapes: shapes(&model.draw(&r.q[row], r.t[row])),
-            caption: vec![format!("t = {:.4} s", r.t[row]), state_line(&phases[row])],
-            window: Some(window),
+        .map(|(&row, &window)| {
+            let caption = vec![format!("t = {:.4} s", r.t[row]), state_line(&phases[row])];
+            Frame { window: Some(window), ..frame(model, r, row, caption) }
         })
         .collect();
     let files = strip.write(ctx.out, e.stem, &anim, cycle.period * 20.0 / 48.0)?;

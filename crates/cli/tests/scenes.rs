@@ -1,0 +1,243 @@
+//! Declared scene files through `simulate` and `sweep`: columns named after the bodies and
+//! contacts, the pendulum striking a wall against its closed forms, sweeps over declared
+//! fields, the energy guard, and typed refusals that name what is wrong.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{Context, Result, ensure};
+use moreau_cli::grid::Axis;
+use moreau_cli::guard;
+use moreau_cli::simulate::{SimulateOptions, run, scene};
+use moreau_cli::sweep::{SweepOptions, run as sweep};
+use moreau_cli::{CliError, Divergence};
+use moreau_models::Scene;
+
+/// Radius of the bob and x of the wall's face in scenes/bodies/pendulum-wall.toml (m).
+const RADIUS: f64 = 0.05;
+const WALL: f64 = 0.05;
+
+fn pendulum() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies/pendulum-wall.toml")
+}
+
+fn moreau(args: &[&str]) -> std::process::Output {
+    let out = Command::new(env!("CARGO_BIN_EXE_moreau")).args(args).output();
+    out.unwrap_or_else(|e| panic!("cannot start moreau: {e}"))
+}
+
+fn cli_error(e: &anyhow::Error) -> Option<&CliError> {
+    e.chain().find_map(|c| c.downcast_ref::<CliError>())
+}
+
+fn column(headers: &[String], name: &str) -> Result<usize> {
+    headers.iter().position(|h| h == name).with_context(|| format!("no column {name}"))
+}
+
+#[test]
+fn simulate_runs_a_declared_scene_with_columns_named_after_bodies_and_contacts() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("pendulum.csv");
+    let scene = pendulum();
+    let o = moreau(&[
+        "simulate",
+        "--scene",
+        scene.to_str().context("path")?,
+        "--tf",
+        "1.5",
+        "--out",
+        out.to_str().context("path")?,
+    ]);
+    ensure!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut r = csv::Reader::from_path(&out)?;
+    let h: Vec<String> = r.headers()?.iter().map(str::to_owned).collect();
+    assert_eq!(
+        h,
+        [
+            "t",
+            "bob.x",
+            "bob.y",
+            "bob.theta",
+            "bob.vx",
+            "bob.vy",
+            "bob.omega",
+            "hit.PN",
+            "hit.PT",
+            "hit.active"
+        ]
+    );
+    let rows: Vec<Vec<f64>> = r
+        .records()
+        .map(|row| row?.iter().map(|x| x.parse::<f64>().map_err(Into::into)).collect())
+        .collect::<Result<_>>()?;
+    // Row 0, then one row per 10 steps of 1e-4 s up to t_end = 1.5 s.
+    assert_eq!(rows.len(), 1501);
+    assert_eq!(rows[1500][0], 1.5);
+    let (x, p_n) = (column(&h, "bob.x")?, column(&h, "hit.PN")?);
+    // The bob never crosses the wall, and it does reach it (the wall is not out of range).
+    let closest = rows.iter().map(|row| row[x] + RADIUS).fold(f64::NEG_INFINITY, f64::max);
+    ensure!(closest <= WALL + 1e-6, "the bob crossed the wall: x + r = {closest}");
+    ensure!(closest >= WALL - 1e-3, "the bob never reached the wall: x + r <= {closest}");
+    ensure!(rows.iter().any(|row| row[p_n] > 0.0), "no impulse at the wall");
+    // The rod keeps its length 1 m within the projection's tolerance.
+    let y = column(&h, "bob.y")?;
+    for row in &rows {
+        ensure!((row[x].hypot(row[y]) - 1.0).abs() < 1e-6, "rod length at t = {}", row[0]);
+    }
+    Ok(())
+}
+
+#[test]
+fn a_sweep_over_the_wall_restitution_rebounds_with_eps() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("sweep.csv");
+    let axes = vec![Axis::parse("contacts.hit.eps_n=0.5,0.8")?, Axis::parse("t_end=1")?];
+    let summary = sweep(&SweepOptions::scene(&pendulum(), axes), &out)?;
+    assert_eq!((summary.rows, summary.diverged, summary.failed), (2, 0, 0));
+    let part = moreau_cli::parts::read_part(&out, false)?;
+    let h = &part.columns;
+    let (eps, pre, post, t) = (
+        column(h, "contacts.hit.eps_n")?,
+        column(h, "hit.first_impact_gamma_pre")?,
+        column(h, "hit.first_impact_gamma_post")?,
+        column(h, "hit.first_impact_t")?,
+    );
+    // The bob falls from 0.5 rad on a 1 m rod: it meets the wall at the bottom with the speed
+    // sqrt(2 g L (1 − cos 0.5)), after a quarter of the large-amplitude period.
+    let speed = (2.0 * 9.81 * (1.0 - 0.5f64.cos())).sqrt();
+    let mut times = Vec::new();
+    for (_, row) in &part.rows {
+        let get = |j: usize| -> Result<f64> { Ok(row[j].parse::<f64>()?) };
+        let (e, before, after) = (get(eps)?, get(pre)?, get(post)?);
+        ensure!((-after / before - e).abs() < 1e-8, "eps_n = {e}: {after} / {before}");
+        ensure!((before + speed).abs() < 0.01 * speed, "approach {before}, closed form {speed}");
+        times.push(get(t)?);
+    }
+    // ε acts after the first impact only: both members reach the wall at the same step.
+    assert_eq!(times[0], times[1]);
+    ensure!((times[0] - 0.5098).abs() < 2e-3, "first impact at {}", times[0]);
+    Ok(())
+}
+
+#[test]
+fn model_and_scene_must_agree_and_one_must_be_given() -> Result<()> {
+    let path = pendulum();
+    let both = SimulateOptions {
+        model: Some("ball".into()),
+        scene: Some(path.clone()),
+        ..Default::default()
+    };
+    let e = scene(&both).expect_err("disagreement");
+    ensure!(matches!(cli_error(&e), Some(CliError::ModelMismatch { .. })), "{e:#}");
+    ensure!(format!("{e:#}").contains("'declared'"), "{e:#}");
+    // Naming the scene's own model is accepted; so is a report scene file without a name.
+    let named = SimulateOptions { model: Some("declared".into()), ..both.clone() };
+    ensure!(scene(&named)?.kind().name() == "declared");
+    let report = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/ball.toml");
+    let ball = SimulateOptions { scene: Some(report), ..Default::default() };
+    ensure!(scene(&ball)?.kind().name() == "ball");
+    let neither = SimulateOptions::default();
+    let e = run(&neither).expect_err("nothing to run");
+    ensure!(matches!(cli_error(&e), Some(CliError::NoModel { .. })), "{e:#}");
+    // Through the command: a non-zero exit and the reason.
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("x.csv");
+    let out = out.to_str().context("path")?;
+    let p = path.to_str().context("path")?;
+    for (args, needle) in [
+        (vec!["simulate", "ball", "--scene", p, "--out", out], "disagrees"),
+        (vec!["simulate", "--out", out], "no model to run"),
+        (vec!["sweep", "--set", "eps_n=0.5", "--out", out], "no model to run"),
+        (vec!["sweep", "cam", "--scene", p, "--set", "t_end=1", "--out", out], "disagrees"),
+    ] {
+        let o = moreau(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        ensure!(!o.status.success() && stderr.contains(needle), "{args:?}: {stderr}");
+    }
+    Ok(())
+}
+
+#[test]
+fn bad_paths_and_fields_are_refused_naming_them() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("x.csv");
+    let out = out.to_str().context("path")?;
+    let path = pendulum();
+    let p = path.to_str().context("path")?;
+    for (args, needle) in [
+        (
+            vec!["simulate", "--scene", p, "--set", "bodies.bobb.mass=2", "--out", out],
+            "bodies.bobb.mass",
+        ),
+        (
+            vec!["simulate", "--scene", p, "--set", "bodies.bob.mass=-1", "--out", out],
+            "bodies.bob.mass",
+        ),
+        (vec!["simulate", "--scene", p, "--set", "contacts.hit.eps_n=1.5", "--out", out], "eps_n"),
+        (
+            vec!["sweep", "--scene", p, "--set", "contacts.hitt.mu=0.1,0.2", "--out", out],
+            "contacts.hitt.mu",
+        ),
+    ] {
+        let o = moreau(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        ensure!(!o.status.success() && stderr.contains(needle), "{args:?}: {stderr}");
+        ensure!(!Path::new(out).exists(), "{args:?} wrote {out}");
+    }
+    // A misspelt field in the file itself is named by its path.
+    let text = std::fs::read_to_string(&path)?.replace("inertia = 0.00125", "inertiaa = 0.00125");
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, text)?;
+    let o = moreau(&["simulate", "--scene", bad.to_str().context("path")?, "--out", out]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    ensure!(!o.status.success() && stderr.contains("bodies.bob.inertiaa"), "{stderr}");
+    Ok(())
+}
+
+#[test]
+fn the_energy_bound_guards_declared_scenes_without_external_work_only() -> Result<()> {
+    let text = std::fs::read_to_string(pendulum())?;
+    let free = Scene::from_toml_str(&text)?;
+    ensure!(guard::energy_bound_applies(&free.build()?));
+    // A constant torque on the bob does work that V does not count: no energy bound, and the
+    // pendulum, pumped round and round without its wall, runs to the end.
+    let pumped = text.split("[[contacts]]").next().context("scene")?.to_owned()
+        + "\n[[forces]]\ntype = \"torque\"\nbody = \"bob\"\ntorque = 50.0\n";
+    let pumped = Scene::from_toml_str(&pumped)?;
+    ensure!(!guard::energy_bound_applies(&pumped.build()?));
+    let sim = moreau_cli::simulate::run_scene(&Scene { t_end: 1.0, ..pumped }, 1_000_000)?;
+    let r = &sim.record;
+    let gained = r.kinetic.last().context("rows")? + r.potential.last().context("rows")?
+        - (r.kinetic[0] + r.potential[0]);
+    ensure!(gained > 100.0, "the torque did {gained} J of work");
+    // A rod released level with its hinge at the origin starts with T + V = 0; the midpoint
+    // scheme's energy error must not pass for a divergence.
+    let level = text
+        .replace("position = [-0.479425538604203, -0.8775825618903728]", "position = [-1.0, 0.0]")
+        .replace("anchor_b = [0.479425538604203, 0.8775825618903728]", "anchor_b = [1.0, 0.0]");
+    let level = Scene::from_toml_str(&level)?;
+    let sim = moreau_cli::simulate::run_scene(&Scene { t_end: 1.0, ..level }, 1_000_000)?;
+    ensure!(sim.steps == 10_000);
+    Ok(())
+}
+
+#[test]
+fn a_declared_step_above_the_stability_limit_is_refused() -> Result<()> {
+    // A stiff spring between the bob and the ground with a step far above 2/ω: the guard
+    // refuses the run before the first step and names the limit.
+    let text = std::fs::read_to_string(pendulum())?
+        + "\n[[forces]]\ntype = \"spring\"\nbody_a = \"ground\"\nanchor_a = [0.0, -1.0]\n\
+           body_b = \"bob\"\nanchor_b = [0.0, 0.0]\nstiffness = 1e9\nrest_length = 0.0\n";
+    let scene = Scene::from_toml_str(&text)?;
+    let e = moreau_cli::simulate::run_scene(&scene, 1_000_000).expect_err("above the limit");
+    match cli_error(&e) {
+        Some(CliError::Diverged {
+            cause: Divergence::StepAboveStability { limit, .. }, ..
+        }) => {
+            // ω² = k/m for the bob's translation: the limit is 2 sqrt(m/k).
+            ensure!((limit - 2.0 * (1.0f64 / 1e9).sqrt()).abs() < 1e-3 * limit, "{limit}");
+        }
+        _ => anyhow::bail!("{e:#}"),
+    }
+    Ok(())
+}
