@@ -389,9 +389,21 @@ impl Scene {
         self.params.build()
     }
 
-    /// The stepper's options: Δt, the solver and the projection.
+    /// The stepper's options: Δt, the solver and the projection; a declared mechanism stepped
+    /// with the projection gets its projection tolerance
+    /// ([`crate::bodies::Multibody::projection_tolerance`]), which keeps resting contacts
+    /// closed.
     pub fn stepper_options(&self) -> StepperOptions {
-        StepperOptions::new(self.dt).with_solver(self.solver).with_projection(self.projection)
+        let options =
+            StepperOptions::new(self.dt).with_solver(self.solver).with_projection(self.projection);
+        match &self.params {
+            ModelParams::Declared(spec) if self.projection => match spec.build() {
+                Ok(m) => options.with_projection_tolerance(m.projection_tolerance()),
+                // The build's error surfaces where the scene is built.
+                Err(_) => options,
+            },
+            _ => options,
+        }
     }
 
     /// A stepper at the model's initial state and t = 0, for stepping by hand.

@@ -162,6 +162,18 @@ pub struct StepperOptions {
     /// clearance of micrometres.
     #[serde(default)]
     pub projection: bool,
+    /// The penetration (in the mechanism's length unit) that the contact projection leaves
+    /// alone: it runs only when some g_N(q_E) < −`projection_tolerance`. Default 0.
+    ///
+    /// Moving q_E without changing u_E disturbs contacts that rest (γ_N,E = 0 with ε_N = 0):
+    /// the projection's linearised step leaves their gaps slightly positive, the next
+    /// midpoint opens them, they fall back within a few steps, penetrate by O(g Δt²) and are
+    /// projected again, so that a resting contact opens and closes every few steps. A
+    /// tolerance above the penetration of a resting contact (g Δt², say) and far below any
+    /// clearance lets resting contacts stay closed, as in the scheme without projection, and
+    /// still removes the penetration of impacts and its drift.
+    #[serde(default)]
+    pub projection_tolerance: f64,
 }
 
 impl StepperOptions {
@@ -173,6 +185,7 @@ impl StepperOptions {
             friction_rows_when_frictionless: false,
             gap_tolerance: 0.0,
             projection: false,
+            projection_tolerance: 0.0,
         }
     }
 
@@ -186,6 +199,13 @@ impl StepperOptions {
     /// [`Self::projection`]).
     pub fn with_projection(mut self, projection: bool) -> Self {
         self.projection = projection;
+        self
+    }
+
+    /// The same options with a penetration that the contact projection leaves alone (see
+    /// [`Self::projection_tolerance`]).
+    pub fn with_projection_tolerance(mut self, tolerance: f64) -> Self {
+        self.projection_tolerance = tolerance;
         self
     }
 

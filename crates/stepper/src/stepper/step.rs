@@ -227,7 +227,7 @@ impl Core {
 
     /// Moves q_E back onto the admissible set g_N(q, t_E) ≥ 0 along M⁻¹ W_N:
     /// q_E ← q_E + M⁻¹ W_N λ with 0 ≤ λ ⊥ W_Nᵀ M⁻¹ W_N λ + g_N ≥ 0 over all contacts, when
-    /// one penetrates, repeated (at most four times) while the linearisation leaves some
+    /// one penetrates by more than `projection_tolerance`, repeated (at most four times) while the linearisation leaves some
     /// penetration. Velocities are not changed, so kinetic energy is not changed.
     pub(super) fn project<K: Mechanism>(&mut self, mech: &K, t_e: f64) -> Result<(), StepError> {
         let f = self.q.len();
@@ -238,7 +238,8 @@ impl Core {
         for _ in 0..4 {
             // Every contact enters the projection LCP once one penetrates: pushing a corner
             // out can push its neighbour on the same face in, and complementarity keeps the
-            // open ones (g_N > 0) free of impulse.
+            // open ones (g_N > 0) free of impulse. Penetrations within the tolerance are left
+            // alone, so that resting contacts stay closed.
             ws.proj_active.clear();
             let mut penetrating = false;
             mech.normal_gaps(&self.q, t_e, &mut ws.proj_b);
@@ -246,7 +247,7 @@ impl Core {
                 if !g.is_finite() {
                     return Err(StepError::NonFinite { what: "g_N", index: i, t: t_e });
                 }
-                penetrating |= g < 0.0;
+                penetrating |= g < -self.options.projection_tolerance;
                 ws.proj_active.push(i);
             }
             let k = ws.proj_active.len();
