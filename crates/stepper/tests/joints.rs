@@ -8,6 +8,33 @@ use moreau_stepper::{BilateralPoint, Mechanism, StepError, Stepper, StepperOptio
 
 const G: f64 = 9.81;
 
+/// The kinematics of a test mechanism with `f` coordinates and no contacts.
+macro_rules! contactless {
+    ($t:ty, $f:expr) => {
+        impl ContactKinematics for $t {
+            fn num_coordinates(&self) -> usize {
+                $f
+            }
+            fn num_contacts(&self) -> usize {
+                0
+            }
+            fn normal_gap(&self, _i: usize, _q: &[f64], _t: f64) -> f64 {
+                unreachable!("no contacts")
+            }
+            fn contact(
+                &self,
+                _: usize,
+                _: &[f64],
+                _: f64,
+                _: &mut [f64],
+                _: &mut [f64],
+            ) -> ContactPoint {
+                unreachable!("no contacts")
+            }
+        }
+    };
+}
+
 /// A block of mass m on a frictionless line through the origin at angle α below the
 /// horizontal, written in (x, y) with the bilateral constraint x sin α + y cos α = 0.
 struct BlockOnLine {
@@ -15,20 +42,7 @@ struct BlockOnLine {
     alpha: f64,
 }
 
-impl ContactKinematics for BlockOnLine {
-    fn num_coordinates(&self) -> usize {
-        2
-    }
-    fn num_contacts(&self) -> usize {
-        0
-    }
-    fn normal_gap(&self, _i: usize, _q: &[f64], _t: f64) -> f64 {
-        unreachable!("no contacts")
-    }
-    fn contact(&self, _: usize, _: &[f64], _: f64, _: &mut [f64], _: &mut [f64]) -> ContactPoint {
-        unreachable!("no contacts")
-    }
-}
+contactless!(BlockOnLine, 2);
 
 impl Mechanism for BlockOnLine {
     fn laws(&self) -> &[ContactLaw] {
@@ -91,20 +105,7 @@ impl Pendulum {
     }
 }
 
-impl ContactKinematics for Pendulum {
-    fn num_coordinates(&self) -> usize {
-        3
-    }
-    fn num_contacts(&self) -> usize {
-        0
-    }
-    fn normal_gap(&self, _i: usize, _q: &[f64], _t: f64) -> f64 {
-        unreachable!("no contacts")
-    }
-    fn contact(&self, _: usize, _: &[f64], _: f64, _: &mut [f64], _: &mut [f64]) -> ContactPoint {
-        unreachable!("no contacts")
-    }
-}
+contactless!(Pendulum, 3);
 
 impl Mechanism for Pendulum {
     fn laws(&self) -> &[ContactLaw] {
@@ -148,20 +149,7 @@ struct MinimalPendulum {
     l: f64,
 }
 
-impl ContactKinematics for MinimalPendulum {
-    fn num_coordinates(&self) -> usize {
-        1
-    }
-    fn num_contacts(&self) -> usize {
-        0
-    }
-    fn normal_gap(&self, _i: usize, _q: &[f64], _t: f64) -> f64 {
-        unreachable!("no contacts")
-    }
-    fn contact(&self, _: usize, _: &[f64], _: f64, _: &mut [f64], _: &mut [f64]) -> ContactPoint {
-        unreachable!("no contacts")
-    }
-}
+contactless!(MinimalPendulum, 1);
 
 impl Mechanism for MinimalPendulum {
     fn laws(&self) -> &[ContactLaw] {
@@ -304,20 +292,7 @@ fn a_driven_coordinate_keeps_its_speed_through_a_frictional_impact() {
 /// The same pin stated twice: S = W_Bᵀ M⁻¹ W_B is singular.
 struct TwicePinned(Pendulum);
 
-impl ContactKinematics for TwicePinned {
-    fn num_coordinates(&self) -> usize {
-        3
-    }
-    fn num_contacts(&self) -> usize {
-        0
-    }
-    fn normal_gap(&self, _i: usize, _q: &[f64], _t: f64) -> f64 {
-        unreachable!("no contacts")
-    }
-    fn contact(&self, _: usize, _: &[f64], _: f64, _: &mut [f64], _: &mut [f64]) -> ContactPoint {
-        unreachable!("no contacts")
-    }
-}
+contactless!(TwicePinned, 3);
 
 impl Mechanism for TwicePinned {
     fn laws(&self) -> &[ContactLaw] {
@@ -340,20 +315,7 @@ impl Mechanism for TwicePinned {
 /// States a constraint and never writes it.
 struct Unwritten(Pendulum);
 
-impl ContactKinematics for Unwritten {
-    fn num_coordinates(&self) -> usize {
-        3
-    }
-    fn num_contacts(&self) -> usize {
-        0
-    }
-    fn normal_gap(&self, _i: usize, _q: &[f64], _t: f64) -> f64 {
-        unreachable!("no contacts")
-    }
-    fn contact(&self, _: usize, _: &[f64], _: f64, _: &mut [f64], _: &mut [f64]) -> ContactPoint {
-        unreachable!("no contacts")
-    }
-}
+contactless!(Unwritten, 3);
 
 impl Mechanism for Unwritten {
     fn laws(&self) -> &[ContactLaw] {
