@@ -99,6 +99,7 @@ pub mod prelude {
     pub use moreau_setvalued::ContactLaw;
 }
 
+mod bodies;
 mod check;
 mod dense;
 mod error;
@@ -109,6 +110,7 @@ mod report;
 mod rows;
 mod stepper;
 
+pub use bodies::{BodyContact, BodyStructure, NO_BODY};
 pub use check::{EvaluateMismatch, check_evaluate};
 pub use error::StepError;
 pub use mechanism::{BilateralPoint, ConcreteOp, Mechanism, SharedWork};

@@ -3,6 +3,8 @@
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
 
+use crate::bodies::BodyStructure;
+
 /// A planar rigid multibody system with unilateral frictional contacts.
 ///
 /// With `f` generalised coordinates `q` and velocities `u`, the equality of measures
@@ -57,6 +59,15 @@ pub trait Mechanism: ContactKinematics {
     /// [`Self::mass_matrix`], [`Self::forces`] and [`ContactKinematics::normal_gaps`] once per
     /// step; [`crate::check_evaluate`] checks that it gives the same values.
     fn shared_work(&self) -> Option<&dyn SharedWork> {
+        None
+    }
+
+    /// The mechanism's [`BodyStructure`], when it is made of rigid bodies in maximal
+    /// coordinates whose contacts are detected at each step: `None` by default. With it the
+    /// stepper keeps M by 3 × 3 blocks and each contact's force directions by body, finds the
+    /// contacts through [`BodyStructure::detect`] at every step, and solves their problem by
+    /// islands on sparse blocks, so that thousands of bodies and contacts cost what they touch.
+    fn body_structure(&self) -> Option<&dyn BodyStructure> {
         None
     }
 
