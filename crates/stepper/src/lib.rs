@@ -117,4 +117,6 @@ pub use mechanism::{BilateralPoint, ConcreteOp, Mechanism, SharedWork};
 pub use observer::{Impact, Observer, Record, Recorder};
 pub use options::{SolverChoice, StepperOptions, UnknownSolver};
 pub use rows::{RowIter, Rows};
-pub use stepper::{ContactReport, ContactState, LcpInfo, RunSummary, StepReport, Stepper};
+pub use stepper::{
+    ContactReport, ContactState, LcpInfo, PhaseTimes, RunSummary, StepReport, Stepper,
+};

@@ -8,18 +8,23 @@ use super::*;
 impl Core {
     /// The report of the step just taken.
     pub(super) fn report(&self) -> StepReport<'_> {
+        if let Some(body) = &self.body {
+            return body.report(self);
+        }
         StepReport {
             step: self.step - 1,
             t: self.t,
             q: &self.q,
             u: &self.u,
             contacts: &self.contacts,
+            contact_ids: &self.contact_ids,
             lcp_size: self.ws.lcp_size,
             // Set only by steps with contacts.
             lcp: if self.ws.lcp_size > 0 { self.ws.lcp_info } else { None },
             penetration: self.ws.penetration,
             joint_drift: self.ws.joint_drift,
-            mass: &self.ws.mass,
+            times: crate::report::PhaseTimes::default(),
+            mass: crate::report::MassView::Dense(&self.ws.mass),
             u_free: &self.ws.u_free,
         }
     }
