@@ -5,7 +5,9 @@ use std::ops::ControlFlow;
 
 use moreau_lcp::Method;
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::{BodyContact, BodyStructure, StepError, StepReport, Stepper, StepperOptions};
+use moreau_stepper::{
+    BodyContact, BodyStructure, SolverChoice, StepError, StepReport, Stepper, StepperOptions,
+};
 use moreau_testsupport::{Disks, Feature, G};
 
 /// One step's numbers, by contact id: (id, P_N, P_T).
@@ -33,7 +35,17 @@ fn run(stepper: &mut Stepper<Disks>, steps: usize) -> Vec<(Vec<f64>, Vec<f64>, I
 /// A resting contact's gap is zero up to rounding, which differs between the paths at the
 /// level of the solvers' tolerance: a gap tolerance keeps such a contact closed on both.
 fn agree(make: impl Fn(bool) -> Disks, q0: &[f64], u0: &[f64], steps: usize, tol: f64) {
-    let opts = StepperOptions::new(1e-3).with_gap_tolerance(1e-9);
+    agree_with(StepperOptions::new(1e-3).with_gap_tolerance(1e-9), make, q0, u0, steps, tol)
+}
+
+fn agree_with(
+    opts: StepperOptions,
+    make: impl Fn(bool) -> Disks,
+    q0: &[f64],
+    u0: &[f64],
+    steps: usize,
+    tol: f64,
+) {
     let mut dense = Stepper::new(make(false), q0, u0, 0.0, opts.clone()).unwrap();
     let mut sparse = Stepper::new(make(true), q0, u0, 0.0, opts).unwrap();
     let (a, b) = (run(&mut dense, steps), run(&mut sparse, steps));
@@ -87,6 +99,71 @@ fn three_touching_disks_struck_at_one_end_follow_newtons_law_at_every_contact() 
     assert_eq!(r.contacts.len(), 2);
     assert!(r.contacts.iter().all(|c| c.impact == (c.gamma_n_a < 0.0)));
     assert!(r.impulse_dissipation().abs() < 1e-12, "elastic: {}", r.impulse_dissipation());
+}
+
+#[test]
+fn the_projection_removes_penetration_alike_on_both_paths() {
+    // Three disks in a column, each sunk 1 mm into the one below and the lowest into the floor.
+    let centres: Vec<_> = (0..3).map(|k| (0.0, 0.099 + 0.199 * k as f64)).collect();
+    let (q0, u0) = Disks::state_at(&centres);
+    let make = |s| Disks::new(vec![1.0, 2.0, 3.0], vec![0.1; 3], law(0.0, 0.3), s);
+    let opts = StepperOptions::new(1e-3)
+        .with_gap_tolerance(1e-9)
+        .with_projection(true)
+        .with_projection_tolerance(1e-9);
+    agree_with(opts.clone(), make, &q0, &u0, 200, 1e-10);
+    let mut s = Stepper::new(make(true), &q0, &u0, 0.0, opts).unwrap();
+    let r = s.step().unwrap();
+    assert!(r.penetration > 9e-4, "at the midpoint: {}", r.penetration);
+    assert!(r.times.projection > std::time::Duration::ZERO);
+    let q = s.q().to_vec();
+    let mut gaps = Vec::new();
+    s.mechanism().detect(&q, s.t(), 1.0, &mut gaps);
+    let worst = gaps.iter().map(|c| c.point.g_n).fold(f64::INFINITY, f64::min);
+    assert!(worst >= -1e-9, "after the projection: {worst}");
+}
+
+#[test]
+fn the_record_keeps_bodies_energies_and_impacts_by_identity() {
+    let disks = Disks::new(vec![2.0], vec![0.1], law(0.5, 0.0), true);
+    let mut s =
+        Stepper::new(disks, &[0.0, 0.6, 0.0], &[0.0; 3], 0.0, StepperOptions::new(1e-3)).unwrap();
+    let record = s.record_until(0.5).unwrap();
+    assert_eq!(record.len(), 501);
+    assert_eq!(record.p_n.width(), 0);
+    // The first impact at t = sqrt(2 · 0.5 / g), on the floor (id 0), loses 3/4 of the
+    // kinetic energy: kinetic + potential + dissipated is kept.
+    let first = record.impacts[0];
+    assert_eq!(first.contact, 0);
+    assert!((first.t - (1.0 / G).sqrt()).abs() < 2e-3, "{}", first.t);
+    let total = record.total_energy();
+    for (k, e) in total.iter().enumerate() {
+        let balance = e + record.cumulative_dissipation[k] - total[0];
+        assert!(balance.abs() < 1e-2 * total[0], "row {k}: {balance}");
+    }
+    assert!(record.cumulative_dissipation.last().unwrap() > &(0.7 * 2.0 * G * 0.5));
+}
+
+#[test]
+fn every_solver_choice_steps_a_pile() {
+    let (_, q, u) = piles([true, true], true);
+    let reference = {
+        let (d, ..) = piles([true, true], true);
+        let mut s = Stepper::new(d, &q, &u, 0.0, StepperOptions::new(1e-3)).unwrap();
+        run(&mut s, 300)
+    };
+    let pgs = SolverChoice::Pgs { tolerance: 1e-12, omega: 1.0, max_iterations: 10_000 };
+    for solver in [SolverChoice::Lemke, SolverChoice::Enumeration, pgs] {
+        let (d, ..) = piles([true, true], true);
+        let opts = StepperOptions::new(1e-3).with_solver(solver);
+        let mut s = Stepper::new(d, &q, &u, 0.0, opts).unwrap();
+        let other = run(&mut s, 300);
+        for (a, b) in reference.iter().zip(&other) {
+            for (x, y) in a.0.iter().zip(&b.0) {
+                assert!((x - y).abs() < 1e-9, "{solver:?}: {x} {y}");
+            }
+        }
+    }
 }
 
 #[test]

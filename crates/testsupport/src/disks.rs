@@ -39,6 +39,10 @@ pub struct Disks {
     sorted: Mutex<Vec<u32>>,
 }
 
+/// The gap of a contact with a wall or floor the scene does not have, on the path of fixed
+/// contacts: a contact that never closes (finite, so that the projection's LCP takes it).
+const ABSENT: f64 = 1e9;
+
 /// What a numbered contact touches.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Feature {
@@ -182,8 +186,7 @@ impl ContactKinematics for Disks {
         self.laws.len()
     }
     fn normal_gap(&self, i: usize, q: &[f64], _t: f64) -> f64 {
-        // An absent wall or floor is a contact that never closes.
-        self.contact_at(i as u64, q).map_or(f64::MAX, |c| c.point.g_n)
+        self.contact_at(i as u64, q).map_or(ABSENT, |c| c.point.g_n)
     }
     fn contact(
         &self,
@@ -196,7 +199,7 @@ impl ContactKinematics for Disks {
         w_n.fill(0.0);
         w_t.fill(0.0);
         let Some(c) = self.contact_at(i as u64, q) else {
-            return ContactPoint { g_n: f64::MAX, ..ContactPoint::default() };
+            return ContactPoint { g_n: ABSENT, ..ContactPoint::default() };
         };
         for side in 0..2 {
             let k = c.bodies[side];
