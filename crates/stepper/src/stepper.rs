@@ -261,7 +261,10 @@ impl<M: Mechanism> Stepper<M> {
     /// # Errors
     /// [`StepError::InvalidTimeStep`] for Δt not finite and positive,
     /// [`StepError::Dimension`] for state vectors or law lists of the wrong length,
-    /// [`StepError::NonFinite`] for a non-finite state, and the solver's option errors.
+    /// [`StepError::NonFinite`] for a non-finite state, and the solver's option errors. For a
+    /// mechanism with a [`crate::BodyStructure`]: [`StepError::Dimension`] when f is not three
+    /// times its number of bodies, [`StepError::JointsWithBodyStructure`] when it states
+    /// bilateral constraints.
     pub fn new(
         mechanism: M,
         q0: &[f64],
@@ -451,7 +454,9 @@ impl<M: Mechanism> Stepper<M> {
     /// [`StepError::MassNotSpd`] when M(q_M, t_M) is not SPD, [`StepError::NonFinite`] when the
     /// mechanism returns non-finite values or the state blows up, and
     /// [`StepError::LcpFailed`] (carrying the LCP instance) when the step's LCP has no
-    /// acceptable solution. The state is left at the start of the failed step.
+    /// acceptable solution ([`StepError::IslandFailed`] for an island of a mechanism with a
+    /// [`crate::BodyStructure`], whose detected contacts may also be
+    /// [`StepError::InvalidContact`]). The state is left at the start of the failed step.
     pub fn step(&mut self) -> Result<StepReport<'_>, StepError> {
         self.mechanism.with_concrete(Advance { core: &mut self.core })?;
         Ok(self.core.report())
@@ -459,6 +464,9 @@ impl<M: Mechanism> Stepper<M> {
 
     /// The LCP (A, b) of eq. 7.41 that the last step assembled and gave to the solver, if it
     /// needed one (not when no contact was closed or the zero impulse solved it at once).
+    /// Always `None` for a mechanism with a [`crate::BodyStructure`], whose steps pose
+    /// frictional-contact problems by island instead (a failed one is kept in
+    /// [`StepError::IslandFailed`]).
     pub fn last_lcp(&self) -> Option<LcpRef<'_>> {
         let s = self.core.ws.last_size;
         if s == 0 {

@@ -390,3 +390,9 @@ fn bad_structures_and_gaps_are_typed_errors() {
     // The state is left at the start of the failed step.
     assert_eq!((s.t(), s.q()), (0.0, &[0.0, 0.1, 0.0][..]));
 }
+
+#[test]
+fn a_stepper_of_disks_with_a_body_structure_is_send_and_sync() {
+    fn send_sync<T: Send + Sync>() {}
+    send_sync::<Stepper<Disks>>();
+}

@@ -121,6 +121,11 @@ impl Disks {
     /// Contact `id` at q, or `None` when its feature is absent (a wall or floor the scene
     /// does not have).
     pub fn contact_at(&self, id: u64, q: &[f64]) -> Option<BodyContact> {
+        self.contact_of(self.feature(id), id, q)
+    }
+
+    /// The contact `id` of `feature` at q (see [`Self::contact_at`]).
+    fn contact_of(&self, feature: Feature, id: u64, q: &[f64]) -> Option<BodyContact> {
         let law = self.laws[0];
         let pos = |k: usize| (q[3 * k], q[3 * k + 1]);
         let one = |k: usize, g_n: f64, w_n: [f64; 3], w_t: [f64; 3]| BodyContact {
@@ -131,7 +136,7 @@ impl Disks {
             point: ContactPoint { g_n, ..ContactPoint::default() },
             law,
         };
-        Some(match self.feature(id) {
+        Some(match feature {
             Feature::Floor(k) => {
                 if !self.floor {
                     return None;
@@ -271,7 +276,7 @@ impl BodyStructure for Disks {
         let first_pair = out.len();
         let mut push = |i: usize, j: usize| {
             let (i, j) = (i.min(j), i.max(j));
-            if let Some(c) = self.contact_at(self.pair_id(i, j), q)
+            if let Some(c) = self.contact_of(Feature::Pair(i, j), self.pair_id(i, j), q)
                 && c.point.g_n <= margin
             {
                 out.push(c);
