@@ -8,9 +8,16 @@ use super::*;
 impl Core {
     /// The report of the step just taken.
     pub(super) fn report(&self) -> StepReport<'_> {
-        if let Some(body) = &self.body {
-            return body.report(self);
+        match &self.body {
+            Some(body) => body.report(self),
+            None => self.dense_report(),
         }
+    }
+
+    /// The report of the step just taken on the path of fixed contacts. Inlined, so that
+    /// the fields an observer does not read are never written.
+    #[inline(always)]
+    pub(super) fn dense_report(&self) -> StepReport<'_> {
         StepReport {
             step: self.step - 1,
             t: self.t,
@@ -610,7 +617,7 @@ impl Core {
         for _ in 0..n {
             self.advance_n::<K, N>(mech)?;
             steps += 1;
-            if observer.observe(outer, &self.report()).is_break() {
+            if observer.observe(outer, &self.dense_report()).is_break() {
                 stopped = true;
                 break;
             }
