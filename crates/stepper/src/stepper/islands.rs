@@ -155,6 +155,8 @@ struct Batch {
     solution: Fc2dSolution,
     /// The impulses (P_N, P_T) of the batch's contacts, in the batch's order.
     r: Vec<f64>,
+    /// Scratch of the LCP residual.
+    sums: Vec<[f64; 4]>,
     /// The worst island's information, and the first failure.
     info: Option<LcpInfo>,
     failure: Option<IslandFailure>,
@@ -196,6 +198,7 @@ impl Batch {
             solver: IslandSolver::new(choice)?,
             solution: Fc2dSolution::new(),
             r: Vec::new(),
+            sums: Vec::new(),
             info: None,
             failure: None,
         })
@@ -323,7 +326,7 @@ impl Batch {
                 return;
             }
             self.r[2 * c..2 * (c + n)].copy_from_slice(&out.r);
-            let residual = lcp_residual(problem, &out.r, &out.u);
+            let residual = lcp_residual(problem, &out.r, &mut self.sums);
             let info = LcpInfo {
                 method: out.method,
                 status: Status::Solved,
@@ -362,47 +365,47 @@ fn worse(a: Option<LcpInfo>, b: LcpInfo) -> LcpInfo {
 }
 
 /// `moreau_lcp::Residual::relative` of the LCP of eq. 7.41 in z = (P_N; P_R; ξ_L) that an
-/// island's frictional-contact solution (r, u = W r + q) stands for, evaluated on the
-/// island's blocks: the residual the dense path reports for the same step problem.
-fn lcp_residual(problem: Fc2dRef<'_>, r: &[f64], u: &[f64]) -> f64 {
+/// island's frictional-contact solution r stands for, evaluated on the island's blocks: the
+/// residual the dense path reports for the same step problem. As there, w = A z + b is
+/// recomputed in the LCP's own terms, and ξ_L = max(0, −u_T) from the u_T so recomputed;
+/// `sums` is scratch (Σ|A z| and A z + b of the rows N and R of each contact).
+fn lcp_residual(problem: Fc2dRef<'_>, r: &[f64], sums: &mut Vec<[f64; 4]>) -> f64 {
     let parts = problem.parts();
     let n = parts.n_contacts;
     let (mu, q) = (parts.mu, parts.q);
-    // z and w of eq. 7.41: z = (P_N, P_R = P_T + μ P_N, ξ_L = max(0, −u_T)),
-    // w = (u_N, ξ_R = u_T + ξ_L, r_L = μ P_N − P_T).
-    let z_of = |i: usize| {
-        let (p_n, p_t) = (r[2 * i], r[2 * i + 1]);
-        [p_n, p_t + mu[i] * p_n, (-u[2 * i + 1]).max(0.0)]
-    };
-    let mut rows = moreau_lcp::ResidualRows::new((0..n).map(z_of).flat_map(|z| z.into_iter()));
+    // Rows N and R without ξ_L: the column of P_N,j carries W_·N − μ_j W_·T, that of
+    // P_R,j = P_T,j + μ_j P_N,j carries W_·T.
+    sums.clear();
     for i in 0..n {
-        let [p_n, p_r, xi_l] = z_of(i);
-        // Σ_j |A_ij z_j| and (A z + b)_i of the rows N and R of contact i, from its blocks:
-        // the column of P_N,j carries W_·N − μ_j W_·T, that of P_R,j carries W_·T.
         let (mut abs_n, mut abs_r) = (0.0, 0.0);
         let (mut sum_n, mut sum_r) = (q[2 * i], q[2 * i + 1]);
-        for (b, &j) in parts.blocks[parts.row_ptr[i]..parts.row_ptr[i + 1]]
-            .iter()
-            .zip(&parts.col[parts.row_ptr[i]..parts.row_ptr[i + 1]])
-        {
-            let [zn, zr, _] = z_of(j as usize);
-            let m = mu[j as usize];
-            let terms_n = [(b[0] - m * b[1]) * zn, b[1] * zr];
-            let terms_r = [(b[2] - m * b[3]) * zn, b[3] * zr];
-            for t in terms_n {
+        let blocks = parts.row_ptr[i]..parts.row_ptr[i + 1];
+        for (b, &j) in parts.blocks[blocks.clone()].iter().zip(&parts.col[blocks]) {
+            let j = j as usize;
+            let (p_n, m) = (r[2 * j], mu[j]);
+            let p_r = r[2 * j + 1] + m * p_n;
+            for t in [(b[0] - m * b[1]) * p_n, b[1] * p_r] {
                 sum_n += t;
                 abs_n += t.abs();
             }
-            for t in terms_r {
+            for t in [(b[2] - m * b[3]) * p_n, b[3] * p_r] {
                 sum_r += t;
                 abs_r += t.abs();
             }
         }
-        sum_r += xi_l;
-        abs_r += xi_l.abs();
-        let (w_n, w_r) = (u[2 * i], u[2 * i + 1] + xi_l);
-        rows.row(q[2 * i], p_n, w_n, abs_n, sum_n);
-        rows.row(q[2 * i + 1], p_r, w_r, abs_r, sum_r);
+        sums.push([sum_n, abs_n, sum_r, abs_r]);
+    }
+    let z = |i: usize| {
+        let p_n = r[2 * i];
+        [p_n, r[2 * i + 1] + mu[i] * p_n, (-sums[i][2]).max(0.0)]
+    };
+    let mut rows = moreau_lcp::ResidualRows::new((0..n).flat_map(z));
+    for i in 0..n {
+        let [p_n, p_r, xi_l] = z(i);
+        let [sum_n, abs_n, sum_r, abs_r] = sums[i];
+        rows.row(q[2 * i], p_n, sum_n, abs_n, sum_n);
+        let w_r = sum_r + xi_l;
+        rows.row(q[2 * i + 1], p_r, w_r, abs_r + xi_l, w_r);
         let (a, b) = (2.0 * mu[i] * p_n, -p_r);
         rows.row(0.0, xi_l, a + b, a.abs() + b.abs(), a + b);
     }
