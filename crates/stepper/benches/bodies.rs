@@ -1,6 +1,6 @@
 //! Time per step of the many-body path on a resting pile of disks, with its split by phase.
 //!
-//! `cargo bench -p moreau-stepper --bench bodies` steps a pile of N disks (N = 100, 1000, 5000) of
+//! `cargo bench -p moreau-stepper --bench bodies` steps a pile of N disks (N = 100, 1000) of
 //! radius 0.1 m stacked in a box 20 diameters wide, square-packed, touching and at rest
 //! under gravity with friction: one island of about 2 N contacts, warm-started from the
 //! step before. Before the criterion groups it prints the time per step split into
@@ -27,13 +27,15 @@ fn pile(n: usize) -> Stepper<Disks> {
     let opts = StepperOptions::new(1e-3).with_gap_tolerance(1e-9);
     let mut s = Stepper::new(disks, &q, &u, 0.0, opts).unwrap();
     for _ in 0..50 {
-        s.step().unwrap();
+        // The error's display names the island and the solver's status (its Debug form
+        // would print the whole state).
+        s.step().unwrap_or_else(|e| panic!("{e}"));
     }
     s
 }
 
 fn bodies(c: &mut Criterion) {
-    for n in [100, 1000, 5000] {
+    for n in [100, 1000] {
         let mut s = pile(n);
         let (mut sum, steps) = (PhaseTimes::default(), 200);
         let (mut contacts, mut sweeps, mut residual) = (0, 0, 0.0f64);
