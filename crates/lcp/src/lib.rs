@@ -170,4 +170,4 @@ pub use error::LcpError;
 pub use lemke::{Covering, Lemke, LemkeOptions};
 pub use pgs::{Pgs, PgsOptions};
 pub use problem::{Lcp, LcpRef, MAX_ENTRY};
-pub use solution::{Method, Residual, Solution, Solver, Status};
+pub use solution::{Method, Residual, ResidualRows, Solution, Solver, Status};

@@ -242,6 +242,36 @@ impl Acc {
     }
 }
 
+/// [`Residual`] accumulated row by row, for an M that is not stored densely (a block-sparse
+/// problem reformulated as an LCP): each row gives q_i, z_i, w_i, `Σ_j |M_ij z_j|` and
+/// `(M z + q)_i`, and [`ResidualRows::finish`] gives the residual [`Residual::compute`] would
+/// give for the same rows.
+pub struct ResidualRows {
+    acc: Acc,
+}
+
+impl ResidualRows {
+    /// Starts a residual for the candidate z, given as its entries in any order (only
+    /// `‖z‖∞` is taken from them).
+    pub fn new(z: impl IntoIterator<Item = f64>) -> ResidualRows {
+        let z_max = z.into_iter().fold(0.0f64, |a, v| fmax(a, v.abs()));
+        let mut acc = Acc::new(&[]);
+        acc.z_max = z_max;
+        ResidualRows { acc }
+    }
+
+    /// Adds row i: `q_i`, `z_i`, `w_i`, `Σ_j |M_ij z_j|` and `(M z + q)_i` as computed.
+    #[inline]
+    pub fn row(&mut self, q: f64, z: f64, w: f64, mz_abs: f64, mzq: f64) {
+        self.acc.row(q, z, w, mz_abs, mzq);
+    }
+
+    /// The residual of the rows given.
+    pub fn finish(self) -> Residual {
+        self.acc.finish()
+    }
+}
+
 impl Residual {
     /// A residual with every field `+∞`: the value for unusable candidates.
     pub const INFINITE: Residual = Residual {

@@ -629,3 +629,31 @@ fn a_warm_start_of_the_wrong_length_or_not_finite_is_an_error() {
     let err = Auto::default().solve_into(lcp.view(), Some(&[f64::NAN]), &mut out).unwrap_err();
     assert!(matches!(err, LcpError::NonFinite { .. }));
 }
+
+#[test]
+fn the_residual_accumulated_by_rows_is_the_residual_of_the_dense_problem() {
+    let mut rng = Rng::new(31);
+    for trial in 0..200 {
+        let n = 1 + trial % 9;
+        let (lcp, z_star) = planted(random_spd(n, &mut rng), &mut rng, false);
+        // Candidates near the solution and far from it, with negative entries too.
+        let spread = [1e-12, 1e-6, 1.0][trial % 3];
+        let z: Vec<f64> = z_star.iter().map(|v| v + spread * rng.uniform(-1.0, 1.0)).collect();
+        let (m, q) = (lcp.view().m(), lcp.view().q());
+        let mut w = vec![0.0; n];
+        let mut rows = moreau_lcp::ResidualRows::new(z.iter().copied());
+        for i in 0..n {
+            let (mut sum, mut abs) = (q[i], 0.0);
+            for j in 0..n {
+                let t = m[(i, j)] * z[j];
+                sum += t;
+                abs += t.abs();
+            }
+            // w as a solver would report it: the product plus a rounding-sized error.
+            w[i] = sum + 1e-15 * rng.uniform(-1.0, 1.0);
+            rows.row(q[i], z[i], w[i], abs, sum);
+        }
+        let dense = Residual::compute(lcp.view(), &z, &w);
+        assert_eq!(rows.finish(), dense, "trial {trial}");
+    }
+}

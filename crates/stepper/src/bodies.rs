@@ -57,5 +57,10 @@ pub trait BodyStructure: Sync {
 
     /// Appends to `out` every contact at (q, t) whose gap g_N is at most `margin`, with its
     /// force directions, in increasing order of [`BodyContact::id`], each id once.
+    ///
+    /// The stepper passes [`crate::StepperOptions::gap_tolerance`] as the margin and keeps only
+    /// the contacts with g_N at most that; it refuses ids out of order and bodies that do not
+    /// exist ([`crate::StepError::InvalidContact`]) and non-finite numbers
+    /// ([`crate::StepError::NonFinite`]).
     fn detect(&self, q: &[f64], t: f64, margin: f64, out: &mut Vec<BodyContact>);
 }

@@ -1,5 +1,6 @@
 //! The stepper's error type.
 
+use moreau_lcp::fc2d::Fc2d;
 use moreau_lcp::{Lcp, LcpError, Status};
 use moreau_setvalued::SetValuedError;
 
@@ -84,6 +85,50 @@ pub enum StepError {
         status: Status,
         /// The LCP instance (A, b) of eq. 7.41.
         lcp: Box<Lcp>,
+    },
+    /// A contact found by [`crate::BodyStructure::detect`] that the stepper cannot use.
+    #[error("detected contact {index} (id {id}): {reason}")]
+    InvalidContact {
+        /// Its position in the detection's list.
+        index: usize,
+        /// Its identity.
+        id: u64,
+        /// What is wrong (a body that does not exist, identities out of order).
+        reason: String,
+    },
+    /// A mechanism with a [`crate::BodyStructure`] states bilateral constraints: joints are not
+    /// yet solved on the many-body path.
+    #[error(
+        "a mechanism with a body structure has {bilaterals} bilateral constraints; joints are \
+         not supported on the many-body path"
+    )]
+    JointsWithBodyStructure {
+        /// The number of bilateral constraints stated.
+        bilaterals: usize,
+    },
+    /// The frictional-contact problem of one island of a step (mechanism with a
+    /// [`crate::BodyStructure`]) has no acceptable solution from the chosen solver.
+    ///
+    /// The island's problem is kept so that it can be written with `Fc2d::write_siconos`
+    /// and examined.
+    #[error(
+        "the contact problem of an island of {} contacts failed at step {step} (t = {t}): solver status {status}",
+        problem.n_contacts()
+    )]
+    IslandFailed {
+        /// Index of the failed step (0 for the first step of the stepper).
+        step: u64,
+        /// Start time t_A of the step (s).
+        t: f64,
+        /// Positions q_A at the start of the step.
+        q: Vec<f64>,
+        /// Velocities u_A at the start of the step.
+        u: Vec<f64>,
+        /// What the solver reported.
+        status: Status,
+        /// The island's problem: W by 2 × 2 blocks, q = b and μ of its contacts, in
+        /// increasing order of identity.
+        problem: Box<Fc2d>,
     },
     /// Invalid solver options or LCP input.
     #[error(transparent)]

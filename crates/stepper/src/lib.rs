@@ -10,7 +10,8 @@
 //! contact need no event detection and no switching.
 //!
 //! **For**: mechanisms of a few to a few dozen coordinates with impacts and stick-slip, long
-//! runs and parameter sweeps. **Not for**: smooth multibody dynamics without contact (use an
+//! runs and parameter sweeps; and, through a [`BodyStructure`], piles and stacks of thousands
+//! of rigid bodies whose contacts are detected at each step (see *The many-body path*). **Not for**: smooth multibody dynamics without contact (use an
 //! ODE/DAE integrator with error control), compliant contact models, 3-D friction cones.
 //!
 //! Principal types: the [`Mechanism`] trait a user implements; [`Stepper`] with
@@ -18,7 +19,8 @@
 //! [`Observer`]; [`Recorder`] and [`Record`] for keeping a trajectory, with every [`Impact`]
 //! listed; [`StepperOptions`] and
 //! [`SolverChoice`]; [`StepError`]; [`check_evaluate`] for the overrides that share work
-//! between M, h, the gaps and the contacts' kinematics.
+//! between M, h, the gaps and the contacts' kinematics; [`BodyStructure`] and [`BodyContact`]
+//! for the many-body path.
 //!
 //! | symbol | identifier | meaning |
 //! |---|---|---|
@@ -67,6 +69,35 @@
 //! # Ok(())
 //! # }
 //! ```
+//!
+//! # The many-body path
+//! A mechanism made of rigid bodies in maximal coordinates (x, y, θ per body) that returns its
+//! [`BodyStructure`] from [`Mechanism::body_structure`] is stepped without the f × f mass
+//! matrix or rows of length f (docs/theory.md section 10): M is kept as one 3 × 3 block per
+//! body, the contacts are those [`BodyStructure::detect`] finds at the midpoint (each with an
+//! identity kept from step to step, and its force directions on its two bodies), and the
+//! step's contact problem is split into islands (the bodies linked by contacts; fixed and
+//! driven bodies link nothing). Each island's planar frictional-contact problem is assembled
+//! on 2 × 2 blocks W_ij = w_iᵀ M⁻¹ w_j and solved by `moreau_lcp::fc2d`: the default
+//! [`SolverChoice::Auto`] by `Fc2dAuto` (unrelaxed to 1e-13 for islands of up to 8 contacts,
+//! a one-contact island in one sweep; over-relaxed to 1e-10 beyond), [`SolverChoice::Pgs`] by
+//! `Nsgs` with its options, [`SolverChoice::Lemke`] and [`SolverChoice::Enumeration`] by the
+//! exact `LcpRoute` with that pivoting solver. Every contact is warm-started from the impulses
+//! last found under its identity. Islands are solved in parallel on rayon's current pool,
+//! batched so that many one-contact islands do not cost a task each; the results are
+//! bit-identical for any number of threads. A failed island is [`StepError::IslandFailed`],
+//! carrying its problem.
+//!
+//! The midpoint rule, Newton's impact law, the impact test, the projection and the reports are
+//! those of the path of fixed contacts: [`StepReport::contacts`] lists the contacts detected at
+//! the step's midpoint in increasing order of identity, [`StepReport::contact_ids`] their
+//! identities, [`StepReport::lcp`] the worst island and [`StepReport::times`] the wall time of
+//! detection, assembly, solution and projection. A [`Recorder`] keeps the bodies' q and u and the
+//! energies, and lists impacts by contact identity; it keeps no per-contact columns, since the
+//! contacts come and go. Nothing is allocated per step once the buffers have grown to the
+//! largest contact set. Joints (bilateral constraints) are not yet solved on this path:
+//! [`Stepper::new`] refuses a mechanism with a body structure and bilateral constraints
+//! ([`StepError::JointsWithBodyStructure`]).
 //!
 //! # References
 //! - Moreau, J. J. (1988). Unilateral contact and dry friction in finite freedom dynamics.
@@ -117,4 +148,6 @@ pub use mechanism::{BilateralPoint, ConcreteOp, Mechanism, SharedWork};
 pub use observer::{Impact, Observer, Record, Recorder};
 pub use options::{SolverChoice, StepperOptions, UnknownSolver};
 pub use rows::{RowIter, Rows};
-pub use stepper::{ContactReport, ContactState, LcpInfo, RunSummary, StepReport, Stepper};
+pub use stepper::{
+    ContactReport, ContactState, LcpInfo, PhaseTimes, RunSummary, StepReport, Stepper,
+};

@@ -5,6 +5,7 @@ use std::ops::ControlFlow;
 use serde::{Deserialize, Serialize};
 
 use crate::dense::half_quadratic;
+use crate::report::MassView;
 use crate::{ContactReport, ContactState, Mechanism, Rows, StepReport};
 
 /// Receives every step of a run; returning [`ControlFlow::Break`] stops the run after it.
@@ -29,7 +30,8 @@ pub struct Impact {
     pub step: u64,
     /// End time t_E of the impact step (s); the step spans (t_E − Δt, t_E].
     pub t: f64,
-    /// The contact, as an index into the mechanism's contacts (0-based).
+    /// The contact, as an index into the mechanism's contacts (0-based); for a mechanism with
+    /// a [`crate::BodyStructure`], the contact's identity ([`crate::BodyContact::id`]).
     pub contact: usize,
     /// Normal relative velocity before the step, γ_N,A < 0 (m/s, or rad/s for an angular
     /// gap).
@@ -49,6 +51,12 @@ pub struct Impact {
 /// steps since the previous row (summed when rows are thinned with [`Recorder::every`]). Row 0
 /// is the state the run started from, with zero impulses. [`Record::impacts`] lists every
 /// impact of every step, thinned rows or not.
+///
+/// For a mechanism with a [`crate::BodyStructure`], whose contacts come and go, the rows keep
+/// the bodies' q and u, the energies and the solver's numbers, and the per-contact columns
+/// (`p_n`, `p_t`, `active`, `state`) have no entries; the impacts are listed by contact
+/// identity. An observer of [`StepReport::contacts`] and [`StepReport::contact_ids`] sees every
+/// contact of every step.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Record {
     /// Time t (s).
@@ -157,6 +165,8 @@ pub struct Recorder {
     every: usize,
     pending: usize,
     mass: Vec<f64>,
+    /// The mass blocks of a mechanism with a body structure.
+    blocks: Vec<[f64; 9]>,
     sum_p_n: Vec<f64>,
     sum_p_t: Vec<f64>,
     any_active: Vec<bool>,
@@ -186,6 +196,7 @@ impl Recorder {
             every: n.max(1),
             pending: 0,
             mass: Vec::new(),
+            blocks: Vec::new(),
             sum_p_n: Vec::new(),
             sum_p_t: Vec::new(),
             any_active: Vec::new(),
@@ -202,7 +213,7 @@ impl Recorder {
         q: &[f64],
         u: &[f64],
     ) {
-        let n = mechanism.num_contacts();
+        let n = if mechanism.body_structure().is_some() { 0 } else { mechanism.num_contacts() };
         self.resize(n);
         let contacts = vec![ContactReport::default(); n];
         self.push_row(mechanism, t, q, u, &contacts, 0, 0);
@@ -227,11 +238,21 @@ impl Recorder {
         iterations: usize,
     ) {
         let f = q.len();
-        self.mass.resize(f * f, 0.0);
-        mechanism.mass_matrix(q, t, &mut self.mass);
+        let kinetic = match mechanism.body_structure() {
+            Some(structure) => {
+                self.blocks.resize(structure.num_bodies(), [0.0; 9]);
+                structure.mass_blocks(q, t, &mut self.blocks);
+                MassView::Blocks(&self.blocks).half_quadratic(u)
+            }
+            None => {
+                self.mass.resize(f * f, 0.0);
+                mechanism.mass_matrix(q, t, &mut self.mass);
+                half_quadratic(&self.mass, f, u)
+            }
+        };
         let r = &mut self.record;
         if r.is_empty() {
-            r.set_widths(f, contacts.len());
+            r.set_widths(f, self.sum_p_n.len());
         }
         r.t.push(t);
         r.q.push(q);
@@ -240,11 +261,15 @@ impl Recorder {
         r.p_t.push(&self.sum_p_t);
         r.active.push(&self.any_active);
         self.states.clear();
-        self.states.extend(contacts.iter().map(|c| c.state));
+        if self.sum_p_n.is_empty() {
+            // Contacts recorded by identity are not kept per row.
+        } else {
+            self.states.extend(contacts.iter().map(|c| c.state));
+        }
         r.state.push(&self.states);
         r.lcp_size.push(lcp_size);
         r.iterations.push(iterations);
-        r.kinetic.push(half_quadratic(&self.mass, f, u));
+        r.kinetic.push(kinetic);
         r.potential.push(mechanism.potential_energy(q, t).unwrap_or(0.0));
         r.cumulative_dissipation.push(self.sum_dissipated);
         self.sum_p_n.fill(0.0);
@@ -255,16 +280,19 @@ impl Recorder {
 
 impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
     fn observe(&mut self, mechanism: &M, report: &StepReport<'_>) -> ControlFlow<()> {
-        self.resize(report.contacts.len());
+        let by_id = mechanism.body_structure().is_some();
+        self.resize(if by_id { 0 } else { report.contacts.len() });
         for (i, c) in report.contacts.iter().enumerate() {
-            self.sum_p_n[i] += c.p_n;
-            self.sum_p_t[i] += c.p_t;
-            self.any_active[i] |= c.active;
+            if !by_id {
+                self.sum_p_n[i] += c.p_n;
+                self.sum_p_t[i] += c.p_t;
+                self.any_active[i] |= c.active;
+            }
             if c.impact {
                 self.record.impacts.push(Impact {
                     step: report.step,
                     t: report.t,
-                    contact: i,
+                    contact: if by_id { report.contact_ids[i] as usize } else { i },
                     gamma_n_before: c.gamma_n_a,
                     gamma_n_after: c.gamma_n,
                     p_n: c.p_n,

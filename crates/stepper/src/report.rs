@@ -1,6 +1,8 @@
 //! What a step reports: each contact's state, impulses and relative velocities, and how the
 //! step's contact problem was solved.
 
+use std::time::Duration;
+
 use moreau_lcp::{Method, Status};
 
 use crate::dense::half_quadratic;
@@ -60,7 +62,9 @@ pub struct LcpInfo {
     pub iterations: usize,
     /// The shared residual's scale-free acceptance measure (`moreau_lcp::Residual::relative`)
     /// of the accepted (P_N, P_R, ξ_L) on the step's LCP, whichever method produced it; 0 for
-    /// the zero impulse of separating contacts, which solves the LCP exactly.
+    /// the zero impulse of separating contacts, which solves the LCP exactly. For a mechanism
+    /// with a [`crate::BodyStructure`] it is the same measure of the LCP of eq. 7.41 written
+    /// for each island's (P_N, P_R = P_T + μ P_N, ξ_L), evaluated on the sparse blocks.
     pub residual: f64,
 }
 
@@ -75,12 +79,23 @@ pub struct StepReport<'a> {
     pub q: &'a [f64],
     /// End velocities u_E.
     pub u: &'a [f64],
-    /// One report per contact of the mechanism.
+    /// The contacts' reports: one per contact of the mechanism, in its order, on the path of
+    /// fixed contacts; one per contact detected at the step's midpoint, in increasing order of
+    /// identity, for a mechanism with a [`crate::BodyStructure`].
     pub contacts: &'a [ContactReport],
+    /// The identity of each entry of `contacts`: the contact's index on the path of fixed
+    /// contacts (0, 1, 2, ...), the [`crate::BodyContact::id`] the detection gave it for a
+    /// mechanism with a [`crate::BodyStructure`].
+    pub contact_ids: &'a [u64],
     /// Size of the LCP (0 when no contact was closed): one row per active frictionless
-    /// contact, three per active frictional one.
+    /// contact, three per active frictional one. For a mechanism with a
+    /// [`crate::BodyStructure`], the rows of the step's frictional-contact problems, two per
+    /// detected contact.
     pub lcp_size: usize,
-    /// How the LCP was solved, if there was one.
+    /// How the LCP was solved, if there was one. For a mechanism with a
+    /// [`crate::BodyStructure`], whose contacts are solved island by island, the worst island:
+    /// the largest number of iterations and the largest residual, with the method of the island
+    /// of largest residual.
     pub lcp: Option<LcpInfo>,
     /// The largest penetration max(0, −g_N) among the contacts at the step's midpoint q_M
     /// (m); 0 when none penetrates.
@@ -88,9 +103,49 @@ pub struct StepReport<'a> {
     /// The largest |g_B| of the bilateral constraints at the step's midpoint q_M (m or rad):
     /// how far the positions have drifted off the joints; 0 without joints.
     pub joint_drift: f64,
-    /// M_M, column-major, and the impulse-free velocity ũ, for [`Self::impulse_dissipation`].
-    pub(crate) mass: &'a [f64],
+    /// The wall time of the step's phases, measured for a mechanism with a
+    /// [`crate::BodyStructure`] (all zero otherwise).
+    pub times: PhaseTimes,
+    /// M_M (column-major, or by 3 × 3 blocks) and the impulse-free velocity ũ, for
+    /// [`Self::impulse_dissipation`].
+    pub(crate) mass: MassView<'a>,
     pub(crate) u_free: &'a [f64],
+}
+
+/// The wall time of the phases of one step of a mechanism with a [`crate::BodyStructure`],
+/// for scaling studies.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseTimes {
+    /// The detection of the contacts at the midpoint ([`crate::BodyStructure::detect`]).
+    pub detection: Duration,
+    /// The midpoint, the mass blocks and their inverses, h, ũ, the islands, the right-hand
+    /// sides and the 2 × 2 blocks of W of every island.
+    pub assembly: Duration,
+    /// The islands' frictional-contact solves and the end velocities and positions.
+    pub solution: Duration,
+    /// The projection of the positions (detection at q_E included), when it is on.
+    pub projection: Duration,
+}
+
+/// The mass matrix a step report holds.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum MassView<'a> {
+    /// M, column-major f × f.
+    Dense(&'a [f64]),
+    /// One 3 × 3 block per body, column-major.
+    Blocks(&'a [[f64; 9]]),
+}
+
+impl MassView<'_> {
+    /// xᵀ M x / 2.
+    pub(crate) fn half_quadratic(&self, x: &[f64]) -> f64 {
+        match self {
+            MassView::Dense(m) => half_quadratic(m, x.len(), x),
+            MassView::Blocks(blocks) => {
+                blocks.iter().zip(x.chunks_exact(3)).map(|(m, x)| half_quadratic(m, 3, x)).sum()
+            }
+        }
+    }
 }
 
 impl StepReport<'_> {
@@ -101,8 +156,7 @@ impl StepReport<'_> {
         if self.contacts.iter().all(|c| c.p_n == 0.0 && c.p_t == 0.0) {
             return 0.0;
         }
-        let f = self.u.len();
-        half_quadratic(self.mass, f, self.u_free) - half_quadratic(self.mass, f, self.u)
+        self.mass.half_quadratic(self.u_free) - self.mass.half_quadratic(self.u)
     }
 }
 

@@ -12,17 +12,20 @@ use moreau_lcp::{
 
 use crate::dense::{Cholesky, dot, order};
 use crate::observer::{Observer, Recorder};
-pub use crate::report::{ContactReport, ContactState, LcpInfo, RunSummary, StepReport};
+pub use crate::report::{ContactReport, ContactState, LcpInfo, PhaseTimes, RunSummary, StepReport};
 use crate::{ConcreteOp, Mechanism, Record, SolverChoice, StepError, StepperOptions};
 
+mod islands;
 mod joints;
 mod solve;
+mod sparse;
 mod step;
 use joints::Joints;
 use solve::{
     FC2D_ROUTE_CONTACTS, Fc2dRoute, closed_form_residual, frictional_contact,
     one_contact_closed_form,
 };
+use sparse::BodyPath;
 
 /// The LCP solver held by a stepper.
 ///
@@ -190,7 +193,11 @@ struct Core {
     q: Vec<f64>,
     u: Vec<f64>,
     contacts: Vec<ContactReport>,
+    /// The identities of the fixed contacts: their indices.
+    contact_ids: Vec<u64>,
     ws: Workspace,
+    /// The state of the many-body path, for a mechanism with a body structure.
+    body: Option<Box<BodyPath>>,
 }
 
 /// The natural-map tolerance of the default choice's solver of many contacts: that of the
@@ -254,7 +261,10 @@ impl<M: Mechanism> Stepper<M> {
     /// # Errors
     /// [`StepError::InvalidTimeStep`] for Δt not finite and positive,
     /// [`StepError::Dimension`] for state vectors or law lists of the wrong length,
-    /// [`StepError::NonFinite`] for a non-finite state, and the solver's option errors.
+    /// [`StepError::NonFinite`] for a non-finite state, and the solver's option errors. For a
+    /// mechanism with a [`crate::BodyStructure`]: [`StepError::Dimension`] when f is not three
+    /// times its number of bodies, [`StepError::JointsWithBodyStructure`] when it states
+    /// bilateral constraints.
     pub fn new(
         mechanism: M,
         q0: &[f64],
@@ -269,10 +279,28 @@ impl<M: Mechanism> Stepper<M> {
             return Err(StepError::InvalidGapTolerance { value: options.gap_tolerance });
         }
         let f = mechanism.num_coordinates();
-        let n = mechanism.num_contacts();
-        for (what, len, expected) in
-            [("q0", q0.len(), f), ("u0", u0.len(), f), ("laws", mechanism.laws().len(), n)]
-        {
+        let body = match mechanism.body_structure() {
+            Some(structure) => {
+                let nb = structure.num_bodies();
+                if f != 3 * nb {
+                    return Err(StepError::Dimension {
+                        what: "coordinates (three per body of the body structure)",
+                        expected: 3 * nb,
+                        found: f,
+                    });
+                }
+                let bilaterals = mechanism.num_bilaterals();
+                if bilaterals != 0 {
+                    return Err(StepError::JointsWithBodyStructure { bilaterals });
+                }
+                Some(Box::new(BodyPath::new(nb)))
+            }
+            None => None,
+        };
+        // The many-body path sizes its own buffers; the dense ones stay empty.
+        let (fd, n) = if body.is_some() { (0, 0) } else { (f, mechanism.num_contacts()) };
+        let laws = if body.is_some() { 0 } else { mechanism.laws().len() };
+        for (what, len, expected) in [("q0", q0.len(), f), ("u0", u0.len(), f), ("laws", laws, n)] {
             if len != expected {
                 return Err(StepError::Dimension { what, expected, found: len });
             }
@@ -283,6 +311,7 @@ impl<M: Mechanism> Stepper<M> {
         check_finite("q0", q0, t0)?;
         check_finite("u0", u0, t0)?;
         let solver = SolverImpl::new(&options.solver)?;
+        let f = fd;
         let ws = Workspace {
             q_m: vec![0.0; f],
             q_e: vec![0.0; f],
@@ -342,7 +371,7 @@ impl<M: Mechanism> Stepper<M> {
             lcp_info: None,
             lcp_solves: 0,
             reported: Vec::with_capacity(n),
-            joints: Joints::new(mechanism.num_bilaterals(), f),
+            joints: Joints::new(if body.is_some() { 0 } else { mechanism.num_bilaterals() }, f),
             penetration: 0.0,
             joint_drift: 0.0,
             proj_active: Vec::with_capacity(n),
@@ -364,7 +393,9 @@ impl<M: Mechanism> Stepper<M> {
                 q: q0.to_vec(),
                 u: u0.to_vec(),
                 contacts: vec![ContactReport::default(); n],
+                contact_ids: (0..n as u64).collect(),
                 ws,
+                body,
             },
         })
     }
@@ -411,6 +442,9 @@ impl<M: Mechanism> Stepper<M> {
         self.core.t = t;
         self.core.step = 0;
         self.core.ws.prev.fill([0.0; 3]);
+        if let Some(body) = &mut self.core.body {
+            body.forget();
+        }
         Ok(())
     }
 
@@ -420,7 +454,9 @@ impl<M: Mechanism> Stepper<M> {
     /// [`StepError::MassNotSpd`] when M(q_M, t_M) is not SPD, [`StepError::NonFinite`] when the
     /// mechanism returns non-finite values or the state blows up, and
     /// [`StepError::LcpFailed`] (carrying the LCP instance) when the step's LCP has no
-    /// acceptable solution. The state is left at the start of the failed step.
+    /// acceptable solution ([`StepError::IslandFailed`] for an island of a mechanism with a
+    /// [`crate::BodyStructure`], whose detected contacts may also be
+    /// [`StepError::InvalidContact`]). The state is left at the start of the failed step.
     pub fn step(&mut self) -> Result<StepReport<'_>, StepError> {
         self.mechanism.with_concrete(Advance { core: &mut self.core })?;
         Ok(self.core.report())
@@ -428,6 +464,9 @@ impl<M: Mechanism> Stepper<M> {
 
     /// The LCP (A, b) of eq. 7.41 that the last step assembled and gave to the solver, if it
     /// needed one (not when no contact was closed or the zero impulse solved it at once).
+    /// Always `None` for a mechanism with a [`crate::BodyStructure`], whose steps pose
+    /// frictional-contact problems by island instead (a failed one is kept in
+    /// [`StepError::IslandFailed`]).
     pub fn last_lcp(&self) -> Option<LcpRef<'_>> {
         let s = self.core.ws.last_size;
         if s == 0 {
@@ -485,6 +524,9 @@ struct Advance<'a> {
 impl ConcreteOp for Advance<'_> {
     type Output = Result<(), StepError>;
     fn run<K: Mechanism>(self, mechanism: &K) -> Self::Output {
+        if self.core.body.is_some() {
+            return self.core.advance_bodies(mechanism);
+        }
         self.core.advance(mechanism)
     }
 }
@@ -502,6 +544,9 @@ impl<M: Mechanism, O: Observer<M>> ConcreteOp for RunSteps<'_, M, O> {
     type Output = Result<RunSummary, StepError>;
     fn run<K: Mechanism>(self, mech: &K) -> Self::Output {
         let RunSteps { core, outer, n, t_end, observer } = self;
+        if core.body.is_some() {
+            return core.run_steps_bodies::<K, M, O>(mech, outer, n, t_end, observer);
+        }
         match core.q.len() {
             1 => core.run_steps::<K, M, 1, O>(mech, outer, n, t_end, observer),
             2 => core.run_steps::<K, M, 2, O>(mech, outer, n, t_end, observer),
@@ -524,6 +569,7 @@ enum LcpFailure {
 fn _assert_send_sync() {
     fn is<T: Send + Sync>() {}
     is::<StepError>();
+    is::<Core>();
 }
 
 impl<M: Mechanism> std::fmt::Debug for Stepper<M> {

@@ -72,3 +72,35 @@ fn stepping_does_not_allocate() {
         assert_eq!(n, 0, "rod with {solver:?}: {n} allocations");
     }
 }
+
+#[test]
+fn stepping_a_body_structure_whose_contacts_do_not_change_does_not_allocate() {
+    use moreau_setvalued::ContactLaw;
+    use moreau_testsupport::Disks;
+    // A resting column of ten disks: the same ten contacts at every step.
+    let law = ContactLaw::new(0.0, 0.0, 0.3).unwrap();
+    let disks = Disks::new(vec![1.0; 10], vec![0.1; 10], law, true).with_walls(-0.5, 0.5);
+    let centres: Vec<_> = (0..10).map(|k| (0.0, 0.1 + 0.2 * k as f64)).collect();
+    let (q0, u0) = Disks::state_at(&centres);
+    for projection in [false, true] {
+        let opts = StepperOptions::new(1e-3).with_gap_tolerance(1e-9).with_projection(projection);
+        let mut s = Stepper::new(disks_clone(&disks), &q0, &u0, 0.0, opts).unwrap();
+        let mut contacts = 0;
+        s.run_until(0.2, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).unwrap();
+        let n = count(|| {
+            s.run_until(1.0, &mut |r: &StepReport<'_>| {
+                contacts = r.contacts.len();
+                ControlFlow::Continue(())
+            })
+            .unwrap();
+        });
+        assert_eq!(contacts, 10);
+        assert_eq!(n, 0, "projection {projection}: {n} allocations in 800 steps");
+    }
+}
+
+fn disks_clone(d: &moreau_testsupport::Disks) -> moreau_testsupport::Disks {
+    let law = moreau_stepper::Mechanism::laws(d)[0];
+    let (l, r) = d.walls.unwrap();
+    moreau_testsupport::Disks::new(d.m.clone(), d.r.clone(), law, true).with_walls(l, r)
+}

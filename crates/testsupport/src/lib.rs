@@ -5,7 +5,8 @@
 //!   one implementation);
 //! - small mechanisms with closed-form answers: [`Ball`] over a moving floor, [`Block`] on
 //!   an incline, [`Rod`] with two ends on the ground, [`Chain`] of balls on a line (Newton's
-//!   cradle); [`Pairs`], a [`ContactKinematics`](moreau_kinematics::ContactKinematics) made
+//!   cradle); [`Disks`] on a floor between walls, with fixed contacts or with a body
+//!   structure whose contacts are detected at each step; [`Pairs`], a [`ContactKinematics`](moreau_kinematics::ContactKinematics) made
 //!   of closures over the planar pairs;
 //! - LCP problems: random SPD and P-matrices ([`random_spd`], [`random_p_matrix`]), planted
 //!   solutions ([`planted`]) and Murty's exponential problem ([`murty`]);
@@ -38,11 +39,13 @@
 //! ```
 #![deny(missing_docs)]
 
+mod disks;
 mod mechanisms;
 mod pairs;
 mod problems;
 mod record;
 
+pub use disks::{Disks, Feature};
 pub use mechanisms::{Ball, Block, Chain, G, Rod};
 pub use moreau_kinematics::SplitMix64;
 pub use pairs::{Pair, Pairs};

@@ -8,18 +8,30 @@ use super::*;
 impl Core {
     /// The report of the step just taken.
     pub(super) fn report(&self) -> StepReport<'_> {
+        match &self.body {
+            Some(body) => body.report(self),
+            None => self.dense_report(),
+        }
+    }
+
+    /// The report of the step just taken on the path of fixed contacts. Inlined, so that
+    /// the fields an observer does not read are never written.
+    #[inline(always)]
+    pub(super) fn dense_report(&self) -> StepReport<'_> {
         StepReport {
             step: self.step - 1,
             t: self.t,
             q: &self.q,
             u: &self.u,
             contacts: &self.contacts,
+            contact_ids: &self.contact_ids,
             lcp_size: self.ws.lcp_size,
             // Set only by steps with contacts.
             lcp: if self.ws.lcp_size > 0 { self.ws.lcp_info } else { None },
             penetration: self.ws.penetration,
             joint_drift: self.ws.joint_drift,
-            mass: &self.ws.mass,
+            times: crate::report::PhaseTimes::default(),
+            mass: crate::report::MassView::Dense(&self.ws.mass),
             u_free: &self.ws.u_free,
         }
     }
@@ -605,7 +617,7 @@ impl Core {
         for _ in 0..n {
             self.advance_n::<K, N>(mech)?;
             steps += 1;
-            if observer.observe(outer, &self.report()).is_break() {
+            if observer.observe(outer, &self.dense_report()).is_break() {
                 stopped = true;
                 break;
             }

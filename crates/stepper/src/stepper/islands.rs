@@ -1,0 +1,618 @@
+//! The contact problem of a step of a mechanism with a [`BodyStructure`], island by island:
+//! the islands (connected components of the bodies linked by contacts), the 2 × 2 blocks
+//! W_ij = w_iᵀ M⁻¹ w_j of each island's Delassus matrix, and the islands' solves by
+//! moreau-lcp's planar frictional-contact solvers, in parallel.
+//!
+//! Islands are grouped into batches of consecutive islands; each batch owns its scratch and
+//! its solver and solves its islands one after the other, so that the result of an island
+//! depends on its own data only and is bit-identical for any number of threads.
+
+use std::ops::Range;
+
+use moreau_lcp::fc2d::{
+    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dParts, Fc2dRef, Fc2dSolution, Fc2dSolver, LcpRoute,
+    LcpRouteOptions, LcpRouteSolver, Nsgs, NsgsOptions,
+};
+use moreau_lcp::{LcpError, Status};
+use rayon::prelude::*;
+
+use super::FC2D_TOLERANCE;
+use crate::bodies::{BodyContact, NO_BODY};
+use crate::{LcpInfo, SolverChoice};
+
+/// Contacts per batch above which a batch is closed: enough work that rayon's overhead does
+/// not dominate a scene of many one-contact islands.
+const BATCH_CONTACTS: usize = 256;
+
+/// What the step knows of a detected contact besides its force directions: M⁻¹ w of each
+/// side, the right-hand side b, γ_A, μ and the warm start.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct ContactWork {
+    /// M_k⁻¹ w_N and M_k⁻¹ w_T restricted to the body of each side (zero for [`NO_BODY`]).
+    pub(super) mw_n: [[f64; 3]; 2],
+    pub(super) mw_t: [[f64; 3]; 2],
+    /// b = (b_N, b_T) = W ᵀũ + ŵ + ε γ_A (docs/theory.md section 7).
+    pub(super) b: [f64; 2],
+    /// γ_N,A and γ_T,A.
+    pub(super) gamma_a: [f64; 2],
+    /// μ of the problem (the law's, 0 for a frictionless contact).
+    pub(super) mu: f64,
+    /// The impulses (P_N, P_T) found under the same identity in the step before, else zero.
+    pub(super) warm: [f64; 2],
+}
+
+/// Islands of at most this many contacts are small: the default choice solves them with
+/// unrelaxed Gauss-Seidel (whose exact local solution answers a one-contact island in one
+/// sweep) to [`SMALL_TOLERANCE`], and by pivoting if that stalls.
+const SMALL_ISLAND: usize = 8;
+
+/// The natural-map tolerance of small islands, where it costs a few sweeps more.
+const SMALL_TOLERANCE: f64 = 1e-13;
+
+/// The solver of the islands' problems, from the stepper's [`SolverChoice`].
+enum IslandSolver {
+    /// The default choice: one `Fc2dAuto` for small islands and one for large ones.
+    Auto(Box<[Fc2dAuto; 2]>),
+    Nsgs(Nsgs),
+    Lcp(LcpRoute),
+}
+
+impl IslandSolver {
+    fn new(choice: &SolverChoice) -> Result<Self, LcpError> {
+        Ok(match *choice {
+            SolverChoice::Auto => Self::Auto(Box::new([
+                Fc2dAuto::new(Fc2dAutoOptions {
+                    tolerance: SMALL_TOLERANCE,
+                    omega: 1.0,
+                    ..Fc2dAutoOptions::default()
+                })?,
+                Fc2dAuto::new(Fc2dAutoOptions {
+                    tolerance: FC2D_TOLERANCE,
+                    ..Fc2dAutoOptions::default()
+                })?,
+            ])),
+            SolverChoice::Pgs { tolerance, omega, max_iterations } => {
+                Self::Nsgs(Nsgs::new(NsgsOptions {
+                    tolerance,
+                    omega,
+                    max_sweeps: max_iterations,
+                    ..NsgsOptions::default()
+                })?)
+            }
+            SolverChoice::Lemke | SolverChoice::Enumeration => {
+                let solver = if matches!(choice, SolverChoice::Lemke) {
+                    LcpRouteSolver::Lemke
+                } else {
+                    LcpRouteSolver::Enumeration
+                };
+                Self::Lcp(LcpRoute::new(LcpRouteOptions {
+                    tolerance: FC2D_TOLERANCE,
+                    solver,
+                    ..LcpRouteOptions::default()
+                })?)
+            }
+        })
+    }
+
+    fn solve(
+        &mut self,
+        problem: Fc2dRef<'_>,
+        warm: &[f64],
+        out: &mut Fc2dSolution,
+    ) -> Result<(), LcpError> {
+        match self {
+            Self::Auto(s) => {
+                let k = usize::from(problem.n_contacts() > SMALL_ISLAND);
+                s[k].solve_into(problem, Some(warm), out)
+            }
+            Self::Nsgs(s) => s.solve_into(problem, Some(warm), out),
+            Self::Lcp(s) => s.solve_into(problem, None, out),
+        }
+    }
+}
+
+/// Where one island's problem lies in its batch's buffers.
+#[derive(Clone, Copy, Debug, Default)]
+struct Slot {
+    /// First contact of the island in the batch (in the batch's order).
+    c_off: usize,
+    /// Number of contacts.
+    n: usize,
+    /// First entry of the island's row pointers in the batch's `row_ptr`.
+    rp_off: usize,
+    /// Whether some b_N < 0, so that the island needs a solve.
+    solve: bool,
+}
+
+/// Why an island's solve failed.
+pub(super) enum IslandFailure {
+    /// The problem or the warm start was refused, or the solver's options.
+    Input(LcpError),
+    /// The solver ended without a solution; the island's problem is kept to reproduce it.
+    Status(Status, Box<Fc2d>),
+}
+
+/// A run of consecutive islands with its scratch and solver.
+struct Batch {
+    /// The islands of the batch.
+    islands: Range<usize>,
+    /// The contacts of the batch, a range of the step's island order.
+    contacts: Range<usize>,
+    slots: Vec<Slot>,
+    /// The islands' problems, concatenated: row pointers relative to each island's first
+    /// block, columns local to the island, blocks, q, μ and the warm start.
+    row_ptr: Vec<usize>,
+    col: Vec<u32>,
+    blocks: Vec<[f64; 4]>,
+    q: Vec<f64>,
+    mu: Vec<f64>,
+    warm: Vec<f64>,
+    /// First block of each island in `blocks`.
+    block_off: Vec<usize>,
+    /// The (column, block) entries of one block row before they are sorted and merged.
+    row: Vec<(u32, [f64; 4])>,
+    solver: IslandSolver,
+    solution: Fc2dSolution,
+    /// The impulses (P_N, P_T) of the batch's contacts, in the batch's order.
+    r: Vec<f64>,
+    /// Scratch of the LCP residual.
+    sums: Vec<[f64; 4]>,
+    /// The worst island's information, and the first failure.
+    info: Option<LcpInfo>,
+    failure: Option<IslandFailure>,
+}
+
+/// The read-only data of a step that the batches share.
+struct Shared<'a> {
+    contacts: &'a [BodyContact],
+    work: &'a [ContactWork],
+    order: &'a [u32],
+    island_start: &'a [usize],
+    local: &'a [u32],
+    body_start: &'a [usize],
+    body_list: &'a [(u32, u8)],
+}
+
+/// The group starts 0, 2, 4, ... shared by every island problem (contacts only).
+fn group_starts(buf: &mut Vec<usize>, n: usize) {
+    if buf.len() < n + 1 {
+        buf.clear();
+        buf.extend((0..=n).map(|g| 2 * g));
+    }
+}
+
+impl Batch {
+    fn new(choice: &SolverChoice) -> Result<Self, LcpError> {
+        Ok(Batch {
+            islands: 0..0,
+            contacts: 0..0,
+            slots: Vec::new(),
+            row_ptr: Vec::new(),
+            col: Vec::new(),
+            blocks: Vec::new(),
+            q: Vec::new(),
+            mu: Vec::new(),
+            warm: Vec::new(),
+            block_off: Vec::new(),
+            row: Vec::new(),
+            solver: IslandSolver::new(choice)?,
+            solution: Fc2dSolution::new(),
+            r: Vec::new(),
+            sums: Vec::new(),
+            info: None,
+            failure: None,
+        })
+    }
+
+    /// Assembles the problem of every island of the batch: W_ij = Σ_k w_i,kᵀ M_k⁻¹ w_j,k
+    /// over the bodies k that contacts i and j share, q = b, μ and the warm start.
+    fn assemble(&mut self, s: &Shared<'_>) {
+        self.slots.clear();
+        self.row_ptr.clear();
+        self.col.clear();
+        self.blocks.clear();
+        self.block_off.clear();
+        self.q.clear();
+        self.mu.clear();
+        self.warm.clear();
+        let first = self.contacts.start;
+        for island in self.islands.clone() {
+            let range = s.island_start[island]..s.island_start[island + 1];
+            let slot = Slot {
+                c_off: range.start - first,
+                n: range.len(),
+                rp_off: self.row_ptr.len(),
+                solve: range.clone().any(|k| s.work[s.order[k] as usize].b[0] < 0.0),
+            };
+            self.slots.push(slot);
+            let b0 = self.blocks.len();
+            self.block_off.push(b0);
+            self.row_ptr.push(0);
+            for k in range {
+                let a = s.order[k] as usize;
+                let w = &s.work[a];
+                self.q.extend_from_slice(&w.b);
+                self.mu.push(w.mu);
+                self.warm.extend_from_slice(&w.warm);
+                if slot.solve {
+                    self.block_row(s, a);
+                } else {
+                    // An island without a solve needs no blocks: its impulses are zero.
+                    self.col.push((k - s.island_start[island]) as u32);
+                    self.blocks.push([0.0; 4]);
+                }
+                self.row_ptr.push(self.blocks.len() - b0);
+            }
+        }
+    }
+
+    /// Appends the block row of contact `a`: its blocks with every contact sharing a body,
+    /// by increasing local column, the contributions of two shared bodies added up.
+    fn block_row(&mut self, s: &Shared<'_>, a: usize) {
+        let ca = &s.contacts[a];
+        self.row.clear();
+        for side in 0..2 {
+            let k = ca.bodies[side];
+            if k == NO_BODY {
+                continue;
+            }
+            let (wn, wt) = (&ca.w_n[side], &ca.w_t[side]);
+            let k = k as usize;
+            for &(c, sc) in &s.body_list[s.body_start[k]..s.body_start[k + 1]] {
+                let wc = &s.work[c as usize];
+                let (yn, yt) = (&wc.mw_n[sc as usize], &wc.mw_t[sc as usize]);
+                self.row.push((
+                    s.local[c as usize],
+                    [dot3(wn, yn), dot3(wn, yt), dot3(wt, yn), dot3(wt, yt)],
+                ));
+            }
+        }
+        self.row.sort_unstable_by_key(|e| e.0);
+        let mut last = u32::MAX;
+        for &(c, b) in &self.row {
+            if c == last {
+                let dst = self.blocks.last_mut().expect("a block of this column was pushed");
+                for (d, v) in dst.iter_mut().zip(b) {
+                    *d += v;
+                }
+            } else {
+                self.col.push(c);
+                self.blocks.push(b);
+                last = c;
+            }
+        }
+    }
+
+    /// Solves the batch's islands in turn; the impulses go to `r`, the worst island's
+    /// information to `info`, the first failure to `failure` (and the batch stops there).
+    fn solve(&mut self, group_start: &[usize]) {
+        self.info = None;
+        self.failure = None;
+        let nc = self.contacts.len();
+        self.r.clear();
+        self.r.resize(2 * nc, 0.0);
+        for (j, slot) in self.slots.iter().enumerate() {
+            if !slot.solve {
+                continue;
+            }
+            let (c, n) = (slot.c_off, slot.n);
+            let b0 = self.block_off[j];
+            let b1 = b0 + self.row_ptr[slot.rp_off + n];
+            let parts = Fc2dParts {
+                n_contacts: n,
+                group_start: &group_start[..n + 1],
+                row_ptr: &self.row_ptr[slot.rp_off..slot.rp_off + n + 1],
+                col: &self.col[b0..b1],
+                blocks: &self.blocks[b0..b1],
+                q: &self.q[2 * c..2 * (c + n)],
+                mu: &self.mu[c..c + n],
+            };
+            let problem = match Fc2dRef::from_parts(parts) {
+                Ok(p) => p,
+                Err(e) => {
+                    self.failure = Some(IslandFailure::Input(e));
+                    return;
+                }
+            };
+            let warm = &self.warm[2 * c..2 * (c + n)];
+            if let Err(e) = self.solver.solve(problem, warm, &mut self.solution) {
+                self.failure = Some(IslandFailure::Input(e));
+                return;
+            }
+            let out = &self.solution;
+            if out.status != Status::Solved {
+                self.failure =
+                    Some(IslandFailure::Status(out.status, Box::new(problem.to_owned())));
+                return;
+            }
+            self.r[2 * c..2 * (c + n)].copy_from_slice(&out.r);
+            let residual = lcp_residual(problem, &out.r, &mut self.sums);
+            let info = LcpInfo {
+                method: out.method,
+                status: Status::Solved,
+                iterations: out.iterations,
+                residual,
+            };
+            self.info = Some(worse(self.info, info));
+        }
+    }
+}
+
+#[inline(always)]
+fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The worse of two islands' information: the largest iteration count, and the method and
+/// residual of the island of largest residual.
+fn worse(a: Option<LcpInfo>, b: LcpInfo) -> LcpInfo {
+    match a {
+        None => b,
+        Some(a) => {
+            let (m, r) = if b.residual > a.residual {
+                (b.method, b.residual)
+            } else {
+                (a.method, a.residual)
+            };
+            LcpInfo {
+                method: m,
+                status: Status::Solved,
+                iterations: a.iterations.max(b.iterations),
+                residual: r,
+            }
+        }
+    }
+}
+
+/// `moreau_lcp::Residual::relative` of the LCP of eq. 7.41 in z = (P_N; P_R; ξ_L) that an
+/// island's frictional-contact solution r stands for, evaluated on the island's blocks: the
+/// residual the dense path reports for the same step problem. As there, w = A z + b is
+/// recomputed in the LCP's own terms, and ξ_L = max(0, −u_T) from the u_T so recomputed;
+/// `sums` is scratch (Σ|A z| and A z + b of the rows N and R of each contact).
+fn lcp_residual(problem: Fc2dRef<'_>, r: &[f64], sums: &mut Vec<[f64; 4]>) -> f64 {
+    let parts = problem.parts();
+    let n = parts.n_contacts;
+    let (mu, q) = (parts.mu, parts.q);
+    // Rows N and R without ξ_L: the column of P_N,j carries W_·N − μ_j W_·T, that of
+    // P_R,j = P_T,j + μ_j P_N,j carries W_·T.
+    sums.clear();
+    for i in 0..n {
+        let (mut abs_n, mut abs_r) = (0.0, 0.0);
+        let (mut sum_n, mut sum_r) = (q[2 * i], q[2 * i + 1]);
+        let blocks = parts.row_ptr[i]..parts.row_ptr[i + 1];
+        for (b, &j) in parts.blocks[blocks.clone()].iter().zip(&parts.col[blocks]) {
+            let j = j as usize;
+            let (p_n, m) = (r[2 * j], mu[j]);
+            let p_r = r[2 * j + 1] + m * p_n;
+            for t in [(b[0] - m * b[1]) * p_n, b[1] * p_r] {
+                sum_n += t;
+                abs_n += t.abs();
+            }
+            for t in [(b[2] - m * b[3]) * p_n, b[3] * p_r] {
+                sum_r += t;
+                abs_r += t.abs();
+            }
+        }
+        sums.push([sum_n, abs_n, sum_r, abs_r]);
+    }
+    let z = |i: usize| {
+        let p_n = r[2 * i];
+        [p_n, r[2 * i + 1] + mu[i] * p_n, (-sums[i][2]).max(0.0)]
+    };
+    let mut rows = moreau_lcp::ResidualRows::new((0..n).flat_map(z));
+    for i in 0..n {
+        let [p_n, p_r, xi_l] = z(i);
+        let [sum_n, abs_n, sum_r, abs_r] = sums[i];
+        rows.row(q[2 * i], p_n, sum_n, abs_n, sum_n);
+        let w_r = sum_r + xi_l;
+        rows.row(q[2 * i + 1], p_r, w_r, abs_r + xi_l, w_r);
+        let (a, b) = (2.0 * mu[i] * p_n, -p_r);
+        rows.row(0.0, xi_l, a + b, a.abs() + b.abs(), a + b);
+    }
+    rows.finish().relative
+}
+
+/// The islands of a step and the batches that solve them.
+#[derive(Default)]
+pub(super) struct Islands {
+    /// Union-find parent of each body.
+    parent: Vec<u32>,
+    /// The island of each root body, `u32::MAX` before it is numbered.
+    label: Vec<u32>,
+    /// The island of each contact.
+    island_of: Vec<u32>,
+    /// The contacts by island (each island's in detection order) and each island's start.
+    pub(super) order: Vec<u32>,
+    pub(super) island_start: Vec<usize>,
+    /// Each contact's index within its island.
+    local: Vec<u32>,
+    /// The contacts acting on each body (contact, side), by body.
+    body_start: Vec<usize>,
+    body_list: Vec<(u32, u8)>,
+    batches: Vec<Batch>,
+    n_batches: usize,
+    group_start: Vec<usize>,
+    /// The impulses (P_N, P_T) of each contact, in detection order.
+    pub(super) r: Vec<[f64; 2]>,
+}
+
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let p = parent[x as usize];
+        parent[x as usize] = parent[p as usize];
+        x = p;
+    }
+    x
+}
+
+impl Islands {
+    /// Splits the contacts into islands over `num_bodies` bodies: bodies linked by a contact
+    /// belong to the same island, a side without coordinates links nothing. Islands are
+    /// numbered by their first contact, each island's contacts kept in detection order.
+    pub(super) fn split(&mut self, num_bodies: usize, contacts: &[BodyContact]) {
+        let nc = contacts.len();
+        self.parent.clear();
+        self.parent.extend(0..num_bodies as u32);
+        for c in contacts {
+            let [a, b] = c.bodies;
+            if a != NO_BODY && b != NO_BODY {
+                let (ra, rb) = (find(&mut self.parent, a), find(&mut self.parent, b));
+                // The smaller root wins, so that the forest does not depend on the order of
+                // the unions' arguments.
+                let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
+                self.parent[hi as usize] = lo;
+            }
+        }
+        self.label.clear();
+        self.label.resize(num_bodies, u32::MAX);
+        self.island_of.clear();
+        let mut islands = 0u32;
+        for c in contacts {
+            let body = if c.bodies[0] != NO_BODY { c.bodies[0] } else { c.bodies[1] };
+            let island = if body == NO_BODY {
+                // A contact between two sides without coordinates is an island of its own.
+                islands += 1;
+                islands - 1
+            } else {
+                let root = find(&mut self.parent, body) as usize;
+                if self.label[root] == u32::MAX {
+                    self.label[root] = islands;
+                    islands += 1;
+                }
+                self.label[root]
+            };
+            self.island_of.push(island);
+        }
+        // A counting sort by island keeps each island's contacts in detection order.
+        let n_islands = islands as usize;
+        self.island_start.clear();
+        self.island_start.resize(n_islands + 1, 0);
+        for &i in &self.island_of {
+            self.island_start[i as usize + 1] += 1;
+        }
+        for i in 0..n_islands {
+            self.island_start[i + 1] += self.island_start[i];
+        }
+        self.order.clear();
+        self.order.resize(nc, 0);
+        self.local.clear();
+        self.local.resize(nc, 0);
+        // `label` is reused as the next free position of each island.
+        self.label.clear();
+        self.label.extend(self.island_start[..n_islands].iter().map(|&s| s as u32));
+        for (c, &i) in self.island_of.iter().enumerate() {
+            let pos = self.label[i as usize];
+            self.order[pos as usize] = c as u32;
+            self.local[c] = pos - self.island_start[i as usize] as u32;
+            self.label[i as usize] += 1;
+        }
+        // The contacts of each body.
+        self.body_start.clear();
+        self.body_start.resize(num_bodies + 1, 0);
+        for c in contacts {
+            for &k in &c.bodies {
+                if k != NO_BODY {
+                    self.body_start[k as usize + 1] += 1;
+                }
+            }
+        }
+        for k in 0..num_bodies {
+            self.body_start[k + 1] += self.body_start[k];
+        }
+        self.body_list.clear();
+        self.body_list.resize(self.body_start[num_bodies], (0, 0));
+        self.parent.clear();
+        self.parent.extend(self.body_start[..num_bodies].iter().map(|&s| s as u32));
+        for (a, c) in contacts.iter().enumerate() {
+            for (side, &k) in c.bodies.iter().enumerate() {
+                if k != NO_BODY {
+                    let pos = &mut self.parent[k as usize];
+                    self.body_list[*pos as usize] = (a as u32, side as u8);
+                    *pos += 1;
+                }
+            }
+        }
+        self.r.clear();
+        self.r.resize(nc, [0.0; 2]);
+    }
+
+    /// The number of islands of the last split.
+    pub(super) fn count(&self) -> usize {
+        self.island_start.len().saturating_sub(1)
+    }
+
+    /// Groups the islands into batches and assembles every island's problem (in parallel
+    /// when there are several batches).
+    pub(super) fn assemble(
+        &mut self,
+        contacts: &[BodyContact],
+        work: &[ContactWork],
+        choice: &SolverChoice,
+    ) -> Result<(), LcpError> {
+        let n_islands = self.count();
+        self.n_batches = 0;
+        let mut island = 0;
+        let mut largest = 0;
+        while island < n_islands {
+            let start = island;
+            while island < n_islands
+                && self.island_start[island] - self.island_start[start] < BATCH_CONTACTS
+            {
+                island += 1;
+            }
+            if self.n_batches == self.batches.len() {
+                self.batches.push(Batch::new(choice)?);
+            }
+            let batch = &mut self.batches[self.n_batches];
+            batch.islands = start..island;
+            batch.contacts = self.island_start[start]..self.island_start[island];
+            for i in start..island {
+                largest = largest.max(self.island_start[i + 1] - self.island_start[i]);
+            }
+            self.n_batches += 1;
+        }
+        group_starts(&mut self.group_start, largest);
+        let shared = Shared {
+            contacts,
+            work,
+            order: &self.order,
+            island_start: &self.island_start,
+            local: &self.local,
+            body_start: &self.body_start,
+            body_list: &self.body_list,
+        };
+        let batches = &mut self.batches[..self.n_batches];
+        if batches.len() > 1 {
+            batches.par_iter_mut().for_each(|b| b.assemble(&shared));
+        } else {
+            batches.iter_mut().for_each(|b| b.assemble(&shared));
+        }
+        Ok(())
+    }
+
+    /// Solves every island (the batches in parallel), writes the impulses into `r` and
+    /// returns the worst island's information (`None` when no island needed a solve).
+    pub(super) fn solve(&mut self) -> Result<Option<LcpInfo>, IslandFailure> {
+        let group_start = &self.group_start;
+        let batches = &mut self.batches[..self.n_batches];
+        if batches.len() > 1 {
+            batches.par_iter_mut().for_each(|b| b.solve(group_start));
+        } else {
+            batches.iter_mut().for_each(|b| b.solve(group_start));
+        }
+        let mut info = None;
+        for b in &mut self.batches[..self.n_batches] {
+            if let Some(f) = b.failure.take() {
+                return Err(f);
+            }
+            for (k, pos) in b.contacts.clone().enumerate() {
+                let c = self.order[pos] as usize;
+                self.r[c] = [b.r[2 * k], b.r[2 * k + 1]];
+            }
+            if let Some(i) = b.info {
+                info = Some(worse(info, i));
+            }
+        }
+        Ok(info)
+    }
+}

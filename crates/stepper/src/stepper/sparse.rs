@@ -1,0 +1,498 @@
+//! The step of a mechanism with a [`BodyStructure`]: the same midpoint rule and impact law
+//! as the path of fixed contacts (docs/theory.md sections 4-7), with M kept as one 3 × 3
+//! block per body, the contacts detected at the midpoint, and their problem solved island by
+//! island on sparse 2 × 2 blocks (section 10).
+#![allow(non_snake_case)]
+
+use std::time::Instant;
+
+use super::islands::{ContactWork, IslandFailure, Islands};
+use super::*;
+use crate::bodies::{BodyContact, BodyStructure, NO_BODY};
+use crate::report::{MassView, PhaseTimes};
+
+/// The state and buffers of the many-body path, sized by the bodies and by the most
+/// contacts detected at once; nothing is allocated per step once they are large enough.
+pub(super) struct BodyPath {
+    /// Number of bodies; f = 3 × this.
+    nb: usize,
+    /// M_k at the midpoint and its inverse, one 3 × 3 block per body, column-major.
+    mass: Vec<[f64; 9]>,
+    inv: Vec<[f64; 9]>,
+    /// Whether `inv` holds the inverse of a constant M.
+    factored: bool,
+    q_m: Vec<f64>,
+    /// h at the midpoint.
+    h: Vec<f64>,
+    /// ũ = u_A + Δt M⁻¹ h.
+    u_free: Vec<f64>,
+    u_e: Vec<f64>,
+    q_e: Vec<f64>,
+    /// The contacts detected at the midpoint (then at q_E, by the projection), in id order.
+    detected: Vec<BodyContact>,
+    work: Vec<ContactWork>,
+    /// The step's contacts' identities and reports.
+    ids: Vec<u64>,
+    reports: Vec<ContactReport>,
+    /// The step's impulses (P_N, P_T) by identity, in increasing order: the next step's
+    /// warm start, and what tells an impact from persistent contact.
+    prev: Vec<(u64, [f64; 2])>,
+    islands: Islands,
+    info: Option<LcpInfo>,
+    lcp_size: usize,
+    penetration: f64,
+    times: PhaseTimes,
+}
+
+/// The inverse of a symmetric positive definite 3 × 3 block (column-major) through its
+/// Cholesky factor; the error says what fails.
+fn spd_inverse3(m: &[f64; 9]) -> Result<[f64; 9], String> {
+    let scale = m.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+    for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+        if (m[i + 3 * j] - m[j + 3 * i]).abs() > 1e-12 * scale {
+            return Err(format!("M[{i}][{j}] differs from M[{j}][{i}]"));
+        }
+    }
+    // L, lower triangle.
+    let l00 = m[0].sqrt();
+    let l10 = m[1] / l00;
+    let l20 = m[2] / l00;
+    let d1 = m[4] - l10 * l10;
+    let l11 = d1.sqrt();
+    let l21 = (m[5] - l20 * l10) / l11;
+    let d2 = m[8] - l20 * l20 - l21 * l21;
+    let l22 = d2.sqrt();
+    for (index, d) in [(0, m[0]), (1, d1), (2, d2)] {
+        if !(d > 0.0) {
+            return Err(format!("non-positive pivot in column {index}"));
+        }
+    }
+    // L⁻¹, lower triangle, then M⁻¹ = L⁻ᵀ L⁻¹.
+    let i00 = 1.0 / l00;
+    let i11 = 1.0 / l11;
+    let i22 = 1.0 / l22;
+    let i10 = -l10 * i00 * i11;
+    let i21 = -l21 * i11 * i22;
+    let i20 = -(l20 * i00 + l21 * i10) * i22;
+    let a00 = i00 * i00 + i10 * i10 + i20 * i20;
+    let a10 = i11 * i10 + i21 * i20;
+    let a20 = i22 * i20;
+    let a11 = i11 * i11 + i21 * i21;
+    let a21 = i22 * i21;
+    let a22 = i22 * i22;
+    Ok([a00, a10, a20, a10, a11, a21, a20, a21, a22])
+}
+
+#[inline(always)]
+fn mul3(m: &[f64; 9], x: &[f64]) -> [f64; 3] {
+    [
+        m[0] * x[0] + m[3] * x[1] + m[6] * x[2],
+        m[1] * x[0] + m[4] * x[1] + m[7] * x[2],
+        m[2] * x[0] + m[5] * x[1] + m[8] * x[2],
+    ]
+}
+
+#[inline(always)]
+fn dot3(a: &[f64; 3], b: &[f64]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// w · v over the two sides of a contact (a side without coordinates contributes nothing).
+#[inline(always)]
+fn side_dot(bodies: [u32; 2], w: &[[f64; 3]; 2], v: &[f64]) -> f64 {
+    let mut s = 0.0;
+    for side in 0..2 {
+        let k = bodies[side];
+        if k != NO_BODY {
+            s += dot3(&w[side], &v[3 * k as usize..]);
+        }
+    }
+    s
+}
+
+/// Checks the detected contacts: finite, on existing bodies, in increasing order of identity;
+/// then keeps those with g_N at most `margin` and returns the largest penetration.
+fn check_contacts(
+    contacts: &mut Vec<BodyContact>,
+    nb: usize,
+    margin: f64,
+    t: f64,
+) -> Result<f64, StepError> {
+    let mut last = None;
+    for (index, c) in contacts.iter().enumerate() {
+        let p = c.point;
+        let numbers = [p.g_n, p.g_t, p.w_n_hat, p.w_t_hat];
+        if let Some(k) = numbers.iter().position(|v| !v.is_finite()) {
+            let what = ["g_N", "g_T", "ŵ_N", "ŵ_T"][k];
+            return Err(StepError::NonFinite { what, index, t });
+        }
+        if c.w_n.iter().chain(&c.w_t).flatten().any(|v| !v.is_finite()) {
+            return Err(StepError::NonFinite { what: "w_N/w_T", index, t });
+        }
+        if let Some(&k) = c.bodies.iter().find(|&&k| k != NO_BODY && k as usize >= nb) {
+            return Err(StepError::InvalidContact {
+                index,
+                id: c.id,
+                reason: format!("body {k} of {nb}"),
+            });
+        }
+        if last.is_some_and(|l| c.id <= l) {
+            return Err(StepError::InvalidContact {
+                index,
+                id: c.id,
+                reason: "identities must increase".into(),
+            });
+        }
+        last = Some(c.id);
+    }
+    contacts.retain(|c| c.point.g_n <= margin);
+    Ok(contacts.iter().fold(0.0f64, |p, c| p.max(-c.point.g_n)))
+}
+
+impl BodyPath {
+    /// The path for a mechanism of `nb` bodies.
+    pub(super) fn new(nb: usize) -> Self {
+        let f = 3 * nb;
+        BodyPath {
+            nb,
+            mass: vec![[0.0; 9]; nb],
+            inv: vec![[0.0; 9]; nb],
+            factored: false,
+            q_m: vec![0.0; f],
+            h: vec![0.0; f],
+            u_free: vec![0.0; f],
+            u_e: vec![0.0; f],
+            q_e: vec![0.0; f],
+            detected: Vec::new(),
+            work: Vec::new(),
+            ids: Vec::new(),
+            reports: Vec::new(),
+            prev: Vec::new(),
+            islands: Islands::default(),
+            info: None,
+            lcp_size: 0,
+            penetration: 0.0,
+            times: PhaseTimes::default(),
+        }
+    }
+
+    /// Forgets the impulses of the last step (the warm start and the closed contacts).
+    pub(super) fn forget(&mut self) {
+        self.prev.clear();
+    }
+
+    /// The rows of the contact reports of the last step.
+    pub(super) fn report<'a>(&'a self, core: &'a Core) -> StepReport<'a> {
+        StepReport {
+            step: core.step - 1,
+            t: core.t,
+            q: &core.q,
+            u: &core.u,
+            contacts: &self.reports,
+            contact_ids: &self.ids,
+            lcp_size: self.lcp_size,
+            lcp: self.info,
+            penetration: self.penetration,
+            joint_drift: 0.0,
+            times: self.times,
+            mass: MassView::Blocks(&self.mass),
+            u_free: &self.u_free,
+        }
+    }
+
+    /// M⁻¹ w_N and M⁻¹ w_T of each side of each detected contact.
+    fn directions(&mut self) {
+        let inv = &self.inv;
+        self.work.clear();
+        self.work.extend(self.detected.iter().map(|c| {
+            let mut w = ContactWork::default();
+            for side in 0..2 {
+                let k = c.bodies[side];
+                if k != NO_BODY {
+                    let m = &inv[k as usize];
+                    w.mw_n[side] = mul3(m, &c.w_n[side]);
+                    w.mw_t[side] = mul3(m, &c.w_t[side]);
+                }
+            }
+            w
+        }));
+    }
+}
+
+/// v += M⁻¹ (W_N P_N + W_T P_T) with the impulses `r` of the contacts.
+fn apply_impulses(detected: &[BodyContact], work: &[ContactWork], r: &[[f64; 2]], v: &mut [f64]) {
+    {
+        for ((c, w), r) in detected.iter().zip(work).zip(r) {
+            if r[0] == 0.0 && r[1] == 0.0 {
+                continue;
+            }
+            for side in 0..2 {
+                let k = c.bodies[side];
+                if k != NO_BODY {
+                    let v = &mut v[3 * k as usize..][..3];
+                    for j in 0..3 {
+                        v[j] += w.mw_n[side][j] * r[0] + w.mw_t[side][j] * r[1];
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl Core {
+    /// One step of a mechanism with a [`BodyStructure`] (docs/theory.md section 10).
+    pub(super) fn advance_bodies<K: Mechanism>(&mut self, mech: &K) -> Result<(), StepError> {
+        let structure = mech
+            .body_structure()
+            .expect("a stepper on the many-body path holds a mechanism with a body structure");
+        let mut body = self.body.take().expect("the many-body path has its state");
+        let result = self.step_bodies(mech, structure, &mut body);
+        self.body = Some(body);
+        result
+    }
+
+    fn step_bodies<K: Mechanism>(
+        &mut self,
+        mech: &K,
+        structure: &dyn BodyStructure,
+        b: &mut BodyPath,
+    ) -> Result<(), StepError> {
+        let start = Instant::now();
+        let dt = self.options.dt;
+        let half = 0.5 * dt;
+        let t_m = self.t + half;
+        let nb = b.nb;
+        for ((q_m, q), u) in b.q_m.iter_mut().zip(&self.q).zip(&self.u) {
+            *q_m = q + half * u;
+        }
+        if !(b.factored && mech.constant_mass_matrix()) {
+            structure.mass_blocks(&b.q_m, t_m, &mut b.mass);
+            for (k, (m, inv)) in b.mass.iter().zip(b.inv.iter_mut()).enumerate() {
+                if let Some(index) = m.iter().position(|v| !v.is_finite()) {
+                    return Err(StepError::NonFinite { what: "M", index: 9 * k + index, t: t_m });
+                }
+                *inv = spd_inverse3(m).map_err(|reason| StepError::MassNotSpd {
+                    t: t_m,
+                    reason: format!("the block of body {k}: {reason}"),
+                })?;
+            }
+            b.factored = true;
+        }
+        mech.forces(&b.q_m, &self.u, t_m, &mut b.h);
+        check_finite("h", &b.h, t_m)?;
+        for k in 0..nb {
+            let y = mul3(&b.inv[k], &b.h[3 * k..]);
+            for j in 0..3 {
+                b.u_free[3 * k + j] = self.u[3 * k + j] + dt * y[j];
+            }
+        }
+
+        let detect_start = Instant::now();
+        b.detected.clear();
+        structure.detect(&b.q_m, t_m, self.options.gap_tolerance, &mut b.detected);
+        let detect_end = Instant::now();
+        b.penetration = check_contacts(&mut b.detected, nb, self.options.gap_tolerance, t_m)?;
+
+        // γ_A, b = wᵀũ + ŵ + ε γ_A (the formulas of the path of fixed contacts), μ, and the
+        // warm start from the impulses under the same identity, by a merge walk over the
+        // two lists in increasing order of identity.
+        b.directions();
+        let mut j = 0;
+        b.ids.clear();
+        b.reports.clear();
+        for (c, w) in b.detected.iter().zip(b.work.iter_mut()) {
+            let law = c.law;
+            let p = c.point;
+            let gamma_n = side_dot(c.bodies, &c.w_n, &self.u) + p.w_n_hat;
+            let gamma_t = side_dot(c.bodies, &c.w_t, &self.u) + p.w_t_hat;
+            w.gamma_a = [gamma_n, gamma_t];
+            w.b = [
+                side_dot(c.bodies, &c.w_n, &b.u_free) + p.w_n_hat + law.eps_n() * gamma_n,
+                side_dot(c.bodies, &c.w_t, &b.u_free) + p.w_t_hat + law.eps_t() * gamma_t,
+            ];
+            w.mu = law.mu();
+            while j < b.prev.len() && b.prev[j].0 < c.id {
+                j += 1;
+            }
+            w.warm = if j < b.prev.len() && b.prev[j].0 == c.id { b.prev[j].1 } else { [0.0; 2] };
+            b.ids.push(c.id);
+        }
+        b.islands.split(nb, &b.detected);
+        b.islands.assemble(&b.detected, &b.work, &self.options.solver)?;
+        let assembled = Instant::now();
+
+        let info = match b.islands.solve() {
+            Ok(info) => info,
+            Err(failure) => return Err(self.island_error(failure)),
+        };
+        b.u_e.copy_from_slice(&b.u_free);
+        apply_impulses(&b.detected, &b.work, &b.islands.r, &mut b.u_e);
+        let mut poison = 0.0;
+        for ((q_e, q_m), u) in b.q_e.iter_mut().zip(&b.q_m).zip(&b.u_e) {
+            *q_e = q_m + half * u;
+            poison += *q_e * 0.0 + *u * 0.0;
+        }
+        if poison != 0.0 {
+            diagnose_non_finite(&b.h, &b.u_e, &b.q_e, t_m)?;
+        }
+        let nc = b.detected.len();
+        b.lcp_size = 2 * nc;
+        b.info = (nc > 0).then(|| {
+            info.unwrap_or(LcpInfo {
+                method: Method::Trivial,
+                status: Status::Solved,
+                iterations: 0,
+                residual: 0.0,
+            })
+        });
+        if info.is_some() {
+            self.ws.lcp_solves += 1;
+        }
+
+        // The reports, from the end velocities; then the impulses by identity for the next
+        // step (the walk above has read the old ones).
+        let mut j = 0;
+        for ((c, w), r) in b.detected.iter().zip(&b.work).zip(&b.islands.r) {
+            let [p_n, p_t] = *r;
+            while j < b.prev.len() && b.prev[j].0 < c.id {
+                j += 1;
+            }
+            let closed_before = j < b.prev.len() && b.prev[j].0 == c.id && b.prev[j].1[0] > 0.0;
+            let gamma_n = side_dot(c.bodies, &c.w_n, &b.u_e) + c.point.w_n_hat;
+            let gamma_t = side_dot(c.bodies, &c.w_t, &b.u_e) + c.point.w_t_hat;
+            let [gamma_n_a, gamma_t_a] = w.gamma_a;
+            let mut scale = 0.0;
+            for side in 0..2 {
+                let k = c.bodies[side];
+                if k != NO_BODY {
+                    let u = &b.u_e[3 * k as usize..][..3];
+                    scale += (0..3).map(|i| (c.w_t[side][i] * u[i]).abs()).sum::<f64>();
+                }
+            }
+            let state = if p_n <= 0.0 {
+                ContactState::Open
+            } else if gamma_t.abs() <= 1e-9 * (1.0 + scale) {
+                ContactState::Stick
+            } else {
+                ContactState::Slip
+            };
+            b.reports.push(ContactReport {
+                active: true,
+                p_n,
+                p_t,
+                gamma_n,
+                gamma_t,
+                gamma_n_a,
+                gamma_t_a,
+                impact: p_n > 0.0 && gamma_n_a < 0.0 && !closed_before,
+                state,
+            });
+        }
+        b.prev.clear();
+        b.prev.extend(b.ids.iter().zip(&b.islands.r).map(|(&id, &r)| (id, r)));
+        std::mem::swap(&mut self.u, &mut b.u_e);
+        std::mem::swap(&mut self.q, &mut b.q_e);
+        let solved = Instant::now();
+
+        let t_e = self.t0 + step_count_as_f64(self.step + 1) * dt;
+        if self.options.projection {
+            self.project_bodies(structure, b, t_e)?;
+        }
+        let end = Instant::now();
+        b.times = PhaseTimes {
+            detection: detect_end - detect_start,
+            assembly: (detect_start - start) + (assembled - detect_end),
+            solution: solved - assembled,
+            projection: end - solved,
+        };
+        self.step += 1;
+        self.t = self.t0 + step_count_as_f64(self.step) * dt;
+        Ok(())
+    }
+
+    /// Moves q_E back onto the admissible set along M⁻¹ W_N, island by island: with the
+    /// contacts detected at q_E, when one penetrates by more than the projection tolerance,
+    /// 0 ≤ λ ⊥ W_Nᵀ M⁻¹ W_N λ + g_N ≥ 0 is solved by the step's solver as a frictional-contact
+    /// problem with μ = 0 and q_E += M⁻¹ W_N λ, repeated as on the path of fixed contacts.
+    /// M⁻¹ is the midpoint's. A projection that cannot be computed leaves q_E as it is.
+    fn project_bodies(
+        &mut self,
+        structure: &dyn BodyStructure,
+        b: &mut BodyPath,
+        t_e: f64,
+    ) -> Result<(), StepError> {
+        for _ in 0..4 {
+            b.detected.clear();
+            structure.detect(&self.q, t_e, self.options.gap_tolerance, &mut b.detected);
+            check_contacts(&mut b.detected, b.nb, self.options.gap_tolerance, t_e)?;
+            let tolerance = self.options.projection_tolerance;
+            if !b.detected.iter().any(|c| c.point.g_n < -tolerance) {
+                break;
+            }
+            for c in &mut b.detected {
+                c.w_t = [[0.0; 3]; 2];
+            }
+            b.directions();
+            for (c, w) in b.detected.iter().zip(b.work.iter_mut()) {
+                w.b = [c.point.g_n, 0.0];
+                w.mu = 0.0;
+            }
+            b.islands.split(b.nb, &b.detected);
+            b.islands.assemble(&b.detected, &b.work, &self.options.solver)?;
+            if b.islands.solve().is_err() {
+                break;
+            }
+            apply_impulses(&b.detected, &b.work, &b.islands.r, &mut self.q);
+        }
+        check_finite("q", &self.q, t_e)
+    }
+
+    /// The public error of a failed island solve.
+    fn island_error(&self, failure: IslandFailure) -> StepError {
+        let t = self.t;
+        match failure {
+            IslandFailure::Input(moreau_lcp::LcpError::NonFinite { .. }) => StepError::NonFinite {
+                what: "contact problem: the state has diverged",
+                index: 0,
+                t,
+            },
+            IslandFailure::Input(e) => StepError::Lcp(e),
+            IslandFailure::Status(status, problem) => StepError::IslandFailed {
+                step: self.step,
+                t,
+                q: self.q.clone(),
+                u: self.u.clone(),
+                status,
+                problem,
+            },
+        }
+    }
+
+    /// The loop of [`Stepper::run_until`] on the many-body path.
+    pub(super) fn run_steps_bodies<K: Mechanism, M: Mechanism, O: Observer<M>>(
+        &mut self,
+        mech: &K,
+        outer: &M,
+        n: u64,
+        t_end: f64,
+        observer: &mut O,
+    ) -> Result<RunSummary, StepError> {
+        let solves_before = self.ws.lcp_solves;
+        let mut steps = 0;
+        let mut stopped = false;
+        for _ in 0..n {
+            self.advance_bodies(mech)?;
+            steps += 1;
+            if observer.observe(outer, &self.report()).is_break() {
+                stopped = true;
+                break;
+            }
+        }
+        Ok(RunSummary {
+            steps,
+            lcp_solves: self.ws.lcp_solves - solves_before,
+            t_end: self.t,
+            stopped_early: stopped && self.t < t_end,
+        })
+    }
+}
