@@ -5,7 +5,7 @@ use std::str::FromStr;
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::{BilateralPoint, ConcreteOp, Mechanism, SharedWork};
+use moreau_stepper::{BilateralPoint, BodyStructure, ConcreteOp, Mechanism, SharedWork};
 use serde::{Deserialize, Serialize};
 
 use crate::bodies::{Multibody, SystemSpec};
@@ -357,6 +357,10 @@ impl Mechanism for AnyModel {
     #[inline]
     fn shared_work(&self) -> Option<&dyn SharedWork> {
         dispatch!(self, m => m.shared_work())
+    }
+    #[inline]
+    fn body_structure(&self) -> Option<&dyn BodyStructure> {
+        dispatch!(self, m => m.body_structure())
     }
     #[inline]
     fn num_bilaterals(&self) -> usize {

@@ -31,18 +31,23 @@
 mod body;
 mod build;
 mod builder;
+mod contact_spec;
 mod contacts;
+mod detect;
 mod draw;
+mod fill;
 mod forces;
+mod joint_spec;
 mod joints;
 mod multibody;
 mod spec;
 
 pub use build::GROUND;
 pub use builder::{BodyHandle, ContactHandle, ForceHandle, JointHandle, MultibodyBuilder};
+pub use fill::FillPattern;
 pub use joints::SlotGeometry;
 pub use multibody::Multibody;
 pub use spec::{
-    AutoContacts, BodySpec, BodyType, Closure, ContactSpec, DrivenState, ForceSpec, JointSpec,
-    Motion, PairOverride, SystemSpec, TimeFunction,
+    AutoContacts, BodySpec, BodyType, Closure, ContactSet, ContactSpec, DrivenState, FillSpec,
+    ForceSpec, JointSpec, Motion, PairOverride, SystemSpec, TimeFunction,
 };
