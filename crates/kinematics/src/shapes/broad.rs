@@ -171,6 +171,8 @@ impl BroadPhase {
         let place = |v: f64, k: usize, len: usize| (((v - lo[k]) / size) as usize).min(len - 1);
         self.cell.clear();
         self.start.clear();
+        // Room for the largest grid these boxes can have, so that moving them never regrows it.
+        self.start.reserve(cap as usize + 1);
         self.start.resize(cells + 1, 0);
         for (b, &ordinary) in boxes.iter().zip(&self.ordinary) {
             let c = if ordinary {

@@ -235,7 +235,7 @@ impl BodyStructure for Multibody {
                     out.push(Self::body_contact(contact_id(i, j, 0), &failed, fa, fb, law));
                     continue;
                 }
-                scratch.points.sort_unstable_by(|p, r| p.feature.cmp(&r.feature));
+                scratch.points.sort_unstable_by_key(|p| p.feature);
                 let mut last = None;
                 for p in &scratch.points {
                     if p.gap <= margin && last != Some(p.feature) {
