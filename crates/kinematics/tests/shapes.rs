@@ -718,7 +718,7 @@ fn broad_phase_matches_brute_force_on_piles_walls_and_strays() {
         let margin = 0.0005 * round as f64;
         broad.pairs(&boxes, margin, &mut out);
         let brute = brute_pairs(&boxes, margin);
-        assert!(brute.len() > 2 * n, "too few pairs to test: {}", brute.len());
+        assert!(brute.len() > n, "too few pairs to test: {}", brute.len());
         assert!(brute.iter().any(|&(i, j)| i == 3 || j == 3), "the wall touches grains");
         assert_eq!(out, brute, "round {round}");
     }
