@@ -61,9 +61,10 @@ pub struct StopRule {
 /// ```
 ///
 /// A declared mechanism ([`crate::bodies::SystemSpec`]) has no `[params]`: the scene's keys
-/// are followed by `gravity` and the arrays of tables `[[bodies]]`, `[[joints]]`,
-/// `[[forces]]`, `[[contacts]]` and the table `[contacts_auto]`; `projection` defaults to
-/// `true` there:
+/// are followed by `gravity`, `contact_set` (`"fixed"` by default, or `"detected"`: see
+/// [`crate::bodies::ContactSet`]) and the arrays of tables `[[bodies]]`, `[[fill]]`
+/// (generated bodies, [`crate::bodies::FillSpec`]), `[[joints]]`, `[[forces]]`,
+/// `[[contacts]]` and the table `[contacts_auto]`; `projection` defaults to `true` there:
 ///
 /// ```toml
 /// dt = 0.001
