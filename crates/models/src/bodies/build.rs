@@ -398,7 +398,8 @@ fn check_time_function(field: &str, f: &super::spec::TimeFunction) -> Result<(),
 
 /// Requires unique, non-empty names, each usable as one `--set` path segment.
 fn unique<'a>(what: &str, names: impl Iterator<Item = &'a str>) -> Result<(), ModelError> {
-    let mut seen: Vec<&str> = Vec::new();
+    // A set, since generated bodies number in the thousands.
+    let mut seen = std::collections::HashSet::new();
     for name in names {
         if name.is_empty() || name.contains(['.', '=']) || name.parse::<usize>().is_ok() {
             return Err(bad(
@@ -407,10 +408,9 @@ fn unique<'a>(what: &str, names: impl Iterator<Item = &'a str>) -> Result<(), Mo
                 "a name must be non-empty, not a number, and hold no `.` or `=`".to_owned(),
             ));
         }
-        if seen.contains(&name) {
+        if !seen.insert(name) {
             return Err(bad(format!("{what}.{name}.name"), name, "declared twice".to_owned()));
         }
-        seen.push(name);
     }
     Ok(())
 }
