@@ -30,9 +30,10 @@ pub struct ContactSpec {
     pub eps_t: f64,
     /// Friction coefficient μ >= 0.
     pub mu: f64,
-    /// Detection margin (m, > 0): the features of the pair farther apart than this are not
-    /// computed and report this gap. Default: 1 % of the smaller shape's bounding box
-    /// diagonal at t = 0.
+    /// Detection margin of the fixed contact set (m, > 0): the features of the pair farther
+    /// apart than this are not computed and report this gap. Default: 1 % of the smaller
+    /// shape's bounding box diagonal at t = 0. The detected contact set uses the stepper's
+    /// margin instead.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub margin: Option<f64>,
 }
@@ -63,8 +64,8 @@ pub struct AutoContacts {
     pub eps_t: f64,
     /// Default friction coefficient μ.
     pub mu: f64,
-    /// Detection margin (m, > 0), as [`ContactSpec::margin`]; default 1 % of the smaller
-    /// shape's bounding box diagonal at t = 0.
+    /// Detection margin of the fixed contact set (m, > 0), as [`ContactSpec::margin`];
+    /// default 1 % of the smaller shape's bounding box diagonal at t = 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub margin: Option<f64>,
     /// Laws for particular pairs of bodies.

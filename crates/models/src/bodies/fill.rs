@@ -42,8 +42,9 @@ fn default_mask() -> u32 {
 /// Each body is the template `shape` scaled by a factor drawn uniformly in `scale` (a disk of
 /// radius r gets a radius in [scale₀ r, scale₁ r]), with mass and inertia from `density`, at
 /// its pattern place moved by an offset drawn uniformly in [−jitter, jitter] along each axis.
-/// The draws come from a SplitMix64 generator seeded with `seed`, in body order (scale, then
-/// the offsets x and y), so that a scene file gives the same bodies on every machine. The
+/// The draws come from a SplitMix64 generator seeded with `seed`, in body order (the scale
+/// unless its range is one value, then the offsets x and y), so that a scene file gives the
+/// same bodies on every machine. The
 /// spacing must leave room for the largest body and its jitter: generated bodies never
 /// overlap at t = 0.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
