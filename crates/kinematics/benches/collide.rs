@@ -1,6 +1,7 @@
 //! The cost of contact detection: `collide` for a disk on a half-plane, a box on a half-plane,
-//! two boxes and a disk on a polyline of 100 segments, and the broad phase over 10⁴ disks of
-//! radius 5 mm.
+//! two boxes and a disk on a polyline of 100 segments, and the broad phase over 10³ and 10⁴
+//! disks of radius 5 mm, at random and in a column, beside parry2d-f64's refitted hierarchy on
+//! the same boxes.
 //!
 //! Run with `cargo bench -p moreau-kinematics --bench collide -- --warm-up-time 1
 //! --measurement-time 3`.
@@ -9,6 +10,9 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Pose, Shape, SplitMix64, collide};
+use parry2d_f64::bounding_volume::Aabb as ParryAabb;
+use parry2d_f64::math::Vector as ParryVector;
+use parry2d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 
 fn bench_pair(c: &mut Criterion, name: &str, a: &Shape, pose_a: Pose, b: &Shape, pose_b: Pose) {
     let mut out: Vec<ManifoldPoint> = Vec::with_capacity(8);
@@ -68,27 +72,72 @@ fn narrow(c: &mut Criterion) {
     bench_pair(c, "collide/disk-polyline-100", &disk, Pose::new(trough, 0.081, 0.0), &road, origin);
 }
 
-fn broad(c: &mut Criterion) {
-    // 10⁴ disks of radius 5 mm at random in a 1 m square, margin 1 mm: about 6 boxes meet each.
+/// n disks of radius 5 mm at random in a square of side √n / 100 m (10⁴ in 1 m²), margin 1 mm:
+/// about 6 boxes meet each; and the same disks settled in a column 20 diameters wide.
+fn disk_boxes(n: usize, column: bool) -> Vec<Aabb> {
     let mut rng = SplitMix64::new(7);
-    let boxes: Vec<Aabb> = (0..10_000)
-        .map(|_| {
-            let (x, y) = (rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0));
+    let side = (n as f64).sqrt() / 100.0;
+    (0..n)
+        .map(|k| {
+            let (x, y) = if column {
+                // Rows of 20 touching disks, each moved by up to 0.5 mm.
+                let (i, j) = ((k % 20) as f64, (k / 20) as f64);
+                (0.01 * i + rng.uniform(-5e-4, 5e-4), 0.01 * j + rng.uniform(-5e-4, 5e-4))
+            } else {
+                (rng.uniform(0.0, side), rng.uniform(0.0, side))
+            };
             Aabb { min: [x - 0.005, y - 0.005], max: [x + 0.005, y + 0.005] }
         })
-        .collect();
-    let mut broad = BroadPhase::new();
-    let mut out = Vec::new();
-    broad.pairs(&boxes, 0.001, &mut out);
-    let count = out.len();
+        .collect()
+}
+
+fn broad(c: &mut Criterion) {
     let mut group = c.benchmark_group("broad");
     group.sample_size(20);
-    group.bench_function(format!("disks-10000 ({count} pairs)"), |bench| {
-        bench.iter(|| {
-            broad.pairs(black_box(&boxes), 0.001, &mut out);
-            black_box(out.len())
-        })
-    });
+    for (n, column) in [(1000, false), (10_000, false), (10_000, true)] {
+        let boxes = disk_boxes(n, column);
+        let mut broad = BroadPhase::new();
+        let mut out = Vec::new();
+        broad.pairs(&boxes, 0.001, &mut out);
+        let count = out.len();
+        let layout = if column { "column" } else { "random" };
+        group.bench_function(format!("grid/disks-{n}-{layout} ({count} pairs)"), |bench| {
+            bench.iter(|| {
+                broad.pairs(black_box(&boxes), 0.001, &mut out);
+                black_box(out.len())
+            })
+        });
+        // parry2d-f64's hierarchy built once, then refitted and traversed at every call: the
+        // incremental alternative the grid replaced.
+        let grown = |b: &Aabb| {
+            ParryAabb::new(
+                ParryVector::new(b.min[0] - 0.001, b.min[1] - 0.001),
+                ParryVector::new(b.max[0] + 0.001, b.max[1] + 0.001),
+            )
+        };
+        let mut tree = Bvh::from_iter(
+            BvhBuildStrategy::Binned,
+            boxes.iter().enumerate().map(|(i, b)| (i, grown(b))),
+        );
+        let mut workspace = BvhWorkspace::default();
+        group.bench_function(format!("parry-refit/disks-{n}-{layout}"), |bench| {
+            bench.iter(|| {
+                out.clear();
+                for (i, b) in boxes.iter().enumerate() {
+                    tree.insert_or_update_partially(grown(b), i as u32, 0.0);
+                }
+                tree.refit(&mut workspace);
+                tree.traverse_bvtt_single_tree::<false>(&mut workspace, &mut |i, j| {
+                    let (i, j) = (i as usize, j as usize);
+                    if boxes[i].overlaps(&boxes[j], 0.001) {
+                        out.push((i.min(j), i.max(j)));
+                    }
+                });
+                out.sort_unstable();
+                black_box(out.len())
+            })
+        });
+    }
     group.finish();
 }
 

@@ -680,3 +680,56 @@ fn cam_profile_against_a_flat_follower_and_a_roller() {
     assert_relative_eq!(p[0].gap, d - chord - r, epsilon = 1e-12);
     assert_eq!(p[0].feature, 40, "segment 40 runs from 40° to 41°");
 }
+
+/// The pairs by testing every pair of boxes.
+fn brute_pairs(boxes: &[Aabb], margin: f64) -> Vec<(usize, usize)> {
+    let n = boxes.len();
+    (0..n)
+        .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+        .filter(|&(i, j)| boxes[i].overlaps(&boxes[j], margin))
+        .collect()
+}
+
+#[test]
+fn broad_phase_matches_brute_force_on_piles_walls_and_strays() {
+    let mut rng = SplitMix64::new(2024);
+    let mut broad = BroadPhase::new();
+    let mut out = Vec::new();
+    for round in 0..8 {
+        let n = 200 + 100 * round;
+        // Grains of radii in [0.8, 1.2] r packed in a column (many touching), some boxes far
+        // out (a stray grain), long walls and a floor, a zero-size box and a NaN one.
+        let r = 0.01;
+        let mut boxes: Vec<Aabb> = (0..n)
+            .map(|k| {
+                let (x, y) = (0.021 * (k % 20) as f64, 0.021 * (k / 20) as f64);
+                let (x, y) = (x + rng.uniform(-0.002, 0.002), y + rng.uniform(-0.002, 0.002));
+                let rk = r * rng.uniform(0.8, 1.2);
+                Aabb { min: [x - rk, y - rk], max: [x + rk, y + rk] }
+            })
+            .collect();
+        boxes[3] = Aabb { min: [-0.05, -0.5], max: [-0.01, 5.0] }; // a long wall
+        boxes[17] = Aabb { min: [-1.0, -0.02], max: [1.0, -0.005] }; // a long floor board
+        boxes[29] = floor().aabb(&Pose::new(0.0, -0.001, 0.0));
+        boxes[41] =
+            Aabb { min: [50.0 * round as f64, -300.0], max: [50.0 * round as f64 + 0.02, -299.98] };
+        boxes[53] = Aabb { min: [0.1, 0.1], max: [0.1, 0.1] };
+        boxes[59] = Aabb { min: [f64::NAN, 0.0], max: [0.1, 0.1] };
+        let margin = 0.0005 * round as f64;
+        broad.pairs(&boxes, margin, &mut out);
+        let brute = brute_pairs(&boxes, margin);
+        assert!(brute.len() > n, "too few pairs to test: {}", brute.len());
+        assert!(brute.iter().any(|&(i, j)| i == 3 || j == 3), "the wall touches grains");
+        assert_eq!(out, brute, "round {round}");
+    }
+    // Boxes all of zero size, some coinciding, with no margin.
+    let points: Vec<Aabb> = (0..50)
+        .map(|k| {
+            let p = [(k % 7) as f64, (k % 5) as f64];
+            Aabb { min: p, max: p }
+        })
+        .collect();
+    broad.pairs(&points, 0.0, &mut out);
+    assert_eq!(out, brute_pairs(&points, 0.0));
+    assert!(!out.is_empty());
+}

@@ -25,7 +25,11 @@
 //! joints as contacts), force elements and contacts between shapes, in Rust with
 //! [`bodies::MultibodyBuilder`] or in a scene file; Moreau builds the mechanism
 //! ([`bodies::Multibody`]: maximal coordinates, M, h, the joints' rows and the contacts' force
-//! directions) and runs it with the same stepper.
+//! directions) and runs it with the same stepper. Scenes of many bodies (piles, columns and
+//! flows of grains, stacks of boxes) find their contacts at each step instead of keeping a fixed
+//! list ([`bodies::ContactSet`]) and generate their bodies from `[[fill]]` tables
+//! ([`bodies::FillSpec`]); `scenes/scale/` has a disk column, Box2D's pyramid and a granular
+//! flow.
 //!
 //! Contacts a scene does not need can be switched off (the woodpecker's beak, the
 //! slider-crank's upper or lower guide surface): they are then not listed at all, so the

@@ -11,7 +11,9 @@ use moreau_stepper::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::bodies::{AutoContacts, BodySpec, ContactSpec, ForceSpec, JointSpec, SystemSpec};
+use crate::bodies::{
+    AutoContacts, BodySpec, ContactSet, ContactSpec, FillSpec, ForceSpec, JointSpec, SystemSpec,
+};
 use crate::params::{finite, non_negative, positive, relation};
 use crate::{
     AnyModel, BallParams, CamParams, ModelError, ModelKind, ModelParams, PainleveParams,
@@ -59,9 +61,10 @@ pub struct StopRule {
 /// ```
 ///
 /// A declared mechanism ([`crate::bodies::SystemSpec`]) has no `[params]`: the scene's keys
-/// are followed by `gravity` and the arrays of tables `[[bodies]]`, `[[joints]]`,
-/// `[[forces]]`, `[[contacts]]` and the table `[contacts_auto]`; `projection` defaults to
-/// `true` there:
+/// are followed by `gravity`, `contact_set` (`"fixed"` by default, or `"detected"`: see
+/// [`crate::bodies::ContactSet`]) and the arrays of tables `[[bodies]]`, `[[fill]]`
+/// (generated bodies, [`crate::bodies::FillSpec`]), `[[joints]]`, `[[forces]]`,
+/// `[[contacts]]` and the table `[contacts_auto]`; `projection` defaults to `true` there:
 ///
 /// ```toml
 /// dt = 0.001
@@ -156,6 +159,10 @@ struct DeclaredFile {
     contacts: Vec<ContactSpec>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     contacts_auto: Option<AutoContacts>,
+    #[serde(default, skip_serializing_if = "ContactSet::is_fixed")]
+    contact_set: ContactSet,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    fill: Vec<FillSpec>,
 }
 
 impl From<BuiltinFile> for Scene {
@@ -181,6 +188,8 @@ impl From<DeclaredFile> for Scene {
             forces: f.forces,
             contacts: f.contacts,
             contacts_auto: f.contacts_auto,
+            contact_set: f.contact_set,
+            fill: f.fill,
         };
         Scene {
             dt: f.dt,
@@ -210,6 +219,8 @@ impl Serialize for Scene {
                 forces: spec.forces.clone(),
                 contacts: spec.contacts.clone(),
                 contacts_auto: spec.contacts_auto.clone(),
+                contact_set: spec.contact_set,
+                fill: spec.fill.clone(),
             }
             .serialize(serializer),
             params => BuiltinFile {
@@ -772,7 +783,8 @@ fn declared_parse_error(text: &str, table: &toml::Table, error: &toml::de::Error
     let found = first_error::<BodySpec>(table, "bodies")
         .or_else(|| first_error::<JointSpec>(table, "joints"))
         .or_else(|| first_error::<ForceSpec>(table, "forces"))
-        .or_else(|| first_error::<ContactSpec>(table, "contacts"));
+        .or_else(|| first_error::<ContactSpec>(table, "contacts"))
+        .or_else(|| first_error::<FillSpec>(table, "fill"));
     match found {
         Some((field, message)) => ModelError::Parse {
             path: None,

@@ -305,6 +305,28 @@ impl Shape {
         )
     }
 
+    /// The shape scaled by the factor `s` about its body's origin: every point and length
+    /// times s (a half-plane's boundary point moves, its normal stays).
+    pub fn scaled(&self, s: f64) -> Shape {
+        let p = |v: &[f64; 2]| [v[0] * s, v[1] * s];
+        match self {
+            Shape::Disk { center, radius } => Shape::Disk { center: p(center), radius: radius * s },
+            Shape::Capsule { a, b, radius } => {
+                Shape::Capsule { a: p(a), b: p(b), radius: radius * s }
+            }
+            Shape::HalfPlane { point, normal } => {
+                Shape::HalfPlane { point: p(point), normal: *normal }
+            }
+            Shape::Polygon { vertices } => {
+                Shape::Polygon { vertices: vertices.iter().map(p).collect() }
+            }
+            Shape::Polyline { points } => {
+                Shape::Polyline { points: points.iter().map(p).collect() }
+            }
+            Shape::Profile { points } => Shape::Profile { points: points.iter().map(p).collect() },
+        }
+    }
+
     /// The area (m²): 0 for a polyline, +∞ for a half-plane.
     pub fn area(&self) -> f64 {
         match self {

@@ -7,6 +7,9 @@ use moreau_stepper::Mechanism;
 use nalgebra::{DMatrix, DVector};
 
 use super::body::{Body, Kind, scale};
+use super::contact_spec::ContactSet;
+use super::contacts::{Rules, pairs};
+use super::detect::Detector;
 use super::forces::Force;
 use super::joints::{Joint, JointKind};
 use super::multibody::{Multibody, Slot};
@@ -395,7 +398,8 @@ fn check_time_function(field: &str, f: &super::spec::TimeFunction) -> Result<(),
 
 /// Requires unique, non-empty names, each usable as one `--set` path segment.
 fn unique<'a>(what: &str, names: impl Iterator<Item = &'a str>) -> Result<(), ModelError> {
-    let mut seen: Vec<&str> = Vec::new();
+    // A set, since generated bodies number in the thousands.
+    let mut seen = std::collections::HashSet::new();
     for name in names {
         if name.is_empty() || name.contains(['.', '=']) || name.parse::<usize>().is_ok() {
             return Err(bad(
@@ -404,10 +408,9 @@ fn unique<'a>(what: &str, names: impl Iterator<Item = &'a str>) -> Result<(), Mo
                 "a name must be non-empty, not a number, and hold no `.` or `=`".to_owned(),
             ));
         }
-        if seen.contains(&name) {
+        if !seen.insert(name) {
             return Err(bad(format!("{what}.{name}.name"), name, "declared twice".to_owned()));
         }
-        seen.push(name);
     }
     Ok(())
 }
@@ -425,7 +428,30 @@ impl SystemSpec {
     /// `--set` path (`bodies.block.mass`, `joints.hinge.anchor_a.1`, `forces.0.stiffness`,
     /// `contacts.floor.mu`, ...), [`ModelError::Law`] for a contact law.
     pub fn build(&self) -> Result<Multibody, ModelError> {
+        if self.fill.is_empty() {
+            return self.build_expanded(self);
+        }
+        unique("fill", self.fill.iter().map(|f| f.name.as_str()))?;
+        let mut expanded = self.clone();
+        for fill in std::mem::take(&mut expanded.fill) {
+            expanded.bodies.extend(fill.bodies()?);
+        }
+        expanded.build_expanded(self)
+    }
+
+    /// Builds a declaration without fills; `original` is kept as the mechanism's declaration.
+    fn build_expanded(&self, original: &SystemSpec) -> Result<Multibody, ModelError> {
         finite2("gravity", self.gravity)?;
+        if self.contact_set == ContactSet::Detected && !self.joints.is_empty() {
+            return Err(bad(
+                "contact_set".to_owned(),
+                "detected",
+                format!(
+                    "joints (here `{}`) need the fixed contact set; use `contact_set = \"fixed\"`",
+                    self.joints[0].name()
+                ),
+            ));
+        }
         unique("bodies", self.bodies.iter().map(|b| b.name.as_str()))?;
         unique("joints", self.joints.iter().map(JointSpec::name))?;
         unique("forces", self.forces.iter().filter_map(ForceSpec::name))?;
@@ -467,14 +493,14 @@ impl SystemSpec {
             .map(|(i, f)| force(f, i, &mut bodies))
             .collect::<Result<Vec<_>, _>>()?;
         let jointed: Vec<(usize, usize)> = joints.iter().map(|j| (j.a, j.b)).collect();
-        let pairs = super::contacts::pairs(
-            self,
-            &mut bodies,
-            &jointed,
-            &mut slots,
-            &mut laws,
-            &mut contact_names,
-        )?;
+        let rules = Rules::new(self, &mut bodies, jointed)?;
+        let (pairs, detector) = match self.contact_set {
+            ContactSet::Fixed => {
+                let pairs = pairs(&rules, &bodies, &mut slots, &mut laws, &mut contact_names)?;
+                (pairs, None)
+            }
+            ContactSet::Detected => (Vec::new(), Some(Detector::new(rules, &bodies)?)),
+        };
         let mut coordinate_names = Vec::new();
         let mut velocity_names = Vec::new();
         let mut q0 = Vec::new();
@@ -492,7 +518,7 @@ impl SystemSpec {
             .iter()
             .all(|&i| matches!(bodies[i].kind, Kind::Dynamic { com, .. } if com == [0.0; 2]));
         let mut mb = Multibody {
-            spec: self.clone(),
+            spec: original.clone(),
             bodies,
             joints,
             rows,
@@ -500,6 +526,7 @@ impl SystemSpec {
             gravity: self.gravity,
             slots,
             pairs,
+            detector,
             laws,
             contact_names,
             coordinate_names,

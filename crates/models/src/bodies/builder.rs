@@ -4,8 +4,8 @@ use std::ops::Range;
 
 use super::multibody::{Multibody, Slot};
 use super::spec::{
-    AutoContacts, BodySpec, Closure, ContactSpec, DrivenState, ForceSpec, JointSpec, Motion,
-    SystemSpec,
+    AutoContacts, BodySpec, Closure, ContactSet, ContactSpec, DrivenState, FillSpec, ForceSpec,
+    JointSpec, Motion, SystemSpec,
 };
 use crate::ModelError;
 
@@ -71,6 +71,8 @@ impl MultibodyBuilder {
                 forces: Vec::new(),
                 contacts: Vec::new(),
                 contacts_auto: None,
+                contact_set: ContactSet::Fixed,
+                fill: Vec::new(),
             },
         }
     }
@@ -107,6 +109,20 @@ impl MultibodyBuilder {
     /// Turns on automatic contacts.
     pub fn auto_contacts(&mut self, auto: AutoContacts) {
         self.spec.contacts_auto = Some(auto);
+    }
+
+    /// Chooses how the contacts are kept ([`ContactSet`]): the fixed list of slots (the
+    /// default) or contacts detected at each step, for mechanisms of many bodies without
+    /// joints.
+    pub fn with_contact_set(&mut self, set: ContactSet) -> &mut Self {
+        self.spec.contact_set = set;
+        self
+    }
+
+    /// Adds a block of generated bodies ([`FillSpec`]); they follow the bodies added with
+    /// [`Self::add_body`] in q, whenever they were added.
+    pub fn add_fill(&mut self, fill: FillSpec) {
+        self.spec.fill.push(fill);
     }
 
     /// The name of a body added before.

@@ -56,17 +56,130 @@ fn default_margin(boxes: [&Aabb; 2]) -> f64 {
     if smallest.is_finite() { 0.01 * smallest } else { 1e-3 }
 }
 
-/// Adds the pairs of the explicit and the automatic contacts, their slots, laws and names.
+/// One explicit contact, resolved: shape `shape_a` of body `a` against shape `shape_b` of body
+/// `b`, oriented as declared (the normal points from a towards b).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Explicit {
+    pub a: usize,
+    pub shape_a: usize,
+    pub b: usize,
+    pub shape_b: usize,
+    pub margin: Option<f64>,
+    pub law: ContactLaw,
+    pub name: String,
+}
+
+/// Which pairs of shapes are in contact and under which law: the explicit contacts, and the
+/// automatic ones when declared. Both contact sets read the scene through these rules, so that
+/// a fixed slot and a detected contact exist for the same pairs with the same laws.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Rules {
+    pub explicit: Vec<Explicit>,
+    /// The automatic contacts' default law and margin, if declared.
+    pub auto: Option<(ContactLaw, Option<f64>)>,
+    /// The laws of particular pairs of bodies among the automatic contacts.
+    pub overrides: Vec<(usize, usize, ContactLaw)>,
+    /// The pairs of bodies connected by a joint, which get no automatic contact.
+    pub jointed: Vec<(usize, usize)>,
+}
+
+impl Rules {
+    /// Validates the contacts of a declaration and resolves their bodies.
+    pub fn new(
+        spec: &SystemSpec,
+        bodies: &mut Vec<Body>,
+        jointed: Vec<(usize, usize)>,
+    ) -> Result<Self, ModelError> {
+        let mut explicit = Vec::new();
+        for c in &spec.contacts {
+            let path = format!("contacts.{}", c.name);
+            let a = resolve(bodies, &format!("{path}.body_a"), &c.body_a)?;
+            let b = resolve(bodies, &format!("{path}.body_b"), &c.body_b)?;
+            for (side, body, shape) in [("shape_a", a, c.shape_a), ("shape_b", b, c.shape_b)] {
+                let n = bodies[body].shapes.len();
+                if shape >= n {
+                    return Err(bad(
+                        format!("{path}.{side}"),
+                        &shape.to_string(),
+                        format!("body `{}` has {n} shapes", bodies[body].name),
+                    ));
+                }
+            }
+            if a == b {
+                return Err(bad(
+                    format!("{path}.body_b"),
+                    &c.body_b,
+                    "a contact needs two bodies".to_owned(),
+                ));
+            }
+            if let Some(m) = c.margin {
+                positive(&format!("{path}.margin"), m)?;
+            }
+            explicit.push(Explicit {
+                a,
+                shape_a: c.shape_a,
+                b,
+                shape_b: c.shape_b,
+                margin: c.margin,
+                law: law(&path, c.eps_n, c.eps_t, c.mu)?,
+                name: c.name.clone(),
+            });
+        }
+        let mut rules = Rules { explicit, auto: None, overrides: Vec::new(), jointed };
+        let Some(auto) = &spec.contacts_auto else { return Ok(rules) };
+        if let Some(m) = auto.margin {
+            positive("contacts_auto.margin", m)?;
+        }
+        rules.auto = Some((law("contacts_auto", auto.eps_n, auto.eps_t, auto.mu)?, auto.margin));
+        for (k, o) in auto.overrides.iter().enumerate() {
+            let path = format!("contacts_auto.overrides.{k}");
+            let a = resolve(bodies, &format!("{path}.bodies.0"), &o.bodies[0])?;
+            let b = resolve(bodies, &format!("{path}.bodies.1"), &o.bodies[1])?;
+            rules.overrides.push((a, b, law(&path, o.eps_n, o.eps_t, o.mu)?));
+        }
+        Ok(rules)
+    }
+
+    /// The explicit contact between shape `sa` of body `a` and shape `sb` of body `b`, in
+    /// either order.
+    pub fn explicit(&self, a: usize, sa: usize, b: usize, sb: usize) -> Option<&Explicit> {
+        self.explicit.iter().find(|e| {
+            (e.a, e.shape_a, e.b, e.shape_b) == (a, sa, b, sb)
+                || (e.b, e.shape_b, e.a, e.shape_a) == (a, sa, b, sb)
+        })
+    }
+
+    /// The law of the automatic contacts between bodies a and b, or `None` when they get none:
+    /// no automatic contacts declared, the collision groups exclude the pair, a joint connects
+    /// them, or neither has coordinates.
+    pub fn automatic(&self, bodies: &[Body], a: usize, b: usize) -> Option<ContactLaw> {
+        let (default, _) = self.auto?;
+        let (ba, bb) = (&bodies[a], &bodies[b]);
+        let allowed = ba.group & bb.mask != 0 && bb.group & ba.mask != 0;
+        let same = |&(x, y): &(usize, usize)| (x, y) == (a, b) || (y, x) == (a, b);
+        if a == b || !allowed || !(ba.is_dynamic() || bb.is_dynamic()) {
+            return None;
+        }
+        if self.jointed.iter().any(same) {
+            return None;
+        }
+        let law = self.overrides.iter().find(|(x, y, _)| same(&(*x, *y))).map_or(default, |o| o.2);
+        Some(law)
+    }
+}
+
+/// Adds the slots of the explicit and the automatic contacts, their laws and names, for the
+/// fixed contact set: one pair per explicit contact and per pair of shapes the automatic
+/// contacts allow, each with `max_points` slots.
 pub(crate) fn pairs(
-    spec: &SystemSpec,
-    bodies: &mut Vec<Body>,
-    jointed: &[(usize, usize)],
+    rules: &Rules,
+    bodies: &[Body],
     slots: &mut Vec<Slot>,
     laws: &mut Vec<ContactLaw>,
     names: &mut Vec<String>,
 ) -> Result<Vec<Pair>, ModelError> {
     let mut pairs = Vec::new();
-    let initial = |bodies: &[Body], i: usize| {
+    let initial = |i: usize| {
         let body = &bodies[i];
         match body.kind {
             Kind::Dynamic { .. } => Frame::at(body.pose0, [0.0; 2], 0.0, None),
@@ -74,26 +187,16 @@ pub(crate) fn pairs(
         }
     };
     // Adds one pair after checking that the narrow phase supports it.
-    let mut add = |bodies: &[Body],
-                   path: &str,
+    let mut add = |path: &str,
                    (a, shape_a, b, shape_b): (usize, usize, usize, usize),
                    margin: Option<f64>,
                    contact_law: ContactLaw,
-                   name: &str,
-                   slots: &mut Vec<Slot>,
-                   laws: &mut Vec<ContactLaw>,
-                   names: &mut Vec<String>|
+                   name: &str|
      -> Result<(), ModelError> {
         let (sa, sb) = (&bodies[a].shapes[shape_a], &bodies[b].shapes[shape_b]);
-        let (fa, fb) = (initial(bodies, a), initial(bodies, b));
+        let (fa, fb) = (initial(a), initial(b));
         let (ba, bb) = (sa.aabb(&fa.pose()), sb.aabb(&fb.pose()));
-        let margin = match margin {
-            Some(m) => {
-                positive(&format!("{path}.margin"), m)?;
-                m
-            }
-            None => default_margin([&ba, &bb]),
-        };
+        let margin = margin.unwrap_or_else(|| default_margin([&ba, &bb]));
         let mut probe = Vec::new();
         collide(sa, &fa.pose(), sb, &fb.pose(), margin, &mut probe)
             .map_err(|e| bad(path.to_owned(), name, e.to_string()))?;
@@ -107,84 +210,22 @@ pub(crate) fn pairs(
         }
         Ok(())
     };
-    let mut explicit = Vec::new();
-    for c in &spec.contacts {
-        let path = format!("contacts.{}", c.name);
-        let a = resolve(bodies, &format!("{path}.body_a"), &c.body_a)?;
-        let b = resolve(bodies, &format!("{path}.body_b"), &c.body_b)?;
-        for (side, body, shape) in [("shape_a", a, c.shape_a), ("shape_b", b, c.shape_b)] {
-            let n = bodies[body].shapes.len();
-            if shape >= n {
-                return Err(bad(
-                    format!("{path}.{side}"),
-                    &shape.to_string(),
-                    format!("body `{}` has {n} shapes", bodies[body].name),
-                ));
-            }
-        }
-        if a == b {
-            return Err(bad(
-                format!("{path}.body_b"),
-                &c.body_b,
-                "a contact needs two bodies".to_owned(),
-            ));
-        }
-        let contact_law = law(&path, c.eps_n, c.eps_t, c.mu)?;
-        add(
-            bodies,
-            &path,
-            (a, c.shape_a, b, c.shape_b),
-            c.margin,
-            contact_law,
-            &c.name,
-            slots,
-            laws,
-            names,
-        )?;
-        explicit.push((a, c.shape_a, b, c.shape_b));
-    }
-    let Some(auto) = &spec.contacts_auto else { return Ok(pairs) };
-    let default_law = law("contacts_auto", auto.eps_n, auto.eps_t, auto.mu)?;
-    let mut overrides = Vec::new();
-    for (k, o) in auto.overrides.iter().enumerate() {
-        let path = format!("contacts_auto.overrides.{k}");
-        let a = resolve(bodies, &format!("{path}.bodies.0"), &o.bodies[0])?;
-        let b = resolve(bodies, &format!("{path}.bodies.1"), &o.bodies[1])?;
-        overrides.push((a, b, law(&path, o.eps_n, o.eps_t, o.mu)?));
+    for e in &rules.explicit {
+        let path = format!("contacts.{}", e.name);
+        add(&path, (e.a, e.shape_a, e.b, e.shape_b), e.margin, e.law, &e.name)?;
     }
     let n = bodies.len();
     for a in 0..n {
         for b in a + 1..n {
-            let (ba, bb) = (&bodies[a], &bodies[b]);
-            let allowed = ba.group & bb.mask != 0 && bb.group & ba.mask != 0;
-            let joined = jointed.iter().any(|&(x, y)| (x, y) == (a, b) || (y, x) == (a, b));
-            if !allowed || joined || !(ba.is_dynamic() || bb.is_dynamic()) {
-                continue;
-            }
-            let contact_law = overrides
-                .iter()
-                .find(|(x, y, _)| (*x, *y) == (a, b) || (*y, *x) == (a, b))
-                .map_or(default_law, |o| o.2);
-            for sa in 0..ba.shapes.len() {
-                for sb in 0..bb.shapes.len() {
-                    let covered = explicit.iter().any(|&(x, i, y, j)| {
-                        (x, i, y, j) == (a, sa, b, sb) || (y, j, x, i) == (a, sa, b, sb)
-                    });
-                    if covered {
+            let Some(contact_law) = rules.automatic(bodies, a, b) else { continue };
+            let margin = rules.auto.and_then(|(_, m)| m);
+            for sa in 0..bodies[a].shapes.len() {
+                for sb in 0..bodies[b].shapes.len() {
+                    if rules.explicit(a, sa, b, sb).is_some() {
                         continue;
                     }
                     let name = format!("{}.{sa}-{}.{sb}", bodies[a].name, bodies[b].name);
-                    add(
-                        bodies,
-                        "contacts_auto",
-                        (a, sa, b, sb),
-                        auto.margin,
-                        contact_law,
-                        &name,
-                        slots,
-                        laws,
-                        names,
-                    )?;
+                    add("contacts_auto", (a, sa, b, sb), margin, contact_law, &name)?;
                 }
             }
         }

@@ -21,6 +21,29 @@
 //! (pin in a bearing, one contact) and a translational joint with clearance (a block's four
 //! corners against a guide's two lines).
 //!
+//! # Contacts and contact sets
+//! Explicit contacts name a shape of one body against a shape of another; automatic contacts
+//! cover every pair of shapes the collision groups allow (not both on bodies without
+//! coordinates, not joined by a joint). The scene field `contact_set` says how they are kept
+//! ([`ContactSet`]):
+//! * `fixed` (default): a list of slots built once, one per pair and feature of the pair, each
+//!   named and closed or open at each step, the contacts of
+//!   `moreau_kinematics::ContactKinematics`. Automatic slots grow as the square of the number
+//!   of bodies; joints need this mode.
+//! * `detected`: no slots, so `num_contacts()` is 0; [`Multibody`] announces
+//!   `Mechanism::body_structure` and implements `moreau_stepper::BodyStructure`: a 3 × 3 mass
+//!   block per dynamic body, and at each (q, t) the contacts within the stepper's margin found
+//!   by the broad phase over all shapes and the narrow phase, under the same rules and with the
+//!   same force directions as the slots. Each contact's identity is built from its two shapes
+//!   (numbered in body then shape order) and its feature: unique, increasing in the order
+//!   returned, and the same while the same features touch. A scene with joints is refused in
+//!   this mode, naming `contact_set`.
+//!
+//! # Generated bodies
+//! A [`FillSpec`] (`[[fill]]` in a scene file) expands at build time into many dynamic bodies
+//! of one template shape, on a lattice or in Box2D's pyramid layout, with sizes and offsets
+//! drawn from a seeded generator; they follow the declared bodies in q.
+//!
 //! # Force elements
 //! Gravity, linear and torsional spring-dampers, applied forces and torques as functions of
 //! time; the potential energy V(q) covers gravity and the springs.
@@ -31,18 +54,23 @@
 mod body;
 mod build;
 mod builder;
+mod contact_spec;
 mod contacts;
+mod detect;
 mod draw;
+mod fill;
 mod forces;
+mod joint_spec;
 mod joints;
 mod multibody;
 mod spec;
 
 pub use build::GROUND;
 pub use builder::{BodyHandle, ContactHandle, ForceHandle, JointHandle, MultibodyBuilder};
+pub use fill::FillPattern;
 pub use joints::SlotGeometry;
 pub use multibody::Multibody;
 pub use spec::{
-    AutoContacts, BodySpec, BodyType, Closure, ContactSpec, DrivenState, ForceSpec, JointSpec,
-    Motion, PairOverride, SystemSpec, TimeFunction,
+    AutoContacts, BodySpec, BodyType, Closure, ContactSet, ContactSpec, DrivenState, FillSpec,
+    ForceSpec, JointSpec, Motion, PairOverride, SystemSpec, TimeFunction,
 };

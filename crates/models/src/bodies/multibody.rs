@@ -2,10 +2,11 @@
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::{BilateralPoint, Mechanism};
+use moreau_stepper::{BilateralPoint, BodyStructure, Mechanism};
 
 use super::body::{Body, Frame, Kind};
 use super::contacts::Pair;
+use super::detect::Detector;
 use super::forces::{Force, body_forces, gravity_potential, mass_block};
 use super::joints::{Joint, SlotGeometry};
 use super::spec::SystemSpec;
@@ -38,6 +39,8 @@ pub struct Multibody {
     pub(crate) gravity: [f64; 2],
     pub(crate) slots: Vec<Slot>,
     pub(crate) pairs: Vec<Pair>,
+    /// The contact rules and colliders of the detected contact set, `None` for the fixed one.
+    pub(crate) detector: Option<Detector>,
     pub(crate) laws: Vec<ContactLaw>,
     pub(crate) contact_names: Vec<String>,
     pub(crate) coordinate_names: Vec<String>,
@@ -273,6 +276,11 @@ impl Mechanism for Multibody {
 
     fn constant_mass_matrix(&self) -> bool {
         self.constant_mass
+    }
+
+    /// Announced in the detected contact set only.
+    fn body_structure(&self) -> Option<&dyn BodyStructure> {
+        self.detector.as_ref().map(|_| self as &dyn BodyStructure)
     }
 
     fn num_bilaterals(&self) -> usize {

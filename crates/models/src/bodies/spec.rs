@@ -8,7 +8,9 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::params::LawParams;
+pub use super::contact_spec::{AutoContacts, ContactSet, ContactSpec, PairOverride};
+pub use super::fill::FillSpec;
+pub use super::joint_spec::JointSpec;
 
 /// A body's pose, velocity and angular velocity at a time t, as a driven body's closure
 /// returns them (the rheonomic part of the contacts and joints with that body).
@@ -236,191 +238,6 @@ impl BodySpec {
     }
 }
 
-/// One joint between body `body_a` and body `body_b`, by name; the name `ground` stands for
-/// the world frame when no body has that name. Anchors and axes are in the bodies' frames (m);
-/// axes need not be unit vectors. A joint's reference angle, when omitted, is the bodies'
-/// relative angle θ_b − θ_a at t = 0.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum JointSpec {
-    /// A pin: the anchors coincide (2 rows, g = P_b − P_a).
-    Revolute {
-        /// Unique joint name.
-        name: String,
-        /// First body.
-        body_a: String,
-        /// Second body.
-        body_b: String,
-        /// The pin on body a (m).
-        anchor_a: [f64; 2],
-        /// The pin on body b (m).
-        anchor_b: [f64; 2],
-    },
-    /// A slider: body b keeps its angle relative to a and its anchor on the line through
-    /// `anchor_a` along `axis` (on body a): 2 rows, θ_b − θ_a − angle and n_a · (P_b − P_a).
-    Prismatic {
-        /// Unique joint name.
-        name: String,
-        /// The body carrying the axis.
-        body_a: String,
-        /// The sliding body.
-        body_b: String,
-        /// A point of the axis on body a (m).
-        anchor_a: [f64; 2],
-        /// The point of body b that stays on the axis (m).
-        anchor_b: [f64; 2],
-        /// The axis direction on body a.
-        axis: [f64; 2],
-        /// Reference relative angle θ_b − θ_a (rad).
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        angle: Option<f64>,
-    },
-    /// A rigid connection: the anchors coincide and the relative angle is fixed (3 rows).
-    Weld {
-        /// Unique joint name.
-        name: String,
-        /// First body.
-        body_a: String,
-        /// Second body.
-        body_b: String,
-        /// The connection point on body a (m).
-        anchor_a: [f64; 2],
-        /// The connection point on body b (m).
-        anchor_b: [f64; 2],
-        /// Reference relative angle θ_b − θ_a (rad).
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        angle: Option<f64>,
-    },
-    /// A pin of body a in a slot line of body b (1 row, n_b · (P_a − P_b) = 0).
-    PointOnLine {
-        /// Unique joint name.
-        name: String,
-        /// The body carrying the pin.
-        body_a: String,
-        /// The body carrying the slot.
-        body_b: String,
-        /// The pin on body a (m).
-        anchor_a: [f64; 2],
-        /// A point of the slot line on body b (m).
-        anchor_b: [f64; 2],
-        /// The slot's direction on body b.
-        axis: [f64; 2],
-    },
-    /// A motor: θ_b − θ_a − angle − Ω t = 0 (1 row, ŵ = −Ω).
-    Motor {
-        /// Unique joint name.
-        name: String,
-        /// The body the motor is mounted on.
-        body_a: String,
-        /// The driven body.
-        body_b: String,
-        /// Prescribed relative angular velocity Ω (rad/s).
-        omega: f64,
-        /// Relative angle at t = 0 (rad).
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        angle: Option<f64>,
-    },
-    /// A revolute joint with radial clearance: a pin of radius r_p on body a in a bearing of
-    /// radius r_b on body b, one unilateral contact with
-    /// g_N = (r_b − r_p) − |P_pin − P_bearing| and the normal along the eccentricity.
-    RevoluteClearance {
-        /// Unique joint name (and the contact's name).
-        name: String,
-        /// The body carrying the pin.
-        body_a: String,
-        /// The body carrying the bearing.
-        body_b: String,
-        /// The pin's centre on body a (m).
-        anchor_a: [f64; 2],
-        /// The bearing's centre on body b (m).
-        anchor_b: [f64; 2],
-        /// Pin radius r_p (m, >= 0).
-        pin_radius: f64,
-        /// Bearing radius r_b (m, >= r_p).
-        bearing_radius: f64,
-        /// Normal restitution ε_N.
-        eps_n: f64,
-        /// Tangential restitution ε_T.
-        eps_t: f64,
-        /// Friction coefficient μ.
-        mu: f64,
-    },
-    /// A translational joint with clearance: a block (`length` along `axis_a`, `width` across,
-    /// centred at `anchor_a` on body a) between two lines parallel to `axis_b` through
-    /// `anchor_b` ± `guide_width`/2 across (on body b). Four unilateral contacts: the block's
-    /// two upper corners against the upper line, the two lower ones against the lower line
-    /// (named `<name>.corner1` .. `<name>.corner4`: upper rear, upper front, lower rear, lower
-    /// front).
-    TranslationalClearance {
-        /// Unique joint name.
-        name: String,
-        /// The block's body.
-        body_a: String,
-        /// The guide's body.
-        body_b: String,
-        /// The block's centre on body a (m).
-        anchor_a: [f64; 2],
-        /// The block's long axis on body a.
-        axis_a: [f64; 2],
-        /// Block length along its axis (m, > 0).
-        length: f64,
-        /// Block width across its axis (m, > 0).
-        width: f64,
-        /// The guide's mid-line point on body b (m).
-        anchor_b: [f64; 2],
-        /// The guide's direction on body b.
-        axis_b: [f64; 2],
-        /// Distance between the guide's lines (m, >= width).
-        guide_width: f64,
-        /// Normal restitution ε_N.
-        eps_n: f64,
-        /// Tangential restitution ε_T.
-        eps_t: f64,
-        /// Friction coefficient μ.
-        mu: f64,
-    },
-}
-
-impl JointSpec {
-    /// The joint's name.
-    pub fn name(&self) -> &str {
-        self.parts().0
-    }
-
-    /// The joint's bodies (a, b).
-    pub fn bodies(&self) -> (&str, &str) {
-        let (_, a, b) = self.parts();
-        (a, b)
-    }
-
-    fn parts(&self) -> (&str, &str, &str) {
-        match self {
-            JointSpec::Revolute { name, body_a, body_b, .. }
-            | JointSpec::Prismatic { name, body_a, body_b, .. }
-            | JointSpec::Weld { name, body_a, body_b, .. }
-            | JointSpec::PointOnLine { name, body_a, body_b, .. }
-            | JointSpec::Motor { name, body_a, body_b, .. }
-            | JointSpec::RevoluteClearance { name, body_a, body_b, .. }
-            | JointSpec::TranslationalClearance { name, body_a, body_b, .. } => {
-                (name, body_a, body_b)
-            }
-        }
-    }
-
-    /// The joint's type as written in a scene file (`revolute`, `point_on_line`, ...).
-    pub fn type_name(&self) -> &'static str {
-        match self {
-            JointSpec::Revolute { .. } => "revolute",
-            JointSpec::Prismatic { .. } => "prismatic",
-            JointSpec::Weld { .. } => "weld",
-            JointSpec::PointOnLine { .. } => "point_on_line",
-            JointSpec::Motor { .. } => "motor",
-            JointSpec::RevoluteClearance { .. } => "revolute_clearance",
-            JointSpec::TranslationalClearance { .. } => "translational_clearance",
-        }
-    }
-}
-
 /// A load as a function of time: a constant, or A sin(Ω t + φ) + offset, or (builder only)
 /// any closure. In a scene file `fx = 2.0` or
 /// `fx = { amplitude = 1.0, omega = 6.28, phase = 0.0, offset = 0.0 }`.
@@ -544,83 +361,11 @@ impl ForceSpec {
     }
 }
 
-/// One explicit contact: shape `shape_a` of body a against shape `shape_b` of body b, with
-/// its laws. It has `max_points` slots (one per feature pair), named `<name>` when there is
-/// one and `<name>.<k>` otherwise.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ContactSpec {
-    /// Unique contact name.
-    pub name: String,
-    /// First body.
-    pub body_a: String,
-    /// Index of the shape on body a; default 0.
-    #[serde(default)]
-    pub shape_a: usize,
-    /// Second body.
-    pub body_b: String,
-    /// Index of the shape on body b; default 0.
-    #[serde(default)]
-    pub shape_b: usize,
-    /// Normal restitution ε_N in [0, 1].
-    pub eps_n: f64,
-    /// Tangential restitution ε_T in [0, 1].
-    pub eps_t: f64,
-    /// Friction coefficient μ >= 0.
-    pub mu: f64,
-    /// Detection margin (m, > 0): the features of the pair farther apart than this are not
-    /// computed and report this gap. Default: 1 % of the smaller shape's bounding box
-    /// diagonal at t = 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub margin: Option<f64>,
-}
-
-/// The laws of the automatic contacts between one pair of bodies.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PairOverride {
-    /// The two bodies (either order).
-    pub bodies: [String; 2],
-    /// Normal restitution ε_N.
-    pub eps_n: f64,
-    /// Tangential restitution ε_T.
-    pub eps_t: f64,
-    /// Friction coefficient μ.
-    pub mu: f64,
-}
-
-/// Automatic contacts: every pair of shapes on different bodies that the collision groups
-/// allow, not both on fixed or driven bodies, not between bodies connected by a joint, and
-/// not already an explicit contact. Slot names are `<body>.<shape>-<body>.<shape>[.<k>]`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct AutoContacts {
-    /// Default normal restitution ε_N.
-    pub eps_n: f64,
-    /// Default tangential restitution ε_T.
-    pub eps_t: f64,
-    /// Default friction coefficient μ.
-    pub mu: f64,
-    /// Detection margin (m, > 0), as [`ContactSpec::margin`]; default 1 % of the smaller
-    /// shape's bounding box diagonal at t = 0.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub margin: Option<f64>,
-    /// Laws for particular pairs of bodies.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub overrides: Vec<PairOverride>,
-}
-
-impl AutoContacts {
-    /// Automatic contacts with one law for every pair.
-    pub fn new(law: LawParams) -> Self {
-        Self { eps_n: law.eps_n, eps_t: law.eps_t, mu: law.mu, margin: None, overrides: Vec::new() }
-    }
-}
-
 /// A declared mechanism: gravity, bodies, joints, force elements and contacts.
 ///
-/// In a scene file these are the top-level `gravity` and the arrays of tables `[[bodies]]`,
-/// `[[joints]]`, `[[forces]]`, `[[contacts]]`, and the table `[contacts_auto]`.
+/// In a scene file these are the top-level `gravity` and `contact_set`, the arrays of tables
+/// `[[bodies]]`, `[[fill]]`, `[[joints]]`, `[[forces]]`, `[[contacts]]`, and the table
+/// `[contacts_auto]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SystemSpec {
@@ -640,4 +385,10 @@ pub struct SystemSpec {
     /// Automatic contacts, none when omitted.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contacts_auto: Option<AutoContacts>,
+    /// How the contacts are kept: a fixed list of slots (default) or detected at each step.
+    #[serde(default, skip_serializing_if = "ContactSet::is_fixed")]
+    pub contact_set: ContactSet,
+    /// Generated bodies, which follow `bodies` in q.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fill: Vec<FillSpec>,
 }

@@ -1,0 +1,249 @@
+//! The detected contact set: [`Multibody`] as a `moreau_stepper::BodyStructure`, its contacts
+//! found at each (q, t) by the broad phase over every shape and the narrow phase on the pairs
+//! it returns.
+//!
+//! Every shape of every body is a collider, numbered in body then shape order. A pair of
+//! colliders (i, j), i < j, is in contact under the same rules as the fixed slots
+//! ([`Rules`]): an explicit contact between the two shapes, else the automatic contacts when the
+//! collision groups allow the bodies, no joint connects them and one of them has coordinates.
+//! Each point of the narrow phase within the margin becomes a `BodyContact` whose identity is
+//! i · 2⁴⁰ + j · 2¹⁶ + feature: unique, the same while the same features touch, and increasing
+//! in the order the broad phase and the sorted features give. Its force directions are those of
+//! the fixed slots ([`SlotGeometry::rows`]) restricted to each body's three coordinates.
+
+use std::cell::RefCell;
+
+use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Shape, collide, max_points};
+use moreau_setvalued::ContactLaw;
+use moreau_stepper::{BodyContact, BodyStructure, NO_BODY};
+
+use super::body::{Body, Frame, Kind};
+use super::build::bad;
+use super::contacts::Rules;
+use super::forces::mass_block;
+use super::joints::SlotGeometry;
+use super::multibody::Multibody;
+use crate::ModelError;
+
+/// Colliders are numbered in 24 bits and features in 16 within a contact's identity.
+const COLLIDER_BITS: u32 = 24;
+const FEATURE_BITS: u32 = 16;
+
+/// The contact rules and colliders of a mechanism whose contacts are detected at each step.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Detector {
+    pub rules: Rules,
+    /// (body, shape) of each collider, in body then shape order.
+    pub colliders: Vec<(usize, usize)>,
+}
+
+/// The buffers of one thread's detection, kept from call to call so that, once they have
+/// grown, a step allocates nothing.
+#[derive(Default)]
+struct Scratch {
+    broad: BroadPhase,
+    frames: Vec<Frame>,
+    boxes: Vec<Aabb>,
+    pairs: Vec<(usize, usize)>,
+    points: Vec<ManifoldPoint>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
+
+/// A contact's identity from its two colliders (i < j) and its feature.
+pub(crate) fn contact_id(i: usize, j: usize, feature: u32) -> u64 {
+    ((i as u64) << (COLLIDER_BITS + FEATURE_BITS)) | ((j as u64) << FEATURE_BITS) | feature as u64
+}
+
+impl Detector {
+    /// The colliders of the built bodies, after checking that the identities can name every
+    /// contact and that the narrow phase supports every pair of shapes the rules may bring
+    /// together.
+    pub fn new(rules: Rules, bodies: &[Body]) -> Result<Self, ModelError> {
+        let colliders: Vec<(usize, usize)> = bodies
+            .iter()
+            .enumerate()
+            .flat_map(|(b, body)| (0..body.shapes.len()).map(move |s| (b, s)))
+            .collect();
+        if colliders.len() >= 1 << COLLIDER_BITS {
+            return Err(bad(
+                "contact_set".to_owned(),
+                "detected",
+                format!("{} shapes; detected contacts name at most 2^24", colliders.len()),
+            ));
+        }
+        let detector = Self { rules, colliders };
+        // Half-planes, polylines and profiles are few (floors, walls, guides); the narrow phase
+        // refuses two of them together and bounds their features, so they are checked against
+        // every other collider of their kind, and the largest feature count against all.
+        let special = |s: &Shape| {
+            matches!(s, Shape::HalfPlane { .. } | Shape::Polyline { .. } | Shape::Profile { .. })
+        };
+        let widest = detector
+            .colliders
+            .iter()
+            .map(|&(b, s)| &bodies[b].shapes[s])
+            .filter(|s| !special(s))
+            .max_by_key(|s| max_points(s, s))
+            .cloned();
+        for (i, &(a, sa)) in detector.colliders.iter().enumerate() {
+            let shape = &bodies[a].shapes[sa];
+            if !special(shape) {
+                continue;
+            }
+            let field = format!("bodies.{}.shapes.{sa}", bodies[a].name);
+            if let Some(w) = &widest
+                && max_points(shape, w) >= 1 << FEATURE_BITS
+            {
+                return Err(bad(
+                    field,
+                    shape.name(),
+                    "too many points for a detected contact's feature (at most 2^16)".to_owned(),
+                ));
+            }
+            for &(b, sb) in &detector.colliders[i + 1..] {
+                let other = &bodies[b].shapes[sb];
+                if special(other)
+                    && detector.law(bodies, (a, sa), (b, sb)).is_some()
+                    && max_points(shape, other) == 0
+                {
+                    return Err(bad(
+                        field,
+                        shape.name(),
+                        format!(
+                            "may touch shape {sb} ({}) of body `{}`, a pair the narrow phase \
+                             does not support; separate them with collision groups",
+                            other.name(),
+                            bodies[b].name
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(detector)
+    }
+
+    /// The law of the pair of colliders at (body, shape) `x` and `y` (x before y), and whether
+    /// the contact's side a is `y` (an explicit contact declared the other way round); `None`
+    /// when the rules give the pair no contact.
+    fn law(
+        &self,
+        bodies: &[Body],
+        (a, sa): (usize, usize),
+        (b, sb): (usize, usize),
+    ) -> Option<(ContactLaw, bool)> {
+        if a == b || !(bodies[a].is_dynamic() || bodies[b].is_dynamic()) {
+            return None;
+        }
+        if let Some(e) = self.rules.explicit(a, sa, b, sb) {
+            return Some((e.law, e.a != a || e.shape_a != sa));
+        }
+        self.rules.automatic(bodies, a, b).map(|law| (law, false))
+    }
+}
+
+/// The coordinates' body index of a frame, or [`NO_BODY`].
+fn coordinate_body(frame: &Frame) -> u32 {
+    frame.dof.map_or(NO_BODY, |d| (d / 3) as u32)
+}
+
+impl Multibody {
+    /// The contact of one narrow-phase point between the bodies at frames `fa` and `fb`.
+    fn body_contact(
+        id: u64,
+        point: &ManifoldPoint,
+        fa: &Frame,
+        fb: &Frame,
+        law: ContactLaw,
+    ) -> BodyContact {
+        let geometry = SlotGeometry {
+            point_a: point.point_a,
+            point_b: point.point_b,
+            normal: point.normal,
+            gap: point.gap,
+        };
+        // The fixed slots' rows, written into the six coordinates of the two bodies.
+        let local_a = Frame { dof: fa.dof.map(|_| 0), ..*fa };
+        let local_b = Frame { dof: fb.dof.map(|_| 3), ..*fb };
+        let (mut w_n, mut w_t) = ([0.0; 6], [0.0; 6]);
+        let contact_point = geometry.rows(&local_a, &local_b, &mut w_n, &mut w_t);
+        let split = |w: [f64; 6]| [[w[0], w[1], w[2]], [w[3], w[4], w[5]]];
+        BodyContact {
+            id,
+            bodies: [coordinate_body(fa), coordinate_body(fb)],
+            w_n: split(w_n),
+            w_t: split(w_t),
+            point: contact_point,
+            law,
+        }
+    }
+}
+
+impl BodyStructure for Multibody {
+    fn num_bodies(&self) -> usize {
+        self.dynamic.len()
+    }
+
+    fn mass_blocks(&self, q: &[f64], t: f64, blocks: &mut [[f64; 9]]) {
+        for (block, &i) in blocks.iter_mut().zip(&self.dynamic) {
+            let body = &self.bodies[i];
+            if let Kind::Dynamic { mass, inertia, com, .. } = body.kind {
+                *block = mass_block(mass, inertia, com, &body.frame(q, t));
+            }
+        }
+    }
+
+    /// The broad phase grows each shape's box by half the margin, so that it keeps every pair
+    /// of boxes at most `margin` apart along each axis, a bound below their gap; the narrow
+    /// phase then keeps the points whose gap is at most `margin`.
+    fn detect(&self, q: &[f64], t: f64, margin: f64, out: &mut Vec<BodyContact>) {
+        let Some(detector) = &self.detector else { return };
+        SCRATCH.with(|cell| {
+            let scratch = &mut *cell.borrow_mut();
+            scratch.frames.clear();
+            scratch.frames.extend(self.bodies.iter().map(|b| b.frame(q, t)));
+            scratch.boxes.clear();
+            let frames = &scratch.frames;
+            scratch.boxes.extend(
+                detector
+                    .colliders
+                    .iter()
+                    .map(|&(b, s)| self.bodies[b].shapes[s].aabb(&frames[b].pose())),
+            );
+            scratch.broad.pairs(&scratch.boxes, 0.5 * margin, &mut scratch.pairs);
+            for &(i, j) in &scratch.pairs {
+                let (x, y) = (detector.colliders[i], detector.colliders[j]);
+                let Some((law, flipped)) = detector.law(&self.bodies, x, y) else { continue };
+                let ((a, sa), (b, sb)) = if flipped { (y, x) } else { (x, y) };
+                let (fa, fb) = (&scratch.frames[a], &scratch.frames[b]);
+                let (shape_a, shape_b) = (&self.bodies[a].shapes[sa], &self.bodies[b].shapes[sb]);
+                scratch.points.clear();
+                if collide(shape_a, &fa.pose(), shape_b, &fb.pose(), margin, &mut scratch.points)
+                    .is_err()
+                {
+                    // The pairs were checked at build time; a margin that is not a number gives
+                    // a gap that is not one, and the stepper stops with a typed error.
+                    let failed = ManifoldPoint {
+                        feature: 0,
+                        point_a: fa.p,
+                        point_b: fb.p,
+                        normal: [0.0; 2],
+                        gap: f64::NAN,
+                    };
+                    out.push(Self::body_contact(contact_id(i, j, 0), &failed, fa, fb, law));
+                    continue;
+                }
+                scratch.points.sort_unstable_by_key(|p| p.feature);
+                let mut last = None;
+                for p in &scratch.points {
+                    if p.gap <= margin && last != Some(p.feature) {
+                        last = Some(p.feature);
+                        out.push(Self::body_contact(contact_id(i, j, p.feature), p, fa, fb, law));
+                    }
+                }
+            }
+        });
+    }
+}

@@ -1,0 +1,343 @@
+//! The detected contact set against the fixed one: the same scene built both ways gives, at the
+//! same (q, t), the same closed contacts with the same gaps, force directions, rheonomic terms
+//! and laws; the identities are unique, increasing and stable; the mass blocks are the dense
+//! mass matrix's; and a scene with joints is refused in the detected mode.
+
+use moreau_kinematics::{ContactKinematics, Shape, SplitMix64};
+use moreau_models::LawParams;
+use moreau_models::bodies::{
+    AutoContacts, BodySpec, ContactSet, ContactSpec, Multibody, MultibodyBuilder, PairOverride,
+    SystemSpec,
+};
+use moreau_models::{ModelError, ModelParams, Scene};
+use moreau_stepper::{BodyContact, Mechanism, NO_BODY};
+
+/// One closed contact in the dense form: gap, w_N, w_T (length f), ŵ_N, ŵ_T and the law.
+#[derive(Debug)]
+struct Dense {
+    gap: f64,
+    w_n: Vec<f64>,
+    w_t: Vec<f64>,
+    hat: [f64; 2],
+    law: [f64; 3],
+}
+
+fn law_of(c: &moreau_setvalued::ContactLaw) -> [f64; 3] {
+    [c.eps_n(), c.eps_t(), c.mu()]
+}
+
+/// The fixed slots closed within `margin` (a found feature has a unit normal); `margin` must
+/// be below the slots' own margin, the gap their open slots report.
+fn fixed_closed(m: &Multibody, q: &[f64], t: f64, margin: f64) -> Vec<Dense> {
+    let f = m.num_coordinates();
+    let mut gaps = vec![0.0; m.num_contacts()];
+    m.normal_gaps(q, t, &mut gaps);
+    (0..m.num_contacts())
+        .filter(|&i| gaps[i] <= margin)
+        .filter_map(|i| {
+            let g = m.contact_geometry(i, q, t);
+            if g.normal == [0.0; 2] || g.gap > margin {
+                return None;
+            }
+            let (mut w_n, mut w_t) = (vec![0.0; f], vec![0.0; f]);
+            let p = m.contact(i, q, t, &mut w_n, &mut w_t);
+            Some(Dense {
+                gap: p.g_n,
+                w_n,
+                w_t,
+                hat: [p.w_n_hat, p.w_t_hat],
+                law: law_of(&m.laws()[i]),
+            })
+        })
+        .collect()
+}
+
+/// A detected contact scattered into rows of length f.
+fn scatter(c: &BodyContact, f: usize) -> Dense {
+    let (mut w_n, mut w_t) = (vec![0.0; f], vec![0.0; f]);
+    for s in 0..2 {
+        if c.bodies[s] != NO_BODY {
+            let k = 3 * c.bodies[s] as usize;
+            for r in 0..3 {
+                w_n[k + r] += c.w_n[s][r];
+                w_t[k + r] += c.w_t[s][r];
+            }
+        }
+    }
+    Dense {
+        gap: c.point.g_n,
+        w_n,
+        w_t,
+        hat: [c.point.w_n_hat, c.point.w_t_hat],
+        law: law_of(&c.law),
+    }
+}
+
+fn distance(a: &Dense, b: &Dense) -> f64 {
+    let rows = a.w_n.iter().zip(&b.w_n).chain(a.w_t.iter().zip(&b.w_t));
+    let mut d = (a.gap - b.gap).abs() + (a.hat[0] - b.hat[0]).abs() + (a.hat[1] - b.hat[1]).abs();
+    d += rows.map(|(x, y)| (x - y).abs()).sum::<f64>();
+    d + a.law.iter().zip(&b.law).map(|(x, y)| (x - y).abs()).sum::<f64>()
+}
+
+/// Asserts that `detect` and the fixed slots give the same closed contacts, one for one, and
+/// that the detected identities increase strictly. Returns the detected contacts.
+fn same_contacts(
+    fixed: &Multibody,
+    detected: &Multibody,
+    q: &[f64],
+    t: f64,
+    margin: f64,
+) -> Vec<BodyContact> {
+    let structure = detected.body_structure().expect("the detected set announces its bodies");
+    assert!(fixed.body_structure().is_none());
+    assert_eq!(detected.num_contacts(), 0);
+    assert_eq!(structure.num_bodies() * 3, fixed.num_coordinates());
+    let mut out = Vec::new();
+    structure.detect(q, t, margin, &mut out);
+    let dense = fixed_closed(fixed, q, t, margin);
+    assert_eq!(out.len(), dense.len(), "detected {} contacts, fixed {}", out.len(), dense.len());
+    assert!(out.windows(2).all(|w| w[0].id < w[1].id), "identities not increasing");
+    let f = fixed.num_coordinates();
+    let mut used = vec![false; dense.len()];
+    for c in &out {
+        let d = scatter(c, f);
+        let (best, gap) = dense
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| !used[*k])
+            .map(|(k, x)| (k, distance(x, &d)))
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .expect("a fixed slot for every detected contact");
+        assert!(gap < 1e-12, "contact {:x} differs from every fixed slot by {gap}: {d:?}", c.id);
+        used[best] = true;
+    }
+    out
+}
+
+fn disk(r: f64) -> Shape {
+    Shape::Disk { center: [0.0, 0.0], radius: r }
+}
+
+fn square(h: f64) -> Shape {
+    Shape::Polygon { vertices: vec![[-h, -h], [h, -h], [h, h], [-h, h]] }
+}
+
+/// A heap of disks, boxes and capsules in a box of three half-planes, some touching and
+/// overlapping, with collision groups that keep the boxes off each other, an explicit contact
+/// declared from the later body to the earlier, and a pair with its own law.
+fn heap(set: ContactSet) -> Multibody {
+    let mut rng = SplitMix64::new(11);
+    let mut b = MultibodyBuilder::new([0.0, -9.81]);
+    b.add_body(
+        BodySpec::fixed("box", [0.0, 0.0], 0.0)
+            .with_shape(Shape::HalfPlane { point: [0.0, 0.0], normal: [0.0, 1.0] })
+            .with_shape(Shape::HalfPlane { point: [-1.0, 0.0], normal: [1.0, 0.0] })
+            .with_shape(Shape::HalfPlane { point: [1.0, 0.0], normal: [-1.0, 0.0] }),
+    );
+    for k in 0..40 {
+        let p = [rng.uniform(-0.95, 0.95), rng.uniform(0.0, 0.5)];
+        let angle = rng.uniform(-3.0, 3.0);
+        let shape = match k % 4 {
+            0 => square(rng.uniform(0.05, 0.08)),
+            1 => Shape::Capsule { a: [-0.05, 0.0], b: [0.05, 0.0], radius: 0.03 },
+            _ => disk(rng.uniform(0.04, 0.1)),
+        };
+        let mut body = BodySpec::with_density(&format!("b{k}"), 1000.0, p, angle).with_shape(shape);
+        if k % 4 == 0 {
+            // Boxes do not meet boxes.
+            body.group = 2;
+            body.mask = !2;
+        }
+        b.add_body(body);
+    }
+    // A body whose origin is not its centre of mass.
+    b.add_body(
+        BodySpec::with_density("offset", 500.0, [0.2, 0.1], 0.3)
+            .with_shape(Shape::Disk { center: [0.03, 0.01], radius: 0.08 }),
+    );
+    let mut auto = AutoContacts::new(LawParams::new(0.2, 0.0, 0.4));
+    auto.margin = Some(0.02);
+    auto.overrides.push(PairOverride {
+        bodies: ["b2".into(), "box".into()],
+        eps_n: 0.7,
+        eps_t: 0.0,
+        mu: 0.9,
+    });
+    b.auto_contacts(auto);
+    b.add_contact(ContactSpec {
+        name: "late".into(),
+        body_a: "b9".into(),
+        shape_a: 0,
+        body_b: "b5".into(),
+        shape_b: 0,
+        eps_n: 0.5,
+        eps_t: 0.0,
+        mu: 0.1,
+        margin: Some(0.02),
+    });
+    b.with_contact_set(set);
+    b.build().unwrap()
+}
+
+#[test]
+fn a_heap_detects_the_fixed_slots_closed_contacts() {
+    let (fixed, detected) = (heap(ContactSet::Fixed), heap(ContactSet::Detected));
+    let (q0, _) = fixed.initial_state();
+    let mut rng = SplitMix64::new(3);
+    let mut total = 0;
+    for round in 0..4 {
+        let q: Vec<f64> =
+            q0.iter().map(|v| v + 0.02 * round as f64 * rng.uniform(-1.0, 1.0)).collect();
+        let out = same_contacts(&fixed, &detected, &q, 0.0, 0.01);
+        total += out.len();
+        // Walls and floors have no coordinates: each such contact has one NO_BODY side.
+        assert!(out.iter().any(|c| c.bodies.contains(&NO_BODY)));
+        assert!(out.iter().any(|c| !c.bodies.contains(&NO_BODY)));
+    }
+    assert!(total > 60, "too few contacts to compare: {total}");
+}
+
+#[test]
+fn identities_are_stable_under_small_moves() {
+    let detected = heap(ContactSet::Detected);
+    let (q0, _) = detected.initial_state();
+    let structure = detected.body_structure().unwrap();
+    let (mut before, mut after) = (Vec::new(), Vec::new());
+    structure.detect(&q0, 0.0, 0.01, &mut before);
+    let mut rng = SplitMix64::new(5);
+    let q: Vec<f64> = q0.iter().map(|v| v + 1e-7 * rng.uniform(-1.0, 1.0)).collect();
+    structure.detect(&q, 0.0, 0.01, &mut after);
+    // Contacts well inside the margin keep their identity and move by about the motion.
+    let inside: Vec<&BodyContact> = before.iter().filter(|c| c.point.g_n < 0.009).collect();
+    assert!(inside.len() > 10);
+    for c in inside {
+        let moved = after.iter().find(|d| d.id == c.id).expect("the contact keeps its identity");
+        assert!((moved.point.g_n - c.point.g_n).abs() < 1e-6);
+        assert_eq!(moved.bodies, c.bodies);
+    }
+    let mut ids: Vec<u64> = after.iter().map(|c| c.id).collect();
+    ids.dedup();
+    assert_eq!(ids.len(), after.len(), "identities unique");
+}
+
+#[test]
+fn mass_blocks_are_the_dense_mass_matrix() {
+    let m = heap(ContactSet::Detected);
+    let (q0, _) = m.initial_state();
+    let f = m.num_coordinates();
+    let mut dense = vec![0.0; f * f];
+    m.mass_matrix(&q0, 0.0, &mut dense);
+    let structure = m.body_structure().unwrap();
+    let mut blocks = vec![[0.0; 9]; structure.num_bodies()];
+    structure.mass_blocks(&q0, 0.0, &mut blocks);
+    let mut coupled = false;
+    for (k, block) in blocks.iter().enumerate() {
+        for c in 0..3 {
+            for r in 0..3 {
+                assert_eq!(block[r + 3 * c], dense[3 * k + r + (3 * k + c) * f]);
+            }
+        }
+        coupled |= block[2] != 0.0;
+    }
+    assert!(coupled, "the offset body's block couples translation and rotation");
+    // Everything off the blocks is zero.
+    let on_blocks: f64 = blocks.iter().flatten().map(|v| v.abs()).sum();
+    let all: f64 = dense.iter().map(|v| v.abs()).sum();
+    assert_eq!(on_blocks, all);
+}
+
+fn declared(name: &str) -> SystemSpec {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name);
+    match Scene::from_path(&path).unwrap().params {
+        ModelParams::Declared(s) => *s,
+        other => panic!("not declared: {other:?}"),
+    }
+}
+
+fn both(mut spec: SystemSpec) -> (Multibody, Multibody) {
+    let fixed = spec.build().unwrap();
+    spec.contact_set = ContactSet::Detected;
+    (fixed, spec.build().unwrap())
+}
+
+#[test]
+fn the_declared_ball_detects_its_floor_contact() {
+    let (fixed, detected) = both(declared("bodies/ball.toml"));
+    // The ball 1 mm into the floor, then 0.5 mm above it, then far above (no contact).
+    for (y, expected) in [(0.099, 1), (0.1005, 1), (0.5, 0)] {
+        let out = same_contacts(&fixed, &detected, &[0.0, y, 0.0], 0.0, 1e-3);
+        assert_eq!(out.len(), expected, "y = {y}");
+        if let Some(c) = out.first() {
+            assert!((c.point.g_n - (y - 0.1)).abs() < 1e-15);
+            assert_eq!(c.bodies, [NO_BODY, 0]);
+            assert_eq!(c.w_n[1], [0.0, 1.0, 0.0]);
+        }
+    }
+}
+
+#[test]
+fn the_declared_cam_detects_its_rheonomic_contact() {
+    // The follower without its guide (joints need the fixed set): its knife edge on the
+    // turning cam, at several angles, with the same ŵ_N from the cam's rotation.
+    let mut spec = declared("bodies/cam.toml");
+    spec.joints.clear();
+    spec.contacts[0].margin = Some(1e-3);
+    let (fixed, detected) = both(spec);
+    let structure = detected.body_structure().unwrap();
+    let mut seen = 0;
+    for k in 0..4 {
+        let t = 0.011 * k as f64;
+        // The knife edge's height where it meets the cam's profile on the vertical through
+        // the cam's centre, by bisection on the nearest gap.
+        let gap = |y: f64| {
+            let mut out = Vec::new();
+            structure.detect(&[0.0, y, 0.0], t, 0.05, &mut out);
+            out.iter().map(|c| c.point.g_n).fold(f64::INFINITY, f64::min)
+        };
+        let (mut lo, mut hi) = (0.0, 0.03);
+        for _ in 0..50 {
+            let mid = 0.5 * (lo + hi);
+            if gap(mid) < 0.0 { lo = mid } else { hi = mid }
+        }
+        let out = same_contacts(&fixed, &detected, &[0.0, lo - 2e-5, 0.0], t, 5e-4);
+        assert!(!out.is_empty(), "t = {t}");
+        seen += out.iter().filter(|c| c.point.w_n_hat != 0.0).count();
+        assert!(out.iter().all(|c| c.bodies == [NO_BODY, 0]));
+    }
+    assert!(seen > 0, "the turning cam gives rheonomic terms");
+}
+
+#[test]
+fn joints_need_the_fixed_contact_set() {
+    let mut spec = declared("bodies/cam.toml");
+    spec.contact_set = ContactSet::Detected;
+    match spec.build() {
+        Err(ModelError::BadValue { key, reason, .. }) => {
+            assert_eq!(key, "contact_set");
+            assert!(reason.contains("guide"), "{reason}");
+        }
+        other => panic!("expected a refusal naming contact_set, got {other:?}"),
+    }
+}
+
+#[test]
+fn the_contact_set_is_a_scene_field() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies/ball.toml");
+    let mut scene = Scene::from_path(&path).unwrap();
+    assert!(!scene.to_toml_string().contains("contact_set"), "the default is left out");
+    scene.set("contact_set", "detected").unwrap();
+    let text = scene.to_toml_string();
+    assert!(text.contains("contact_set = \"detected\""), "{text}");
+    let again = Scene::from_toml_str(&text).unwrap();
+    let model = again.build().unwrap();
+    assert!(model.body_structure().is_some());
+    let bad = text.replace("\"detected\"", "\"sometimes\"");
+    match Scene::from_toml_str(&bad) {
+        Err(ModelError::Parse { message, .. }) => {
+            assert!(message.contains("sometimes"), "{message}")
+        }
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}
