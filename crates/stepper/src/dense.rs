@@ -94,6 +94,21 @@ impl Cholesky {
         }
     }
 
+    /// [`Self::factor`] with the order stated at compile time for the orders 1 to 6 (the
+    /// joints' Schur complements S and the mass matrices of a body or two), where loops of
+    /// constant bounds unroll; the general loop otherwise.
+    pub(crate) fn factor_unrolled(&mut self, m: &[f64]) -> Result<(), FactorError> {
+        match self.n {
+            1 => self.factor::<1>(m),
+            2 => self.factor::<2>(m),
+            3 => self.factor::<3>(m),
+            4 => self.factor::<4>(m),
+            5 => self.factor::<5>(m),
+            6 => self.factor::<6>(m),
+            _ => self.factor::<0>(m),
+        }
+    }
+
     /// The plain-loop factorisation of `l` (holding M), and M⁻¹ for n ≤ [`INVERSE_LIMIT`];
     /// `N` as in [`factor_small`].
     #[inline(always)]
@@ -163,16 +178,12 @@ impl Cholesky {
         if n == 1 {
             x[0] *= self.inverse[0];
         } else if n <= INVERSE_LIMIT {
-            let mut y = [0.0; INVERSE_LIMIT];
-            for j in 0..n {
-                let xj = x[j];
-                let col = &self.inverse[j * n..(j + 1) * n];
-                for i in 0..n {
-                    y[i] += col[i] * xj;
-                }
-            }
-            for (xi, yi) in x.iter_mut().zip(&y) {
-                *xi = *yi;
+            // The orders of one to three bodies' or joints' matrices with constant bounds.
+            match n {
+                2 => self.multiply_inverse::<2>(x),
+                3 => self.multiply_inverse::<3>(x),
+                6 => self.multiply_inverse::<6>(x),
+                _ => self.multiply_inverse::<0>(x),
             }
         } else if self.buffer.is_none() {
             solve_small(&self.l, n, x);
@@ -181,6 +192,24 @@ impl Cholesky {
             let rhs = MatMut::from_column_major_slice_mut(x, n, 1);
             llt::solve::solve_in_place(l, rhs, Par::Seq, MemStack::new(&mut []));
         }
+    }
+}
+
+impl Cholesky {
+    /// x ← M⁻¹ x by the explicit inverse (n ≤ [`INVERSE_LIMIT`]); `N` as in [`factor_small`].
+    #[inline(always)]
+    fn multiply_inverse<const N: usize>(&self, x: &mut [f64]) {
+        let n = order::<N>(self.n);
+        let (inv, x) = (&self.inverse[..n * n], &mut x[..n]);
+        let mut y = [0.0; INVERSE_LIMIT];
+        for j in 0..n {
+            let xj = x[j];
+            let col = &inv[j * n..][..n];
+            for i in 0..n {
+                y[i] += col[i] * xj;
+            }
+        }
+        x.copy_from_slice(&y[..n]);
     }
 }
 

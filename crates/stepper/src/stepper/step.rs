@@ -233,7 +233,7 @@ impl Core {
         let f = self.q.len();
         let ws = &mut self.ws;
         if ws.joints.n > 0 {
-            ws.joints.project(mech, &mut self.q, t_e, &ws.chol)?;
+            ws.joints.project(mech, &mut self.q, t_e)?;
         }
         for _ in 0..4 {
             // Every contact enters the projection LCP once one penetrates: pushing a corner
