@@ -217,7 +217,7 @@ impl Cholesky {
 /// `N > 0` fixes the order at compile time (n is then ignored), so that the loops of the
 /// common small orders have constant bounds; `N = 0` takes n.
 #[inline(always)]
-fn factor_small<const N: usize>(a: &mut [f64], n: usize) -> Result<(), FactorError> {
+pub(crate) fn factor_small<const N: usize>(a: &mut [f64], n: usize) -> Result<(), FactorError> {
     let n = if N == 0 { n } else { N };
     for j in 0..n {
         let mut d = a[j + j * n];
@@ -273,8 +273,8 @@ fn invert_from_factor<const N: usize>(l: &[f64], n: usize, l_inv: &mut [f64], in
     }
 }
 
-/// Solves L Lᵀ x = b in place.
-fn solve_small(l: &[f64], n: usize, x: &mut [f64]) {
+/// Solves L Lᵀ x = b in place, with the factor L of [`factor_small`] (order n).
+pub(crate) fn solve_small(l: &[f64], n: usize, x: &mut [f64]) {
     for i in 0..n {
         let mut s = x[i];
         for k in 0..i {

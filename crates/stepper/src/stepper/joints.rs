@@ -14,7 +14,7 @@
 //! the contact impulses are.
 #![allow(non_snake_case)]
 
-use crate::dense::{Cholesky, dot};
+use crate::dense::{Cholesky, dot, factor_small, solve_small};
 use crate::{BilateralPoint, Mechanism, StepError};
 
 /// Largest number of corrections of the positions per step.
@@ -44,6 +44,12 @@ pub(super) struct Joints {
     /// constraint): kept apart from the midpoint's, which M̂⁻¹ still uses.
     g_end: Vec<f64>,
     w_end: Vec<f64>,
+    /// The projection's M⁻¹ w_N of the contacts it holds, its matrix K over the constraints
+    /// and those contacts, K's factor, and its right-hand side; sized at the first projection
+    /// for every contact closed at once.
+    held_x: Vec<f64>,
+    k: Vec<f64>,
+    k_rhs: Vec<f64>,
 }
 
 impl Joints {
@@ -62,6 +68,9 @@ impl Joints {
             y: vec![0.0; n],
             g_end: vec![0.0; n],
             w_end: vec![0.0; f * n],
+            held_x: Vec::new(),
+            k: Vec::new(),
+            k_rhs: Vec::new(),
         }
     }
 
@@ -139,15 +148,24 @@ impl Joints {
     }
 
     /// Moves q back onto g_B(q, t) = 0 along M⁻¹ W_B (the correction of least kinetic
-    /// metric): q ← q − M⁻¹ W_B S⁻¹ g_B(q), at most [`PROJECTION_ITERATIONS`] times, until
+    /// metric) while keeping the gaps of the contacts in `held` (their w_N, one column of
+    /// length f each): q ← q − M⁻¹ V K⁻¹ r with V = [W_B W_H], K = Vᵀ M⁻¹ V and
+    /// r = (g_B(q), 0), at most [`PROJECTION_ITERATIONS`] times, until
     /// |g_B| ≤ 1e-12 (1 + |q|∞).
     ///
+    /// The held contacts are those that carried an impulse in the step: resting or pressed,
+    /// they sit at g_N ≈ 0, and a correction along M⁻¹ W_B alone would move them off it by
+    /// about the joints' drift, every step; a contact opened so drops out of the next step,
+    /// the body falls freely for Δt and the contact projection then pushes it back, so that
+    /// a resting contact opens and closes every few steps. When K is not positive definite
+    /// (a held contact repeats a constraint), the contacts are not held.
+    ///
     /// M⁻¹ W_B and the factor of S are those of the step's midpoint assembly (a simplified
-    /// Newton method): q_E lies (Δt/2) u_E from q_M, so W_B moves by O(Δt |u|) between them, and
-    /// each correction shrinks the drift by that factor; a step's drift of O(Δt²) then
-    /// falls below the tolerance after one correction. Only g_B is evaluated at the new
-    /// positions. The midpoint's M̂⁻¹ stays assembled for the contact projection that follows,
-    /// which then keeps the constraints to first order.
+    /// Newton method), as are the held contacts' w_N: q_E lies (Δt/2) u_E from q_M, so the
+    /// directions move by O(Δt |u|) between them, and each correction shrinks the drift by that
+    /// factor; a step's drift of O(Δt²) then falls below the tolerance after one correction.
+    /// Only g_B is evaluated at the new positions. The midpoint's M̂⁻¹ stays assembled for the
+    /// contact projection that follows, which then keeps the constraints to first order.
     ///
     /// # Errors
     /// [`StepError::NonFinite`] for a non-finite g_B.
@@ -156,8 +174,13 @@ impl Joints {
         mech: &K,
         q: &mut [f64],
         t: f64,
+        chol: &Cholesky,
+        held: &[f64],
     ) -> Result<(), StepError> {
         let (f, n) = (self.f, self.n);
+        // K is formed at the first correction: most steps' drift needs none.
+        let mut holding = None;
+        let m = n + held.len() / f;
         let scale = q.iter().fold(1.0f64, |s, v| s.max(v.abs()));
         for _ in 0..PROJECTION_ITERATIONS {
             let mut drift = 0.0f64;
@@ -173,14 +196,64 @@ impl Joints {
             if drift <= 1e-12 * scale {
                 return Ok(());
             }
-            self.y.copy_from_slice(&self.g_end);
-            self.s_chol.solve(&mut self.y);
-            for (i, yi) in self.y.iter().enumerate() {
-                for (qj, xj) in q.iter_mut().zip(&self.x[i * f..][..f]) {
-                    *qj -= xj * yi;
+            if *holding
+                .get_or_insert_with(|| !held.is_empty() && self.factor_held(mech, chol, held))
+            {
+                let rhs = &mut self.k_rhs[..m];
+                rhs[..n].copy_from_slice(&self.g_end);
+                rhs[n..].fill(0.0);
+                solve_small(&self.k, m, rhs);
+                for (c, lambda) in rhs.iter().enumerate() {
+                    let x = if c < n {
+                        &self.x[c * f..][..f]
+                    } else {
+                        &self.held_x[(c - n) * f..][..f]
+                    };
+                    for (qj, xj) in q.iter_mut().zip(x) {
+                        *qj -= xj * lambda;
+                    }
+                }
+            } else {
+                self.y.copy_from_slice(&self.g_end);
+                self.s_chol.solve(&mut self.y);
+                for (i, yi) in self.y.iter().enumerate() {
+                    for (qj, xj) in q.iter_mut().zip(&self.x[i * f..][..f]) {
+                        *qj -= xj * yi;
+                    }
                 }
             }
         }
         Ok(())
+    }
+
+    /// Forms and factorises K = Vᵀ M⁻¹ V over the constraints and the `held` contacts, with
+    /// the factor `chol` of M; false when K is not positive definite.
+    fn factor_held<K: Mechanism>(&mut self, mech: &K, chol: &Cholesky, held: &[f64]) -> bool {
+        let (f, n) = (self.f, self.n);
+        let h = held.len() / f;
+        let m = n + h;
+        if self.k_rhs.len() < m {
+            // Sized once for every contact closed at once, so that later steps do not allocate.
+            let most = n + mech.num_contacts().max(h);
+            self.held_x.resize(f * (most - n), 0.0);
+            self.k.resize(most * most, 0.0);
+            self.k_rhs.resize(most, 0.0);
+        }
+        for c in 0..h {
+            let x = &mut self.held_x[c * f..][..f];
+            x.copy_from_slice(&held[c * f..][..f]);
+            chol.solve(x);
+        }
+        let k = &mut self.k[..m * m];
+        for c in 0..m {
+            let x = if c < n { &self.x[c * f..][..f] } else { &self.held_x[(c - n) * f..][..f] };
+            for r in c..m {
+                let w = if r < n { &self.w[r * f..][..f] } else { &held[(r - n) * f..][..f] };
+                let v = dot(w, x);
+                k[r + c * m] = v;
+                k[c + r * m] = v;
+            }
+        }
+        factor_small::<0>(k, m).is_ok()
     }
 }
