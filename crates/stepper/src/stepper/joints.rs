@@ -157,8 +157,9 @@ impl Joints {
     /// they sit at g_N ≈ 0, and a correction along M⁻¹ W_B alone would move them off it by
     /// about the joints' drift, every step; a contact opened so drops out of the next step,
     /// the body falls freely for Δt and the contact projection then pushes it back, so that
-    /// a resting contact opens and closes every few steps. When K is not positive definite
-    /// (a held contact repeats a constraint), the contacts are not held.
+    /// a resting contact opens and closes every few steps. When K is not positive definite,
+    /// or nearly singular (held contacts that repeat each other or a constraint, as a block
+    /// jammed in a guide), the contacts are not held.
     ///
     /// M⁻¹ W_B and the factor of S are those of the step's midpoint assembly (a simplified
     /// Newton method), as are the held contacts' w_N: q_E lies (Δt/2) u_E from q_M, so the
@@ -178,7 +179,7 @@ impl Joints {
         held: &[f64],
     ) -> Result<(), StepError> {
         let (f, n) = (self.f, self.n);
-        // K is formed at the first correction: most steps' drift needs none.
+        // K is formed only when a correction is needed.
         let mut holding = None;
         let m = n + held.len() / f;
         let scale = q.iter().fold(1.0f64, |s, v| s.max(v.abs()));
@@ -227,7 +228,8 @@ impl Joints {
     }
 
     /// Forms and factorises K = Vᵀ M⁻¹ V over the constraints and the `held` contacts, with
-    /// the factor `chol` of M; false when K is not positive definite.
+    /// the factor `chol` of M; false when K is not positive definite or a pivot falls below
+    /// 1e-10 of its diagonal entry, where the correction would be dominated by round-off.
     fn factor_held<K: Mechanism>(&mut self, mech: &K, chol: &Cholesky, held: &[f64]) -> bool {
         let (f, n) = (self.f, self.n);
         let h = held.len() / f;
@@ -254,6 +256,11 @@ impl Joints {
                 k[c + r * m] = v;
             }
         }
+        let diagonal = &mut self.k_rhs[..m];
+        for (j, d) in diagonal.iter_mut().enumerate() {
+            *d = k[j + j * m];
+        }
         factor_small::<0>(k, m).is_ok()
+            && diagonal.iter().enumerate().all(|(j, d)| k[j + j * m].powi(2) >= 1e-10 * d)
     }
 }
