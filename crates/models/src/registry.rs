@@ -369,6 +369,10 @@ impl Mechanism for AnyModel {
     fn bilateral(&self, i: usize, q: &[f64], t: f64, w: &mut [f64]) -> BilateralPoint {
         dispatch!(self, m => m.bilateral(i, q, t, w))
     }
+
+    fn bilaterals(&self, q: &[f64], t: f64, w: &mut [f64], points: &mut [BilateralPoint]) {
+        dispatch!(self, m => m.bilaterals(q, t, w, points))
+    }
     /// Runs `op` with the model inside, so that a stepper of an `AnyModel` runs the loop
     /// compiled for that model's type (chosen once per run).
     fn with_concrete<O: ConcreteOp>(&self, op: O) -> O::Output {

@@ -94,6 +94,21 @@ impl Cholesky {
         }
     }
 
+    /// [`Self::factor`] with the order stated at compile time for the orders 1 to 6 (the
+    /// joints' Schur complements S and the mass matrices of a body or two), where loops of
+    /// constant bounds unroll; the general loop otherwise.
+    pub(crate) fn factor_unrolled(&mut self, m: &[f64]) -> Result<(), FactorError> {
+        match self.n {
+            1 => self.factor::<1>(m),
+            2 => self.factor::<2>(m),
+            3 => self.factor::<3>(m),
+            4 => self.factor::<4>(m),
+            5 => self.factor::<5>(m),
+            6 => self.factor::<6>(m),
+            _ => self.factor::<0>(m),
+        }
+    }
+
     /// The plain-loop factorisation of `l` (holding M), and M⁻¹ for n ≤ [`INVERSE_LIMIT`];
     /// `N` as in [`factor_small`].
     #[inline(always)]
@@ -163,16 +178,12 @@ impl Cholesky {
         if n == 1 {
             x[0] *= self.inverse[0];
         } else if n <= INVERSE_LIMIT {
-            let mut y = [0.0; INVERSE_LIMIT];
-            for j in 0..n {
-                let xj = x[j];
-                let col = &self.inverse[j * n..(j + 1) * n];
-                for i in 0..n {
-                    y[i] += col[i] * xj;
-                }
-            }
-            for (xi, yi) in x.iter_mut().zip(&y) {
-                *xi = *yi;
+            // The orders of one to three bodies' or joints' matrices with constant bounds.
+            match n {
+                2 => self.multiply_inverse::<2>(x),
+                3 => self.multiply_inverse::<3>(x),
+                6 => self.multiply_inverse::<6>(x),
+                _ => self.multiply_inverse::<0>(x),
             }
         } else if self.buffer.is_none() {
             solve_small(&self.l, n, x);
@@ -184,11 +195,29 @@ impl Cholesky {
     }
 }
 
+impl Cholesky {
+    /// x ← M⁻¹ x by the explicit inverse (n ≤ [`INVERSE_LIMIT`]); `N` as in [`factor_small`].
+    #[inline(always)]
+    fn multiply_inverse<const N: usize>(&self, x: &mut [f64]) {
+        let n = order::<N>(self.n);
+        let (inv, x) = (&self.inverse[..n * n], &mut x[..n]);
+        let mut y = [0.0; INVERSE_LIMIT];
+        for j in 0..n {
+            let xj = x[j];
+            let col = &inv[j * n..][..n];
+            for i in 0..n {
+                y[i] += col[i] * xj;
+            }
+        }
+        x.copy_from_slice(&y[..n]);
+    }
+}
+
 /// In-place Cholesky of a column-major matrix of order n (lower triangle used and written).
 /// `N > 0` fixes the order at compile time (n is then ignored), so that the loops of the
 /// common small orders have constant bounds; `N = 0` takes n.
 #[inline(always)]
-fn factor_small<const N: usize>(a: &mut [f64], n: usize) -> Result<(), FactorError> {
+pub(crate) fn factor_small<const N: usize>(a: &mut [f64], n: usize) -> Result<(), FactorError> {
     let n = if N == 0 { n } else { N };
     for j in 0..n {
         let mut d = a[j + j * n];
@@ -244,8 +273,8 @@ fn invert_from_factor<const N: usize>(l: &[f64], n: usize, l_inv: &mut [f64], in
     }
 }
 
-/// Solves L Lᵀ x = b in place.
-fn solve_small(l: &[f64], n: usize, x: &mut [f64]) {
+/// Solves L Lᵀ x = b in place, with the factor L of [`factor_small`] (order n).
+pub(crate) fn solve_small(l: &[f64], n: usize, x: &mut [f64]) {
     for i in 0..n {
         let mut s = x[i];
         for k in 0..i {

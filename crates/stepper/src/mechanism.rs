@@ -53,6 +53,20 @@ pub trait Mechanism: ContactKinematics {
         BilateralPoint { g: f64::NAN, w_hat: f64::NAN }
     }
 
+    /// All bilateral constraints at (q, t) in one call: W_B of constraint i into
+    /// `w[i f..(i + 1) f]` (every entry written) and its g_B and ŵ_B into `points[i]`, for
+    /// `i < num_bilaterals()`.
+    ///
+    /// The default calls [`Self::bilateral`] for each constraint; a mechanism whose
+    /// constraints share work (the sines and cosines of the same bodies' angles) overrides it
+    /// with the same values.
+    fn bilaterals(&self, q: &[f64], t: f64, w: &mut [f64], points: &mut [BilateralPoint]) {
+        let f = q.len();
+        for (i, (w, point)) in w.chunks_exact_mut(f.max(1)).zip(points.iter_mut()).enumerate() {
+            *point = self.bilateral(i, q, t, w);
+        }
+    }
+
     /// The mechanism's [`SharedWork`], when it shares work between M, h, the gaps and the
     /// closed contacts' kinematics: `None` by default. A mechanism that implements
     /// [`SharedWork`] returns `Some(self)`, and the stepper then calls it instead of

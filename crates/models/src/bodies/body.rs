@@ -78,7 +78,8 @@ pub(crate) fn scale(a: [f64; 2], s: f64) -> [f64; 2] {
 impl Frame {
     /// A frame without coordinates at a pose, moving with (v, ω).
     pub fn at(pose: [f64; 3], v: [f64; 2], omega: f64, dof: Option<usize>) -> Self {
-        let (sin, cos) = pose[2].sin_cos();
+        // Fixed bodies and grounds mostly sit at θ = 0, whose sine and cosine need no call.
+        let (sin, cos) = if pose[2] == 0.0 { (0.0, 1.0) } else { pose[2].sin_cos() };
         Self { p: [pose[0], pose[1]], theta: pose[2], cos, sin, v, omega, dof }
     }
 

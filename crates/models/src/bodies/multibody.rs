@@ -1,8 +1,10 @@
 //! [`Multibody`]: a declared mechanism, built, as a `moreau_stepper::Mechanism`.
 
+use std::cell::Cell;
+
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::{BilateralPoint, BodyStructure, Mechanism};
+use moreau_stepper::{BilateralPoint, BodyStructure, Mechanism, SharedWork};
 
 use super::body::{Body, Frame, Kind};
 use super::contacts::Pair;
@@ -10,6 +12,19 @@ use super::detect::Detector;
 use super::forces::{Force, body_forces, gravity_potential, mass_block};
 use super::joints::{Joint, SlotGeometry};
 use super::spec::SystemSpec;
+
+thread_local! {
+    /// The bodies' frames at one (q, t), reused by every call on this thread so that a step
+    /// does not allocate once the buffer has grown to the number of bodies.
+    static FRAMES: Cell<Vec<Frame>> = const { Cell::new(Vec::new()) };
+}
+
+/// The numbers [`SharedWork::evaluate`] keeps of one contact slot: its two points, normal and
+/// gap.
+const SLOT_MEMO: usize = 7;
+
+/// The numbers [`SharedWork::evaluate`] keeps of one body's frame: p, θ, cos θ, sin θ, v, ω.
+const FRAME_MEMO: usize = 8;
 
 /// One contact slot: a fixed index of the contact list, closed or open at each step.
 #[derive(Clone, Debug, PartialEq)]
@@ -143,6 +158,60 @@ impl Multibody {
             .sum()
     }
 
+    /// Runs `op` with the frames of all bodies at (q, t), each computed once: the sines and
+    /// cosines of a body's angle then serve all its joints, contacts and forces.
+    pub(crate) fn with_frames<R>(&self, q: &[f64], t: f64, op: impl FnOnce(&[Frame]) -> R) -> R {
+        // Taken out of the cell rather than borrowed, so that a nested call gets a buffer of
+        // its own instead of a conflict.
+        let mut frames = FRAMES.take();
+        frames.clear();
+        frames.extend(self.bodies.iter().map(|b| b.frame(q, t)));
+        let out = op(&frames);
+        FRAMES.set(frames);
+        out
+    }
+
+    /// The normal gaps of all slots at the bodies' `frames`, and each slot's geometry to
+    /// `keep`: one narrow phase per pair of shapes for all its slots.
+    fn gaps_at(&self, frames: &[Frame], mut keep: impl FnMut(usize, &SlotGeometry)) {
+        for (i, slot) in self.slots.iter().enumerate() {
+            if let Slot::Joint { joint, k } = *slot {
+                let j = &self.joints[joint];
+                keep(i, &j.kind.contact(k, &frames[j.a], &frames[j.b]));
+            }
+        }
+        for p in &self.pairs {
+            self.pair_slots(p, &frames[p.a], &frames[p.b], |k, g| keep(p.first + k, &g));
+        }
+    }
+
+    /// M at the bodies' `frames` into `m` (f × f, column-major).
+    fn mass_at(&self, frames: &[Frame], m: &mut [f64]) {
+        let f = self.num_coordinates();
+        m.fill(0.0);
+        for &i in &self.dynamic {
+            if let Kind::Dynamic { dof, mass, inertia, com } = self.bodies[i].kind {
+                let block = mass_block(mass, inertia, com, &frames[i]);
+                for c in 0..3 {
+                    for r in 0..3 {
+                        m[dof + r + (dof + c) * f] = block[r + 3 * c];
+                    }
+                }
+            }
+        }
+    }
+
+    /// h at the bodies' `frames` into `h`.
+    fn forces_at(&self, frames: &[Frame], u: &[f64], t: f64, h: &mut [f64]) {
+        h.fill(0.0);
+        for &i in &self.dynamic {
+            body_forces(&self.bodies[i], &frames[i], u, self.gravity, h);
+        }
+        for force in &self.forces {
+            force.add_to(&self.bodies, |b| frames[b], u, t, h);
+        }
+    }
+
     /// The frame of body i at (q, t).
     #[inline]
     pub(crate) fn frame(&self, i: usize, q: &[f64], t: f64) -> Frame {
@@ -206,15 +275,7 @@ impl ContactKinematics for Multibody {
 
     /// One narrow phase per pair of shapes for all its slots.
     fn normal_gaps(&self, q: &[f64], t: f64, g: &mut [f64]) {
-        for (i, slot) in self.slots.iter().enumerate() {
-            if let Slot::Joint { .. } = slot {
-                g[i] = self.slot_geometry(i, q, t).0.gap;
-            }
-        }
-        for p in &self.pairs {
-            let (fa, fb) = (self.frame(p.a, q, t), self.frame(p.b, q, t));
-            self.pair_slots(p, &fa, &fb, |k, geometry| g[p.first + k] = geometry.gap);
-        }
+        self.with_frames(q, t, |frames| self.gaps_at(frames, |i, s| g[i] = s.gap));
     }
 
     fn contact(
@@ -238,30 +299,11 @@ impl Mechanism for Multibody {
     }
 
     fn mass_matrix(&self, q: &[f64], t: f64, m: &mut [f64]) {
-        let f = self.num_coordinates();
-        m.fill(0.0);
-        for &i in &self.dynamic {
-            let body = &self.bodies[i];
-            if let Kind::Dynamic { dof, mass, inertia, com } = body.kind {
-                let block = mass_block(mass, inertia, com, &body.frame(q, t));
-                for c in 0..3 {
-                    for r in 0..3 {
-                        m[dof + r + (dof + c) * f] = block[r + 3 * c];
-                    }
-                }
-            }
-        }
+        self.with_frames(q, t, |frames| self.mass_at(frames, m));
     }
 
     fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]) {
-        h.fill(0.0);
-        for &i in &self.dynamic {
-            let body = &self.bodies[i];
-            body_forces(body, &body.frame(q, t), u, self.gravity, h);
-        }
-        for force in &self.forces {
-            force.add_to(&self.bodies, |b| self.frame(b, q, t), u, t, h);
-        }
+        self.with_frames(q, t, |frames| self.forces_at(frames, u, t, h));
     }
 
     fn potential_energy(&self, q: &[f64], t: f64) -> Option<f64> {
@@ -292,5 +334,121 @@ impl Mechanism for Multibody {
         let (joint, k) = self.rows[i];
         let j = &self.joints[joint];
         j.kind.row(k, &self.frame(j.a, q, t), &self.frame(j.b, q, t), t, w)
+    }
+
+    /// Every row at the bodies' frames, each frame computed once.
+    fn bilaterals(&self, q: &[f64], t: f64, w: &mut [f64], points: &mut [BilateralPoint]) {
+        let f = self.num_coordinates();
+        self.with_frames(q, t, |frames| {
+            for (i, &(joint, k)) in self.rows.iter().enumerate() {
+                let j = &self.joints[joint];
+                let w = &mut w[i * f..][..f];
+                w.fill(0.0);
+                points[i] = j.kind.row(k, &frames[j.a], &frames[j.b], t, w);
+            }
+        });
+    }
+
+    fn shared_work(&self) -> Option<&dyn SharedWork> {
+        Some(self)
+    }
+}
+
+/// M, h and the gaps from one set of frames at the midpoint; the memo keeps the slots'
+/// geometry and the frames, so that the closed contacts' force directions need neither a
+/// narrow phase nor a sine again.
+impl SharedWork for Multibody {
+    fn evaluate(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        t: f64,
+        mass: Option<&mut [f64]>,
+        h: &mut [f64],
+        gaps: &mut [f64],
+        memo: &mut [f64],
+    ) {
+        self.with_frames(q, t, |frames| {
+            if let Some(m) = mass {
+                self.mass_at(frames, m);
+            }
+            self.forces_at(frames, u, t, h);
+            let (slots, bodies) = memo.split_at_mut(SLOT_MEMO * self.slots.len());
+            self.gaps_at(frames, |i, s| {
+                gaps[i] = s.gap;
+                slots[SLOT_MEMO * i..][..SLOT_MEMO].copy_from_slice(&[
+                    s.point_a[0],
+                    s.point_a[1],
+                    s.point_b[0],
+                    s.point_b[1],
+                    s.normal[0],
+                    s.normal[1],
+                    s.gap,
+                ]);
+            });
+            for (frame, m) in frames.iter().zip(bodies.chunks_exact_mut(FRAME_MEMO)) {
+                m.copy_from_slice(&[
+                    frame.p[0],
+                    frame.p[1],
+                    frame.theta,
+                    frame.cos,
+                    frame.sin,
+                    frame.v[0],
+                    frame.v[1],
+                    frame.omega,
+                ]);
+            }
+        });
+    }
+
+    fn memo_len(&self) -> usize {
+        SLOT_MEMO * self.slots.len() + FRAME_MEMO * self.bodies.len()
+    }
+
+    fn midpoint_contacts(
+        &self,
+        which: &[usize],
+        _q: &[f64],
+        _t: f64,
+        memo: &[f64],
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+        points: &mut [ContactPoint],
+    ) {
+        let f = self.num_coordinates();
+        let (slots, bodies) = memo.split_at(SLOT_MEMO * self.slots.len());
+        let frame = |b: usize| {
+            let m = &bodies[FRAME_MEMO * b..][..FRAME_MEMO];
+            let dof = match self.bodies[b].kind {
+                Kind::Dynamic { dof, .. } => Some(dof),
+                _ => None,
+            };
+            Frame {
+                p: [m[0], m[1]],
+                theta: m[2],
+                cos: m[3],
+                sin: m[4],
+                v: [m[5], m[6]],
+                omega: m[7],
+                dof,
+            }
+        };
+        for (a, &i) in which.iter().enumerate() {
+            let m = &slots[SLOT_MEMO * i..][..SLOT_MEMO];
+            let geometry = SlotGeometry {
+                point_a: [m[0], m[1]],
+                point_b: [m[2], m[3]],
+                normal: [m[4], m[5]],
+                gap: m[6],
+            };
+            let (body_a, body_b) = match self.slots[i] {
+                Slot::Joint { joint, .. } => (self.joints[joint].a, self.joints[joint].b),
+                Slot::Pair { pair, .. } => (self.pairs[pair].a, self.pairs[pair].b),
+            };
+            let (w_n, w_t) = (&mut w_n[a * f..][..f], &mut w_t[a * f..][..f]);
+            w_n.fill(0.0);
+            w_t.fill(0.0);
+            points[a] = geometry.rows(&frame(body_a), &frame(body_b), w_n, w_t);
+        }
     }
 }

@@ -14,10 +14,10 @@
 //! the contact impulses are.
 #![allow(non_snake_case)]
 
-use crate::dense::{Cholesky, dot};
-use crate::{Mechanism, StepError};
+use crate::dense::{Cholesky, dot, factor_small, solve_small};
+use crate::{BilateralPoint, Mechanism, StepError};
 
-/// Largest number of Newton corrections of the positions per step.
+/// Largest number of corrections of the positions per step.
 const PROJECTION_ITERATIONS: usize = 4;
 
 /// The bilateral constraints' part of a stepper's workspace.
@@ -33,11 +33,23 @@ pub(super) struct Joints {
     /// ŵ_B and g_B of each constraint at the last assembly.
     w_hat: Vec<f64>,
     g: Vec<f64>,
+    /// The constraints' scalars as the mechanism returns them.
+    points: Vec<BilateralPoint>,
     /// S = W_Bᵀ M⁻¹ W_B (column-major) and its factor.
     s: Vec<f64>,
     s_chol: Cholesky,
     /// Scratch of length n_B.
     y: Vec<f64>,
+    /// g_B at the projected positions, and W_B there (scratch, one column of length f per
+    /// constraint): kept apart from the midpoint's, which M̂⁻¹ still uses.
+    g_end: Vec<f64>,
+    w_end: Vec<f64>,
+    /// The projection's M⁻¹ w_N of the contacts it holds, its matrix K over the constraints
+    /// and those contacts, K's factor, and its right-hand side; sized at the first projection
+    /// for every contact closed at once.
+    held_x: Vec<f64>,
+    k: Vec<f64>,
+    k_rhs: Vec<f64>,
 }
 
 impl Joints {
@@ -50,9 +62,15 @@ impl Joints {
             x: vec![0.0; f * n],
             w_hat: vec![0.0; n],
             g: vec![0.0; n],
+            points: vec![BilateralPoint::default(); n],
             s: vec![0.0; n * n],
             s_chol: Cholesky::new(n),
             y: vec![0.0; n],
+            g_end: vec![0.0; n],
+            w_end: vec![0.0; f * n],
+            held_x: Vec::new(),
+            k: Vec::new(),
+            k_rhs: Vec::new(),
         }
     }
 
@@ -76,9 +94,10 @@ impl Joints {
         chol: &Cholesky,
     ) -> Result<(), StepError> {
         let (f, n) = (self.f, self.n);
+        mech.bilaterals(q, t, &mut self.w, &mut self.points);
         for i in 0..n {
-            let w = &mut self.w[i * f..][..f];
-            let point = mech.bilateral(i, q, t, w);
+            let w = &self.w[i * f..][..f];
+            let point = self.points[i];
             self.g[i] = point.g;
             self.w_hat[i] = point.w_hat;
             let finite = point.g.is_finite() && point.w_hat.is_finite();
@@ -97,7 +116,7 @@ impl Joints {
             }
         }
         self.s_chol
-            .factor::<0>(&self.s)
+            .factor_unrolled(&self.s)
             .map_err(|e| StepError::RedundantConstraints { t, reason: e.to_string() })
     }
 
@@ -128,35 +147,120 @@ impl Joints {
         }
     }
 
-    /// Moves q back onto g_B(q, t) = 0 by Newton's method along M⁻¹ W_B (the correction of
-    /// least kinetic metric): q ← q − M⁻¹ W_B S⁻¹ g_B, at most [`PROJECTION_ITERATIONS`]
-    /// times, until |g_B| ≤ 1e-12 (1 + |q|∞). Leaves the constraints assembled at the final q,
-    /// so that a contact projection that follows keeps them to first order.
+    /// Moves q back onto g_B(q, t) = 0 along M⁻¹ W_B (the correction of least kinetic
+    /// metric) while keeping the gaps of the contacts in `held` (their w_N, one column of
+    /// length f each): q ← q − M⁻¹ V K⁻¹ r with V = [W_B W_H], K = Vᵀ M⁻¹ V and
+    /// r = (g_B(q), 0), at most [`PROJECTION_ITERATIONS`] times, until
+    /// |g_B| ≤ 1e-12 (1 + |q|∞).
+    ///
+    /// The held contacts are those that carried an impulse in the step: resting or pressed,
+    /// they sit at g_N ≈ 0, and a correction along M⁻¹ W_B alone would move them off it by
+    /// about the joints' drift, every step; a contact opened so drops out of the next step,
+    /// the body falls freely for Δt and the contact projection then pushes it back, so that
+    /// a resting contact opens and closes every few steps. When K is not positive definite,
+    /// or nearly singular (held contacts that repeat each other or a constraint, as a block
+    /// jammed in a guide), the contacts are not held.
+    ///
+    /// M⁻¹ W_B and the factor of S are those of the step's midpoint assembly (a simplified
+    /// Newton method), as are the held contacts' w_N: q_E lies (Δt/2) u_E from q_M, so the
+    /// directions move by O(Δt |u|) between them, and each correction shrinks the drift by that
+    /// factor; a step's drift of O(Δt²) then falls below the tolerance after one correction.
+    /// Only g_B is evaluated at the new positions. The midpoint's M̂⁻¹ stays assembled for the
+    /// contact projection that follows, which then keeps the constraints to first order.
     ///
     /// # Errors
-    /// Those of [`Self::assemble`].
+    /// [`StepError::NonFinite`] for a non-finite g_B.
     pub(super) fn project<K: Mechanism>(
         &mut self,
         mech: &K,
         q: &mut [f64],
         t: f64,
         chol: &Cholesky,
+        held: &[f64],
     ) -> Result<(), StepError> {
-        let f = self.f;
+        let (f, n) = (self.f, self.n);
+        // K is formed only when a correction is needed.
+        let mut holding = None;
+        let m = n + held.len() / f;
+        let scale = q.iter().fold(1.0f64, |s, v| s.max(v.abs()));
         for _ in 0..PROJECTION_ITERATIONS {
-            self.assemble(mech, q, t, chol)?;
-            let scale = q.iter().fold(1.0f64, |s, v| s.max(v.abs()));
-            if self.drift() <= 1e-12 * scale {
+            let mut drift = 0.0f64;
+            mech.bilaterals(q, t, &mut self.w_end, &mut self.points);
+            for i in 0..n {
+                let g = self.points[i].g;
+                if !g.is_finite() {
+                    return Err(StepError::NonFinite { what: "bilateral constraint", index: i, t });
+                }
+                self.g_end[i] = g;
+                drift = drift.max(g.abs());
+            }
+            if drift <= 1e-12 * scale {
                 return Ok(());
             }
-            self.y.copy_from_slice(&self.g);
-            self.s_chol.solve(&mut self.y);
-            for (i, yi) in self.y.iter().enumerate() {
-                for (qj, xj) in q.iter_mut().zip(&self.x[i * f..][..f]) {
-                    *qj -= xj * yi;
+            if *holding
+                .get_or_insert_with(|| !held.is_empty() && self.factor_held(mech, chol, held))
+            {
+                let rhs = &mut self.k_rhs[..m];
+                rhs[..n].copy_from_slice(&self.g_end);
+                rhs[n..].fill(0.0);
+                solve_small(&self.k, m, rhs);
+                for (c, lambda) in rhs.iter().enumerate() {
+                    let x = if c < n {
+                        &self.x[c * f..][..f]
+                    } else {
+                        &self.held_x[(c - n) * f..][..f]
+                    };
+                    for (qj, xj) in q.iter_mut().zip(x) {
+                        *qj -= xj * lambda;
+                    }
+                }
+            } else {
+                self.y.copy_from_slice(&self.g_end);
+                self.s_chol.solve(&mut self.y);
+                for (i, yi) in self.y.iter().enumerate() {
+                    for (qj, xj) in q.iter_mut().zip(&self.x[i * f..][..f]) {
+                        *qj -= xj * yi;
+                    }
                 }
             }
         }
-        self.assemble(mech, q, t, chol)
+        Ok(())
+    }
+
+    /// Forms and factorises K = Vᵀ M⁻¹ V over the constraints and the `held` contacts, with
+    /// the factor `chol` of M; false when K is not positive definite or a pivot falls below
+    /// 1e-10 of its diagonal entry, where the correction would be dominated by round-off.
+    fn factor_held<K: Mechanism>(&mut self, mech: &K, chol: &Cholesky, held: &[f64]) -> bool {
+        let (f, n) = (self.f, self.n);
+        let h = held.len() / f;
+        let m = n + h;
+        if self.k_rhs.len() < m {
+            // Sized once for every contact closed at once, so that later steps do not allocate.
+            let most = n + mech.num_contacts().max(h);
+            self.held_x.resize(f * (most - n), 0.0);
+            self.k.resize(most * most, 0.0);
+            self.k_rhs.resize(most, 0.0);
+        }
+        for c in 0..h {
+            let x = &mut self.held_x[c * f..][..f];
+            x.copy_from_slice(&held[c * f..][..f]);
+            chol.solve(x);
+        }
+        let k = &mut self.k[..m * m];
+        for c in 0..m {
+            let x = if c < n { &self.x[c * f..][..f] } else { &self.held_x[(c - n) * f..][..f] };
+            for r in c..m {
+                let w = if r < n { &self.w[r * f..][..f] } else { &held[(r - n) * f..][..f] };
+                let v = dot(w, x);
+                k[r + c * m] = v;
+                k[c + r * m] = v;
+            }
+        }
+        let diagonal = &mut self.k_rhs[..m];
+        for (j, d) in diagonal.iter_mut().enumerate() {
+            *d = k[j + j * m];
+        }
+        factor_small::<0>(k, m).is_ok()
+            && diagonal.iter().enumerate().all(|(j, d)| k[j + j * m].powi(2) >= 1e-10 * d)
     }
 }

@@ -245,7 +245,17 @@ impl Core {
         let f = self.q.len();
         let ws = &mut self.ws;
         if ws.joints.n > 0 {
-            ws.joints.project(mech, &mut self.q, t_e, &ws.chol)?;
+            // The contacts that carried an impulse in this step rest or press: the joints'
+            // correction keeps their gaps, which it would otherwise open or close (joints.rs).
+            let mut closed = 0;
+            for (a, &i) in ws.active.iter().enumerate() {
+                if ws.prev[i][0] > 0.0 {
+                    ws.proj_w[closed * f..][..f].copy_from_slice(&ws.w_n[a * f..][..f]);
+                    closed += 1;
+                }
+            }
+            let held = &ws.proj_w[..closed * f];
+            ws.joints.project(mech, &mut self.q, t_e, &ws.chol, held)?;
         }
         for _ in 0..4 {
             // Every contact enters the projection LCP once one penetrates: pushing a corner
@@ -525,7 +535,15 @@ impl Core {
         let f = order::<N>(u_a.len());
         let u_a = &u_a[..f];
         let (w_n, w_t) = (&mut ws.w_n[..f], &mut ws.w_t[..f]);
-        let point = mech.contact(i, &ws.q_m, t_m, w_n, w_t);
+        // A mechanism that shares work keeps the contact's geometry from the gaps.
+        let point = match mech.shared_work() {
+            Some(shared) => {
+                let mut point = [ContactPoint::default()];
+                shared.midpoint_contacts(&[i], &ws.q_m, t_m, &ws.memo, w_n, w_t, &mut point);
+                point[0]
+            }
+            None => mech.contact(i, &ws.q_m, t_m, w_n, w_t),
+        };
         check_directions(w_n, w_t)?;
         ws.w_n_hat[0] = point.w_n_hat;
         ws.w_t_hat[0] = point.w_t_hat;
