@@ -33,5 +33,6 @@ pub mod frames;
 pub mod plot;
 pub mod report;
 pub mod reproduce;
+pub mod scale;
 pub mod scene_frames;
 pub mod tradeoff;

@@ -8,7 +8,7 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 use moreau_cli::cli::{self, MergeArgs, SimulateArgs, SweepArgs};
 use xtask::scene_frames::FramesArgs;
-use xtask::{reproduce, tradeoff};
+use xtask::{reproduce, scale, tradeoff};
 
 #[derive(Parser)]
 #[command(name = "xtask", about = "Moreau's task runner", version)]
@@ -46,6 +46,16 @@ enum Command {
         /// Worker threads (default: one per core).
         #[arg(long)]
         jobs: Option<usize>,
+    },
+    /// How the many-body step scales: time per step, iterations and force balance on the scale
+    /// scenes, from 10² to 10⁴ bodies.
+    Scale {
+        /// Output folder.
+        #[arg(long, default_value = "target/scale")]
+        out: PathBuf,
+        /// Only the small sizes.
+        #[arg(long)]
+        quick: bool,
     },
     /// Join the CSV parts of a sharded sweep (the `moreau merge` command).
     Merge(MergeArgs),
@@ -86,6 +96,20 @@ fn run(command: Command) -> Result<()> {
                 summary.total_seconds,
                 summary.simulation_seconds
             );
+        }
+        Command::Scale { out, quick } => {
+            let specs = scale::specs(quick);
+            let results = scale::run_all(&specs);
+            let written = scale::write(&results, &specs, &out)?;
+            println!("wrote {} files to {}", written.files.len(), out.display());
+            println!("{}", written.markdown);
+            let failed = results.iter().filter(|r| r.is_err()).count();
+            if failed > 0 {
+                anyhow::bail!(
+                    "{failed} of {} runs failed (listed above and in scale.json)",
+                    specs.len()
+                );
+            }
         }
         Command::Merge(args) => cli::Command::Merge(args).run()?,
         Command::Frames(args) => args.run()?,

@@ -11,7 +11,7 @@ use std::ops::Range;
 
 use moreau_lcp::fc2d::{
     Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dParts, Fc2dRef, Fc2dSolution, Fc2dSolver, LcpRoute,
-    LcpRouteOptions, LcpRouteSolver, Nsgs, NsgsOptions,
+    LcpRouteOptions, LcpRouteSolver, Newton, NewtonOptions, Nsgs, NsgsOptions,
 };
 use moreau_lcp::{LcpError, Status};
 use rayon::prelude::*;
@@ -46,13 +46,23 @@ pub(super) struct ContactWork {
 /// sweep) to [`SMALL_TOLERANCE`], and by pivoting if that stalls.
 const SMALL_ISLAND: usize = 8;
 
+/// The Gauss-Seidel sweeps (cluster solves included) that the default choice gives a large
+/// island before nonsmooth Newton takes over.
+const LARGE_ISLAND_SWEEPS: usize = 5_000;
+
+/// The largest island the default choice hands to pivoting (a dense solve of 3 n_c rows)
+/// when Gauss-Seidel and Newton leave it unsolved.
+const PIVOTING_ISLAND: usize = 300;
+
 /// The natural-map tolerance of small islands, where it costs a few sweeps more.
 const SMALL_TOLERANCE: f64 = 1e-13;
 
 /// The solver of the islands' problems, from the stepper's [`SolverChoice`].
 enum IslandSolver {
-    /// The default choice: one `Fc2dAuto` for small islands and one for large ones.
-    Auto(Box<[Fc2dAuto; 2]>),
+    /// The default choice: one `Fc2dAuto` for small islands and one for large ones, and
+    /// nonsmooth Newton for the large islands that Gauss-Seidel and its cluster solves leave
+    /// unsolved.
+    Auto(Box<([Fc2dAuto; 2], Newton, LcpRoute)>),
     Nsgs(Nsgs),
     Lcp(LcpRoute),
 }
@@ -60,17 +70,29 @@ enum IslandSolver {
 impl IslandSolver {
     fn new(choice: &SolverChoice) -> Result<Self, LcpError> {
         Ok(match *choice {
-            SolverChoice::Auto => Self::Auto(Box::new([
-                Fc2dAuto::new(Fc2dAutoOptions {
-                    tolerance: SMALL_TOLERANCE,
-                    omega: 1.0,
-                    ..Fc2dAutoOptions::default()
-                })?,
-                Fc2dAuto::new(Fc2dAutoOptions {
+            SolverChoice::Auto => Self::Auto(Box::new((
+                [
+                    Fc2dAuto::new(Fc2dAutoOptions {
+                        tolerance: SMALL_TOLERANCE,
+                        omega: 1.0,
+                        ..Fc2dAutoOptions::default()
+                    })?,
+                    Fc2dAuto::new(Fc2dAutoOptions {
+                        tolerance: FC2D_TOLERANCE,
+                        max_sweeps: LARGE_ISLAND_SWEEPS,
+                        ..Fc2dAutoOptions::default()
+                    })?,
+                ],
+                Newton::new(NewtonOptions {
                     tolerance: FC2D_TOLERANCE,
-                    ..Fc2dAutoOptions::default()
+                    ..NewtonOptions::default()
                 })?,
-            ])),
+                LcpRoute::new(LcpRouteOptions {
+                    tolerance: FC2D_TOLERANCE,
+                    max_contacts: PIVOTING_ISLAND,
+                    ..LcpRouteOptions::default()
+                })?,
+            ))),
             SolverChoice::Pgs { tolerance, omega, max_iterations } => {
                 Self::Nsgs(Nsgs::new(NsgsOptions {
                     tolerance,
@@ -102,8 +124,20 @@ impl IslandSolver {
     ) -> Result<(), LcpError> {
         match self {
             Self::Auto(s) => {
+                let (auto, newton, lcp) = &mut **s;
                 let k = usize::from(problem.n_contacts() > SMALL_ISLAND);
-                s[k].solve_into(problem, Some(warm), out)
+                auto[k].solve_into(problem, Some(warm), out)?;
+                if !out.is_solved() && k == 1 {
+                    // Dense packings make W singular and their reactions indeterminate, where
+                    // Gauss-Seidel can crawl; Newton's regularised steps, started cold, then
+                    // solve the island, and pivoting is the last resort of islands small
+                    // enough for it.
+                    newton.solve_into(problem, None, out)?;
+                    if !out.is_solved() && problem.n_contacts() <= PIVOTING_ISLAND {
+                        lcp.solve_into(problem, None, out)?;
+                    }
+                }
+                Ok(())
             }
             Self::Nsgs(s) => s.solve_into(problem, Some(warm), out),
             Self::Lcp(s) => s.solve_into(problem, None, out),

@@ -1,0 +1,502 @@
+//! `cargo xtask scale`: how the many-body step scales with the number of contacts, on the
+//! scene files of `scenes/scale/`.
+//!
+//! Each run loads a scene, sets its size, lets it settle (or run) for a given simulated time,
+//! and then measures a window of steps: wall time per step split into detection, assembly and
+//! solution, the solver's iterations and residual, the contacts, the largest penetration, the
+//! kinetic energy and, for the resting column, the global force balance: the vertical
+//! impulses of the contacts with the fixed walls and floor, summed and divided by Δt, against
+//! the column's weight. The numbers go to `scale.json` and `scale.csv`, the figure to
+//! `fig_scale.{svg,png,csv}`. The runs go one after the other, so that their timings do not
+//! share the cores.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, bail};
+use moreau_models::{AnyModel, Scene};
+use moreau_stepper::{BodyContact, Mechanism, NO_BODY, Stepper};
+use serde::Serialize;
+use serde_json::Value;
+
+use crate::plot::{Figure, Mark, Panel, Series};
+
+/// The figure's file stem.
+pub const STEM: &str = "fig_scale";
+
+/// One scene at one size.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSpec {
+    /// The scene, as named in the output (`disk-column`, `pyramid`, `granular-flow`).
+    pub scene: &'static str,
+    /// The scene file, relative to the workspace root.
+    pub file: &'static str,
+    /// `--set` overrides that give the size.
+    pub set: Vec<(String, String)>,
+    /// Simulated time before the measurement window (s).
+    pub settle: f64,
+    /// Steps in the measurement window.
+    pub window: usize,
+    /// Worker threads for the islands.
+    pub threads: usize,
+    /// Whether the scene should rest at the end (column, pyramid): then the force balance and
+    /// the largest displacement are meaningful.
+    pub resting: bool,
+}
+
+/// What one run measured.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RunResult {
+    /// The scene's name.
+    pub scene: String,
+    /// The size overrides, as `key=value`.
+    pub size: String,
+    /// Worker threads.
+    pub threads: usize,
+    /// Bodies with coordinates.
+    pub bodies: usize,
+    /// Contacts with a normal impulse, mean over the window.
+    pub contacts: f64,
+    /// Detected contacts (closed or within the margin), mean over the window.
+    pub detected: f64,
+    /// Wall time per step over the window (ms).
+    pub ms_per_step: f64,
+    /// Of which detection (ms).
+    pub ms_detection: f64,
+    /// Of which assembly (ms).
+    pub ms_assembly: f64,
+    /// Of which the solution of the contact problems (ms).
+    pub ms_solution: f64,
+    /// Solver iterations per step, mean over the window (the worst island of each step).
+    pub iterations: f64,
+    /// The largest relative residual at exit over the window.
+    pub residual: f64,
+    /// |Σ support reactions − weight| / weight at the last step (resting scenes), else NaN.
+    pub force_balance_rel: f64,
+    /// The largest penetration over the window (m).
+    pub max_penetration: f64,
+    /// Kinetic energy at the last step (J).
+    pub kinetic_energy: f64,
+    /// Height of the pile: highest minus lowest body origin (m).
+    pub height: f64,
+    /// The largest displacement of a body since t = 0 (m).
+    pub max_displacement: f64,
+    /// Wall time of the whole run, settling included (s).
+    pub wall_seconds: f64,
+}
+
+/// The runs of the study; `quick` keeps those that take a few seconds.
+pub fn specs(quick: bool) -> Vec<RunSpec> {
+    let column = |n: usize, settle: f64, window: usize, threads: usize| RunSpec {
+        scene: "disk-column",
+        file: "scenes/scale/disk-column.toml",
+        set: vec![("fill.grain.count".into(), n.to_string())],
+        settle,
+        window,
+        threads,
+        resting: true,
+    };
+    let pyramid = |b: usize, time: f64| RunSpec {
+        scene: "pyramid",
+        file: "scenes/scale/pyramid.toml",
+        set: vec![("fill.box.base".into(), b.to_string())],
+        settle: time,
+        window: 20,
+        threads: 1,
+        resting: true,
+    };
+    let flow = |time: f64| RunSpec {
+        scene: "granular-flow",
+        file: "scenes/scale/granular-flow.toml",
+        set: Vec::new(),
+        settle: time,
+        window: 20,
+        threads: 1,
+        resting: false,
+    };
+    if quick {
+        vec![column(100, 1.0, 20, 1), column(1000, 1.0, 20, 1), pyramid(10, 1.0), flow(0.2)]
+    } else {
+        vec![
+            column(100, 2.0, 100, 1),
+            column(300, 2.0, 100, 1),
+            column(1000, 2.0, 50, 1),
+            column(3000, 2.0, 50, 1),
+            column(10000, 2.0, 20, 1),
+            column(10000, 2.0, 20, 2),
+            pyramid(10, 10.0),
+            pyramid(20, 10.0),
+            pyramid(50, 10.0),
+            pyramid(100, 10.0),
+            flow(2.0),
+        ]
+    }
+}
+
+/// The workspace root (the parent of `xtask/`).
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().map(Path::to_path_buf).unwrap_or_default()
+}
+
+/// Kinetic energy ½ Σ u_kᵀ M_k u_k of the bodies, from their mass blocks at q.
+fn kinetic_energy(model: &AnyModel, q: &[f64], u: &[f64], t: f64, blocks: &mut [[f64; 9]]) -> f64 {
+    let Some(bodies) = model.body_structure() else { return f64::NAN };
+    bodies.mass_blocks(q, t, blocks);
+    blocks
+        .iter()
+        .zip(u.chunks_exact(3))
+        .map(|(m, u)| {
+            let mut e = 0.0;
+            for r in 0..3 {
+                for c in 0..3 {
+                    e += u[r] * m[r + 3 * c] * u[c];
+                }
+            }
+            0.5 * e
+        })
+        .sum()
+}
+
+/// The vertical force of the fixed supports on the bodies over the step just taken: the
+/// impulses P_N w_N + P_T w_T of every contact with one side without coordinates, summed on
+/// the side with coordinates, over Δt. The contacts' directions are those of the step's
+/// midpoint q_M = q_A + Δt/2 u_A, found again by the scene's own detection.
+fn support_force(
+    model: &AnyModel,
+    q_a: &[f64],
+    u_a: &[f64],
+    t_a: f64,
+    dt: f64,
+    impulses: &[(u64, f64, f64)],
+    found: &mut Vec<BodyContact>,
+) -> f64 {
+    let Some(bodies) = model.body_structure() else { return f64::NAN };
+    let q_m: Vec<f64> = q_a.iter().zip(u_a).map(|(q, u)| q + 0.5 * dt * u).collect();
+    found.clear();
+    bodies.detect(&q_m, t_a + 0.5 * dt, model_gap_tolerance(), found);
+    let mut force = 0.0;
+    let mut k = 0;
+    for &(id, p_n, p_t) in impulses {
+        if p_n == 0.0 && p_t == 0.0 {
+            continue;
+        }
+        while k < found.len() && found[k].id < id {
+            k += 1;
+        }
+        let Some(point) = found.get(k).filter(|p| p.id == id) else { continue };
+        for side in 0..2 {
+            if point.bodies[side] != NO_BODY && point.bodies[1 - side] == NO_BODY {
+                force += p_n * point.w_n[side][1] + p_t * point.w_t[side][1];
+            }
+        }
+    }
+    force / dt
+}
+
+/// The active-set threshold the scenes use; the stepper's default.
+fn model_gap_tolerance() -> f64 {
+    0.0
+}
+
+/// Runs one spec.
+///
+/// # Errors
+/// When the scene does not load or build, or a step fails.
+pub fn run_one(spec: &RunSpec) -> Result<RunResult> {
+    let start = Instant::now();
+    let path = root().join(spec.file);
+    let mut scene =
+        Scene::from_path(&path).with_context(|| format!("loading {}", path.display()))?;
+    for (k, v) in &spec.set {
+        scene.set(k, v).with_context(|| format!("{}: --set {k}={v}", spec.scene))?;
+    }
+    let mut stepper = scene.stepper().with_context(|| format!("building {}", spec.scene))?;
+    if stepper.mechanism().body_structure().is_none() {
+        bail!("{} does not detect its contacts at each step", spec.scene);
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(spec.threads)
+        .build()
+        .context("starting the worker threads")?;
+    pool.install(|| measure(spec, &mut stepper, start))
+}
+
+fn measure(spec: &RunSpec, stepper: &mut Stepper<AnyModel>, start: Instant) -> Result<RunResult> {
+    let dt = stepper.options().dt;
+    let q0 = stepper.q().to_vec();
+    let bodies = q0.len() / 3;
+    let settle_steps = (spec.settle / dt).round() as u64;
+    for _ in 0..settle_steps {
+        let t = stepper.t();
+        stepper.step().with_context(|| format!("{} at t = {t}", spec.scene))?;
+    }
+    let mut r = RunResult {
+        scene: spec.scene.to_owned(),
+        size: spec.set.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(" "),
+        threads: spec.threads,
+        bodies,
+        force_balance_rel: f64::NAN,
+        ..RunResult::default()
+    };
+    let (mut wall, mut detection, mut assembly, mut solution) = (Duration::ZERO, 0.0, 0.0, 0.0);
+    let mut iterations = 0usize;
+    let mut found = Vec::new();
+    let mut blocks = vec![[0.0; 9]; bodies];
+    for k in 0..spec.window {
+        let (q_a, u_a, t_a) = (stepper.q().to_vec(), stepper.u().to_vec(), stepper.t());
+        let t0 = Instant::now();
+        let report = stepper.step().with_context(|| format!("{} at t = {t_a}", spec.scene))?;
+        wall += t0.elapsed();
+        let phases = report.times;
+        detection += phases.detection.as_secs_f64();
+        assembly += phases.assembly.as_secs_f64();
+        solution += phases.solution.as_secs_f64();
+        r.contacts += report.contacts.iter().filter(|c| c.p_n > 0.0).count() as f64;
+        r.detected += report.contacts.len() as f64;
+        if let Some(info) = report.lcp {
+            iterations += info.iterations;
+            r.residual = r.residual.max(info.residual);
+        }
+        r.max_penetration = r.max_penetration.max(report.penetration);
+        if k + 1 == spec.window && spec.resting {
+            let impulses: Vec<(u64, f64, f64)> = report
+                .contact_ids
+                .iter()
+                .zip(report.contacts)
+                .map(|(id, c)| (*id, c.p_n, c.p_t))
+                .collect();
+            let model = stepper.mechanism();
+            {
+                let support = support_force(model, &q_a, &u_a, t_a, dt, &impulses, &mut found);
+                let weight = weight(model, &q_a);
+                r.force_balance_rel = ((support - weight) / weight).abs();
+            }
+        }
+    }
+    let n = spec.window.max(1) as f64;
+    r.ms_per_step = 1e3 * wall.as_secs_f64() / n;
+    r.ms_detection = 1e3 * detection / n;
+    r.ms_assembly = 1e3 * assembly / n;
+    r.ms_solution = 1e3 * solution / n;
+    r.iterations = iterations as f64 / n;
+    r.contacts /= n;
+    r.detected /= n;
+    let (q, u, t) = (stepper.q(), stepper.u(), stepper.t());
+    r.kinetic_energy = kinetic_energy(stepper.mechanism(), q, u, t, &mut blocks);
+    let ys = q.chunks_exact(3).map(|b| b[1]);
+    let (lo, hi) =
+        ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y), hi.max(y)));
+    r.height = if bodies > 0 { hi - lo } else { 0.0 };
+    r.max_displacement = q
+        .chunks_exact(3)
+        .zip(q0.chunks_exact(3))
+        .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
+        .fold(0.0, f64::max);
+    r.wall_seconds = start.elapsed().as_secs_f64();
+    Ok(r)
+}
+
+/// The weight of the bodies: minus the vertical components of h at rest, which for the scale
+/// scenes (gravity, no springs) are −m_k g.
+fn weight(model: &AnyModel, q: &[f64]) -> f64 {
+    let u = vec![0.0; q.len()];
+    let mut h = vec![0.0; q.len()];
+    model.forces(q, &u, 0.0, &mut h);
+    -h.chunks_exact(3).map(|b| b[1]).sum::<f64>()
+}
+
+/// Runs every spec in order (one at a time, so that the timings do not share the cores).
+/// A run that fails is reported with its error and the others go on.
+pub fn run_all(specs: &[RunSpec]) -> Vec<Result<RunResult, String>> {
+    specs
+        .iter()
+        .map(|s| {
+            let r = run_one(s).map_err(|e| format!("{e:#}"));
+            match &r {
+                Ok(r) => eprintln!(
+                    "scale: {} {} ({} thread{}): {} bodies, {:.0} contacts, {:.3} ms/step",
+                    r.scene,
+                    r.size,
+                    r.threads,
+                    if r.threads == 1 { "" } else { "s" },
+                    r.bodies,
+                    r.contacts,
+                    r.ms_per_step
+                ),
+                Err(e) => eprintln!("scale: {} failed: {e}", s.scene),
+            }
+            r
+        })
+        .collect()
+}
+
+/// Least-squares slope of log10 y against log10 x over the positive pairs.
+pub fn log_slope(x: &[f64], y: &[f64]) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = x
+        .iter()
+        .zip(y)
+        .filter(|(x, y)| **x > 0.0 && **y > 0.0)
+        .map(|(x, y)| (x.log10(), y.log10()))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let (mx, my) =
+        (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+/// What [`write`] produced.
+pub struct Written {
+    /// Files written (names relative to the output folder).
+    pub files: Vec<String>,
+    /// The runs as JSON: one entry per run, the `scale` key of `summary.json`.
+    pub json: Value,
+    /// A Markdown table of the runs.
+    pub markdown: String,
+}
+
+/// Writes `scale.json`, `scale.csv` and the figure into `out`.
+///
+/// # Errors
+/// When a file cannot be written.
+pub fn write(
+    results: &[Result<RunResult, String>],
+    specs: &[RunSpec],
+    out: &Path,
+) -> Result<Written> {
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let ok: Vec<&RunResult> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
+    let entries: Vec<Value> = results
+        .iter()
+        .zip(specs)
+        .map(|(r, s)| match r {
+            Ok(r) => serde_json::to_value(r).unwrap_or(Value::Null),
+            Err(e) => serde_json::json!({"scene": s.scene, "error": e}),
+        })
+        .collect();
+    let json = Value::Array(entries);
+    let mut files = Vec::new();
+    let path = out.join("scale.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&json)?)
+        .with_context(|| format!("writing {}", path.display()))?;
+    files.push("scale.json".to_owned());
+
+    let mut csv = String::from(
+        "scene,size,threads,bodies,contacts,ms_per_step,ms_detection,ms_assembly,ms_solution,\
+         iterations,residual,force_balance_rel,max_penetration,kinetic_energy,height,max_displacement\n",
+    );
+    let mut md = String::from(
+        "| scene | size | threads | bodies | contacts | ms/step | detection | assembly | solution | \
+         iterations | residual | force balance | penetration [m] | max displacement [m] |\n\
+         |---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in &ok {
+        csv.push_str(&format!(
+            "{},{},{},{},{:.1},{:.4},{:.4},{:.4},{:.4},{:.1},{:e},{:e},{:e},{:e},{:e},{:e}\n",
+            r.scene,
+            r.size,
+            r.threads,
+            r.bodies,
+            r.contacts,
+            r.ms_per_step,
+            r.ms_detection,
+            r.ms_assembly,
+            r.ms_solution,
+            r.iterations,
+            r.residual,
+            r.force_balance_rel,
+            r.max_penetration,
+            r.kinetic_energy,
+            r.height,
+            r.max_displacement
+        ));
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {:.0} | {:.3} | {:.3} | {:.3} | {:.3} | {:.1} | {:.1e} | {:.1e} | {:.1e} | {:.1e} |\n",
+            r.scene,
+            r.size,
+            r.threads,
+            r.bodies,
+            r.contacts,
+            r.ms_per_step,
+            r.ms_detection,
+            r.ms_assembly,
+            r.ms_solution,
+            r.iterations,
+            r.residual,
+            r.force_balance_rel,
+            r.max_penetration,
+            r.max_displacement
+        ));
+    }
+    for (r, s) in results.iter().zip(specs) {
+        if let Err(e) = r {
+            md.push_str(&format!("| {} | failed: {} |\n", s.scene, e.replace('|', "/")));
+        }
+    }
+    let path = out.join("scale.csv");
+    std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
+    files.push("scale.csv".to_owned());
+
+    let one_thread = |scene: &str| -> Vec<&RunResult> {
+        ok.iter().copied().filter(|r| r.scene == scene && r.threads == 1).collect()
+    };
+    let column = one_thread("disk-column");
+    let xs =
+        |rs: &[&RunResult], f: fn(&RunResult) -> f64| rs.iter().map(|r| f(r)).collect::<Vec<_>>();
+    let slope = log_slope(&xs(&column, |r| r.contacts), &xs(&column, |r| r.ms_per_step));
+    let mut time = Panel::new(
+        &match slope {
+            Some(p) => format!("Time per step (disk column: slope {p:.2})"),
+            None => "Time per step".to_owned(),
+        },
+        "log10 contacts",
+        "log10 ms per step",
+        "log10_contacts",
+    );
+    for (i, scene) in ["disk-column", "pyramid", "granular-flow"].into_iter().enumerate() {
+        let rs = one_thread(scene);
+        let x: Vec<f64> = rs.iter().map(|r| r.contacts.max(1.0).log10()).collect();
+        let y: Vec<f64> = rs.iter().map(|r| r.ms_per_step.log10()).collect();
+        if !x.is_empty() {
+            time = time.with(
+                Series::line(scene, &format!("log10_ms_{scene}"), x, y, i).with_mark(Mark::Points),
+            );
+        }
+    }
+    let iterations = Panel::new(
+        "Solver iterations, resting disk column",
+        "column height [m]",
+        "iterations per step",
+        "height",
+    )
+    .with(
+        Series::line(
+            "disk column",
+            "iterations",
+            xs(&column, |r| r.height),
+            xs(&column, |r| r.iterations),
+            0,
+        )
+        .with_mark(Mark::Points),
+    );
+    let balance =
+        Panel::new("Force balance at rest", "log10 bodies", "log10 |R − W| / W", "log10_bodies")
+            .with(
+                Series::line(
+                    "disk column",
+                    "log10_force_balance",
+                    column.iter().map(|r| (r.bodies as f64).log10()).collect(),
+                    column.iter().map(|r| r.force_balance_rel.max(1e-17).log10()).collect(),
+                    0,
+                )
+                .with_mark(Mark::Points),
+            );
+    let figure = Figure::new("Many-body steps: scaling", vec![time, iterations, balance], 3);
+    let written = figure.write(out, STEM)?;
+    files.extend(crate::reproduce::names(&written));
+    Ok(Written { files, json, markdown: md })
+}
