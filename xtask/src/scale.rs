@@ -349,7 +349,7 @@ pub fn log_slope(x: &[f64], y: &[f64]) -> Option<f64> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
-/// What [`write`] produced.
+/// What [`write()`] produced.
 pub struct Written {
     /// Files written (names relative to the output folder).
     pub files: Vec<String>,
