@@ -4,7 +4,7 @@
 use faer::{ColRef, MatRef};
 use moreau_kinematics::ContactPoint;
 use moreau_lcp::fc2d::{
-    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions,
+    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dRef, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions,
 };
 use moreau_lcp::{
     Auto, Enumeration, Lcp, LcpRef, Lemke, Method, Pgs, PgsOptions, Solution, Solver, Status,
@@ -477,6 +477,19 @@ impl<M: Mechanism> Stepper<M> {
             ColRef::from_slice(&self.core.ws.b[..s]),
         )
         .ok()
+    }
+
+    /// The planar frictional-contact problems of the islands that the last step of a
+    /// mechanism with a [`crate::BodyStructure`] solved, in island order: each island's
+    /// Delassus matrix W by 2 × 2 blocks, q = b and μ, its contacts in increasing order of
+    /// identity. With the position projection on, these are the projection's normal-only
+    /// problems (μ = 0), solved last. Empty for a mechanism without a body structure (see
+    /// [`Stepper::last_lcp`]).
+    ///
+    /// For examining a step or solving it again elsewhere, for instance after
+    /// `to_owned().write_siconos(..)` in Siconos' FC2D format.
+    pub fn last_islands(&self) -> impl Iterator<Item = Fc2dRef<'_>> {
+        self.core.body.iter().flat_map(|b| b.islands.problems())
     }
 
     /// Steps until t_end (the last step may end up to Δt/2 past it), calling `observer` after

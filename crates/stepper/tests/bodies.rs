@@ -4,6 +4,7 @@
 use std::ops::ControlFlow;
 
 use moreau_lcp::Method;
+use moreau_lcp::fc2d::{Fc2d, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions};
 use moreau_setvalued::ContactLaw;
 use moreau_stepper::{
     BodyContact, BodyStructure, SolverChoice, StepError, StepReport, Stepper, StepperOptions,
@@ -270,6 +271,32 @@ fn two_separate_piles_step_as_each_pile_alone() {
             assert_eq!(a.0[..], b.0[9 * p..9 * p + 9]);
             assert_eq!(a.1[..], b.1[9 * p..9 * p + 9]);
         }
+    }
+}
+
+#[test]
+fn the_last_islands_are_the_step_problems_that_gave_the_impulses() {
+    let (disks, q, u) = column(6, true);
+    let mut s = Stepper::new(disks, &q, &u, 0.0, StepperOptions::new(1e-3)).unwrap();
+    run(&mut s, 300);
+    let reported: Vec<f64> =
+        s.step().unwrap().contacts.iter().flat_map(|c| [c.p_n, c.p_t]).collect();
+    let islands: Vec<Fc2d> = s.last_islands().map(|p| p.to_owned()).collect();
+    // The resting column is one island: the floor and five contacts between disks.
+    assert_eq!(islands.iter().map(|p| p.view().n_contacts()).collect::<Vec<_>>(), [6]);
+    let mut solver = Nsgs::new(NsgsOptions { tolerance: 1e-13, ..Default::default() }).unwrap();
+    let mut again = Vec::new();
+    for p in &islands {
+        let mut out = Fc2dSolution::new();
+        solver.solve_into(p.view(), None, &mut out).unwrap();
+        assert!(out.is_solved(), "{:?}", out.residual);
+        // At rest the normal velocities vanish: u_N = (W r + q)_N = 0.
+        assert!(out.u.iter().step_by(2).all(|v| v.abs() < 1e-12), "{:?}", out.u);
+        again.extend_from_slice(&out.r);
+    }
+    assert_eq!(again.len(), reported.len());
+    for (a, b) in again.iter().zip(&reported) {
+        assert!((a - b).abs() < 1e-9 * (1.0 + b.abs()), "{again:?} against {reported:?}");
     }
 }
 

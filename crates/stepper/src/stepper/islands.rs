@@ -624,6 +624,31 @@ impl Islands {
         Ok(())
     }
 
+    /// The problems of the last assembled islands that needed a solve, batch by batch in
+    /// island order.
+    pub(super) fn problems(&self) -> impl Iterator<Item = Fc2dRef<'_>> {
+        let group_start = &self.group_start;
+        self.batches[..self.n_batches].iter().flat_map(move |b| {
+            b.slots.iter().enumerate().filter(|(_, slot)| slot.solve).filter_map(
+                move |(j, slot)| {
+                    let (c, n) = (slot.c_off, slot.n);
+                    let b0 = b.block_off[j];
+                    let b1 = b0 + b.row_ptr[slot.rp_off + n];
+                    Fc2dRef::from_parts(Fc2dParts {
+                        n_contacts: n,
+                        group_start: &group_start[..n + 1],
+                        row_ptr: &b.row_ptr[slot.rp_off..slot.rp_off + n + 1],
+                        col: &b.col[b0..b1],
+                        blocks: &b.blocks[b0..b1],
+                        q: &b.q[2 * c..2 * (c + n)],
+                        mu: &b.mu[c..c + n],
+                    })
+                    .ok()
+                },
+            )
+        })
+    }
+
     /// Solves every island (the batches in parallel), writes the impulses into `r` and
     /// returns the worst island's information (`None` when no island needed a solve).
     pub(super) fn solve(&mut self) -> Result<Option<LcpInfo>, IslandFailure> {

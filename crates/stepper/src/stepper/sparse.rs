@@ -37,7 +37,7 @@ pub(super) struct BodyPath {
     /// The step's impulses (P_N, P_T) by identity, in increasing order: the next step's
     /// warm start, and what tells an impact from persistent contact.
     prev: Vec<(u64, [f64; 2])>,
-    islands: Islands,
+    pub(super) islands: Islands,
     info: Option<LcpInfo>,
     lcp_size: usize,
     penetration: f64,
