@@ -39,6 +39,14 @@ fn assert_honest(name: &str, s: &Fc2dSolution, tolerance: f64) {
     assert_eq!(s.status == Status::Solved, s.residual.natural <= tolerance, "{name}: {s:?}");
 }
 
+/// Every contact's r lies in its Coulomb cone exactly: r_N >= 0 and |r_T| <= μ r_N.
+fn assert_in_cones(name: &str, problem: &Fc2d, s: &Fc2dSolution) {
+    for (i, &mu) in problem.view().mu().iter().enumerate() {
+        let (n, t) = (s.r[2 * i], s.r[2 * i + 1]);
+        assert!(n >= 0.0 && t.abs() <= mu * n, "{name}: contact {i}: r = ({n:e}, {t:e}), μ = {mu}");
+    }
+}
+
 #[test]
 fn nsgs_reaches_a_loose_tolerance_on_every_file() {
     for (name, problem) in fc2d_collection() {
@@ -75,7 +83,9 @@ fn lcp_route_solves_the_small_files_and_agrees_with_nsgs() {
         assert_eq!(lcp.status, Status::Solved, "{name}: {:?}", lcp.residual);
         assert_eq!(lcp.method, Method::LcpRoute);
         assert_honest(name, &lcp, 1e-8);
+        assert_in_cones(name, problem, &lcp);
         let gs = nsgs(1e-10, 100_000).solve(problem).unwrap();
+        assert_in_cones(name, problem, &gs);
         assert_eq!(gs.status, Status::Solved, "{name}");
         let scale = lcp.r.iter().fold(1e-300f64, |m, v| m.max(v.abs()));
         let diff = lcp.r.iter().zip(&gs.r).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
@@ -103,6 +113,7 @@ fn planted_solutions_are_found() {
             let s = solver.solve(&p.problem).unwrap();
             assert_eq!(s.status, Status::Solved, "case {case}: {:?}", s.residual);
             assert_honest("planted", &s, if s.method == Method::Nsgs { 1e-10 } else { 1e-8 });
+            assert_in_cones("planted", &p.problem, &s);
         }
     }
 }

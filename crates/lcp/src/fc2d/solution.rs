@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::residual::project_cone;
 use super::{Fc2d, Fc2dRef, Fc2dResidual};
 use crate::{LcpError, Method, Status};
 
@@ -69,9 +70,19 @@ impl Fc2dSolution {
         self.history.clear();
     }
 
-    /// Recomputes u and the residual from r, and sets the status: `Solved` when the
-    /// residual is within `tolerance`, else `otherwise`.
+    /// Projects each contact's r onto its cone, recomputes u and the residual from r, and
+    /// sets the status: `Solved` when the residual is within `tolerance`, else `otherwise`.
+    ///
+    /// The projection leaves an iterate of the cones unchanged, bit for bit; it removes the
+    /// round-off of solvers that work in other variables (the LCP route's P_R = P_T + μ P_N
+    /// can give P_N = 0 with |P_T| ~ 1e-19), which the natural map accepts but which puts r
+    /// outside the cone that Coulomb's law requires exactly.
     pub(crate) fn certify(&mut self, problem: Fc2dRef<'_>, tolerance: f64, otherwise: Status) {
+        let gs = problem.parts().group_start;
+        for (i, &mu) in problem.mu().iter().enumerate() {
+            let k = gs[i];
+            (self.r[k], self.r[k + 1]) = project_cone(self.r[k], self.r[k + 1], mu);
+        }
         self.residual = Fc2dResidual::compute(problem, &self.r, &mut self.u);
         self.status = if self.residual.natural <= tolerance {
             Status::Solved
