@@ -56,6 +56,10 @@ enum Command {
         /// Only the small sizes.
         #[arg(long)]
         quick: bool,
+        /// Also write each run's largest island problem of its last step into this folder, in
+        /// Siconos' FC2D format (for `crates/lcp/siconos/compare_fc2d.sh`).
+        #[arg(long)]
+        problems: Option<PathBuf>,
     },
     /// Join the CSV parts of a sharded sweep (the `moreau merge` command).
     Merge(MergeArgs),
@@ -97,9 +101,9 @@ fn run(command: Command) -> Result<()> {
                 summary.simulation_seconds
             );
         }
-        Command::Scale { out, quick } => {
+        Command::Scale { out, quick, problems } => {
             let specs = scale::specs(quick);
-            let results = scale::run_all(&specs);
+            let results = scale::run_all(&specs, problems.as_deref());
             let written = scale::write(&results, &specs, &out)?;
             println!("wrote {} files to {}", written.files.len(), out.display());
             println!("{}", written.markdown);

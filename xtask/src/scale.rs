@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
+use moreau_lcp::fc2d::SiconosStorage;
 use moreau_models::{AnyModel, Scene};
 use moreau_stepper::{BodyContact, Mechanism, NO_BODY, Stepper};
 use serde::Serialize;
@@ -42,6 +43,9 @@ pub struct RunSpec {
     /// Whether the scene should rest at the end (column, pyramid): then the force balance and
     /// the largest displacement are meaningful.
     pub resting: bool,
+    /// Simulated time (s) of the positions from which the largest displacement is measured:
+    /// after the first settling (the pyramid's boxes start 2 mm apart).
+    pub reference: f64,
 }
 
 /// What one run measured.
@@ -79,7 +83,7 @@ pub struct RunResult {
     pub kinetic_energy: f64,
     /// Height of the pile: highest minus lowest body origin (m).
     pub height: f64,
-    /// The largest displacement of a body since t = 0 (m).
+    /// The largest displacement of a body since the spec's reference time (m).
     pub max_displacement: f64,
     /// Wall time of the whole run, settling included (s).
     pub wall_seconds: f64,
@@ -95,6 +99,7 @@ pub fn specs(quick: bool) -> Vec<RunSpec> {
         window,
         threads,
         resting: true,
+        reference: 0.0,
     };
     let pyramid = |b: usize, time: f64| RunSpec {
         scene: "pyramid",
@@ -104,6 +109,7 @@ pub fn specs(quick: bool) -> Vec<RunSpec> {
         window: 20,
         threads: 1,
         resting: true,
+        reference: 0.5,
     };
     let flow = |time: f64| RunSpec {
         scene: "granular-flow",
@@ -113,9 +119,10 @@ pub fn specs(quick: bool) -> Vec<RunSpec> {
         window: 20,
         threads: 1,
         resting: false,
+        reference: 0.0,
     };
     if quick {
-        vec![column(100, 1.0, 20, 1), column(1000, 1.0, 20, 1), pyramid(10, 1.0), flow(0.2)]
+        vec![column(100, 1.0, 20, 1), pyramid(10, 1.0), pyramid(20, 1.0), flow(0.1)]
     } else {
         vec![
             column(100, 2.0, 100, 1),
@@ -198,11 +205,13 @@ fn model_gap_tolerance() -> f64 {
     0.0
 }
 
-/// Runs one spec.
+/// Runs one spec. With `problems`, the largest island problem of the window's last step is
+/// written there in Siconos' FC2D format (one-thread runs only), as
+/// `<scene>_<size>.dat`, for solving the same step problems with another solver.
 ///
 /// # Errors
-/// When the scene does not load or build, or a step fails.
-pub fn run_one(spec: &RunSpec) -> Result<RunResult> {
+/// When the scene does not load or build, a step fails, or the problem cannot be written.
+pub fn run_one(spec: &RunSpec, problems: Option<&Path>) -> Result<RunResult> {
     let start = Instant::now();
     let path = root().join(spec.file);
     let mut scene =
@@ -218,15 +227,44 @@ pub fn run_one(spec: &RunSpec) -> Result<RunResult> {
         .num_threads(spec.threads)
         .build()
         .context("starting the worker threads")?;
-    pool.install(|| measure(spec, &mut stepper, start))
+    let result = pool.install(|| measure(spec, &mut stepper, start))?;
+    if let Some(dir) = problems.filter(|_| spec.threads == 1) {
+        write_problem(spec, &stepper, dir)?;
+    }
+    Ok(result)
+}
+
+/// Writes the largest island problem of the stepper's last step into `dir`.
+fn write_problem(spec: &RunSpec, stepper: &Stepper<AnyModel>, dir: &Path) -> Result<()> {
+    let Some(problem) = stepper.last_islands().max_by_key(|p| p.n_contacts()) else {
+        return Ok(());
+    };
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let size: Vec<&str> = spec.set.iter().map(|(_, v)| v.as_str()).collect();
+    let name = if size.is_empty() {
+        format!("{}.dat", spec.scene)
+    } else {
+        format!("{}_{}.dat", spec.scene, size.join("_"))
+    };
+    let path = dir.join(name);
+    let file =
+        std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
+    problem
+        .to_owned()
+        .write_siconos(std::io::BufWriter::new(file), SiconosStorage::SparseBlock)
+        .with_context(|| format!("writing {}", path.display()))
 }
 
 fn measure(spec: &RunSpec, stepper: &mut Stepper<AnyModel>, start: Instant) -> Result<RunResult> {
     let dt = stepper.options().dt;
-    let q0 = stepper.q().to_vec();
+    let mut q0 = stepper.q().to_vec();
     let bodies = q0.len() / 3;
     let settle_steps = (spec.settle / dt).round() as u64;
-    for _ in 0..settle_steps {
+    let reference_step = (spec.reference / dt).round() as u64;
+    for k in 0..settle_steps {
+        if k == reference_step {
+            q0.copy_from_slice(stepper.q());
+        }
         let t = stepper.t();
         stepper.step().with_context(|| format!("{} at t = {t}", spec.scene))?;
     }
@@ -305,13 +343,14 @@ fn weight(model: &AnyModel, q: &[f64]) -> f64 {
     -h.chunks_exact(3).map(|b| b[1]).sum::<f64>()
 }
 
-/// Runs every spec in order (one at a time, so that the timings do not share the cores).
-/// A run that fails is reported with its error and the others go on.
-pub fn run_all(specs: &[RunSpec]) -> Vec<Result<RunResult, String>> {
+/// Runs every spec in order (one at a time, so that the timings do not share the cores),
+/// writing the step problems into `problems` when given (see [`run_one`]). A run that fails
+/// is reported with its error and the others go on.
+pub fn run_all(specs: &[RunSpec], problems: Option<&Path>) -> Vec<Result<RunResult, String>> {
     specs
         .iter()
         .map(|s| {
-            let r = run_one(s).map_err(|e| format!("{e:#}"));
+            let r = run_one(s, problems).map_err(|e| format!("{e:#}"));
             match &r {
                 Ok(r) => eprintln!(
                     "scale: {} {} ({} thread{}): {} bodies, {:.0} contacts, {:.3} ms/step",
@@ -349,6 +388,54 @@ pub fn log_slope(x: &[f64], y: &[f64]) -> Option<f64> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
+/// One cell of the table of runs, formatted for the CSV (full precision) or for Markdown.
+enum Cell {
+    Text(String),
+    /// A number shown with this many decimals in Markdown.
+    Fixed(f64, usize),
+    /// A number shown in scientific notation in Markdown.
+    Sci(f64),
+}
+
+impl Cell {
+    fn csv(&self) -> String {
+        match self {
+            Cell::Text(t) => t.clone(),
+            Cell::Fixed(v, _) | Cell::Sci(v) => format!("{v:e}"),
+        }
+    }
+
+    fn markdown(&self) -> String {
+        match self {
+            Cell::Text(t) => t.clone(),
+            Cell::Fixed(v, d) => format!("{v:.d$}"),
+            Cell::Sci(v) => format!("{v:.1e}"),
+        }
+    }
+}
+
+/// The table's columns: CSV name, Markdown heading, and the cell of a run.
+type Column = (&'static str, &'static str, fn(&RunResult) -> Cell);
+
+const COLUMNS: &[Column] = &[
+    ("scene", "scene", |r| Cell::Text(r.scene.clone())),
+    ("size", "size", |r| Cell::Text(r.size.clone())),
+    ("threads", "threads", |r| Cell::Text(r.threads.to_string())),
+    ("bodies", "bodies", |r| Cell::Text(r.bodies.to_string())),
+    ("contacts", "contacts", |r| Cell::Fixed(r.contacts, 0)),
+    ("ms_per_step", "ms/step", |r| Cell::Fixed(r.ms_per_step, 3)),
+    ("ms_detection", "detection", |r| Cell::Fixed(r.ms_detection, 3)),
+    ("ms_assembly", "assembly", |r| Cell::Fixed(r.ms_assembly, 3)),
+    ("ms_solution", "solution", |r| Cell::Fixed(r.ms_solution, 3)),
+    ("iterations", "iterations", |r| Cell::Fixed(r.iterations, 1)),
+    ("residual", "residual", |r| Cell::Sci(r.residual)),
+    ("force_balance_rel", "force balance", |r| Cell::Sci(r.force_balance_rel)),
+    ("max_penetration", "penetration [m]", |r| Cell::Sci(r.max_penetration)),
+    ("kinetic_energy", "kinetic energy [J]", |r| Cell::Sci(r.kinetic_energy)),
+    ("height", "height [m]", |r| Cell::Sci(r.height)),
+    ("max_displacement", "max displacement [m]", |r| Cell::Sci(r.max_displacement)),
+];
+
 /// What [`write()`] produced.
 pub struct Written {
     /// Files written (names relative to the output folder).
@@ -385,51 +472,20 @@ pub fn write(
         .with_context(|| format!("writing {}", path.display()))?;
     files.push("scale.json".to_owned());
 
-    let mut csv = String::from(
-        "scene,size,threads,bodies,contacts,ms_per_step,ms_detection,ms_assembly,ms_solution,\
-         iterations,residual,force_balance_rel,max_penetration,kinetic_energy,height,max_displacement\n",
-    );
-    let mut md = String::from(
-        "| scene | size | threads | bodies | contacts | ms/step | detection | assembly | solution | \
-         iterations | residual | force balance | penetration [m] | max displacement [m] |\n\
-         |---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    let mut csv = COLUMNS.iter().map(|c| c.0).collect::<Vec<_>>().join(",");
+    csv.push('\n');
+    let mut md = format!(
+        "| {} |\n|---|---|{}\n",
+        COLUMNS.iter().map(|c| c.1).collect::<Vec<_>>().join(" | "),
+        "---:|".repeat(COLUMNS.len() - 2)
     );
     for r in &ok {
-        csv.push_str(&format!(
-            "{},{},{},{},{:.1},{:.4},{:.4},{:.4},{:.4},{:.1},{:e},{:e},{:e},{:e},{:e},{:e}\n",
-            r.scene,
-            r.size,
-            r.threads,
-            r.bodies,
-            r.contacts,
-            r.ms_per_step,
-            r.ms_detection,
-            r.ms_assembly,
-            r.ms_solution,
-            r.iterations,
-            r.residual,
-            r.force_balance_rel,
-            r.max_penetration,
-            r.kinetic_energy,
-            r.height,
-            r.max_displacement
-        ));
+        let cells: Vec<Cell> = COLUMNS.iter().map(|c| (c.2)(r)).collect();
+        csv.push_str(&cells.iter().map(Cell::csv).collect::<Vec<_>>().join(","));
+        csv.push('\n');
         md.push_str(&format!(
-            "| {} | {} | {} | {} | {:.0} | {:.3} | {:.3} | {:.3} | {:.3} | {:.1} | {:.1e} | {:.1e} | {:.1e} | {:.1e} |\n",
-            r.scene,
-            r.size,
-            r.threads,
-            r.bodies,
-            r.contacts,
-            r.ms_per_step,
-            r.ms_detection,
-            r.ms_assembly,
-            r.ms_solution,
-            r.iterations,
-            r.residual,
-            r.force_balance_rel,
-            r.max_penetration,
-            r.max_displacement
+            "| {} |\n",
+            cells.iter().map(Cell::markdown).collect::<Vec<_>>().join(" | ")
         ));
     }
     for (r, s) in results.iter().zip(specs) {

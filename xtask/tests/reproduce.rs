@@ -73,6 +73,11 @@ fn check_outputs(dir: &Path) -> Result<()> {
         "figS2_error_vs_dt.png",
         "tradeoff.csv",
         "tradeoff.md",
+        "fig_scale.svg",
+        "fig_scale.png",
+        "fig_scale.csv",
+        "scale.csv",
+        "scale.json",
     ] {
         ensure!(dir.join(f).exists(), "missing {f}");
     }
@@ -123,6 +128,22 @@ fn check_outputs(dir: &Path) -> Result<()> {
 
     // Key numbers against the closed forms.
     let s: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json"))?)?;
+    // The scaling study: one entry per run with the documented fields; the resting column
+    // carries its weight.
+    let runs = s["scale"].as_array().context("summary.json has no scale array")?;
+    ensure!(runs.len() >= 3, "{} scaling runs", runs.len());
+    for run in runs {
+        for key in
+            ["bodies", "contacts", "ms_per_step", "iterations", "residual", "max_penetration"]
+        {
+            ensure!(number(run, key)? >= 0.0, "scale entry {run} has a negative {key}");
+        }
+        ensure!(run["scene"].is_string() && run.get("force_balance_rel").is_some(), "{run}");
+    }
+    let column = runs.iter().find(|r| r["scene"] == "disk-column").context("no disk column")?;
+    let balance = number(column, "force_balance_rel")?;
+    ensure!(balance < 1e-8, "the resting column's reactions against its weight: {balance:e}");
+    ensure!(report.contains("## Scaling"), "report.md lacks the scaling section");
     let ball = &s["key_numbers"]["ball"];
     let dt = number(ball, "dt")?;
     let t1 = number(ball, "key_numbers.first_impact.t")?;

@@ -10,6 +10,7 @@
 mod ball;
 mod cam;
 mod laws;
+mod scale;
 mod slider;
 mod tradeoff;
 mod woodpecker;
@@ -122,6 +123,7 @@ pub fn registry() -> Vec<Entry> {
     entries.extend(slider::entries());
     entries.extend(cam::entries());
     entries.extend(tradeoff::entries());
+    entries.extend(scale::entries());
     entries
 }
 
@@ -225,11 +227,16 @@ fn reproduce(options: &Options, start: Instant) -> Result<Summary> {
         "slider_crank_ideal": model_keys(&[slider::IDEAL]),
         "cam": model_keys(&[cam::MAIN]),
     });
+    let scale_runs = figures
+        .iter()
+        .find(|f| f.stem == crate::scale::STEM)
+        .map_or(Value::Null, |f| f.key_numbers.clone());
     let total_seconds = start.elapsed().as_secs_f64();
     let summary = json!({
         "generator": "cargo xtask reproduce",
         "quick": options.quick,
         "key_numbers": key_numbers,
+        "scale": scale_runs,
         "figures": figures.iter().map(|f| json!({
             "id": f.id, "stem": f.stem, "caption": f.caption, "files": f.files,
             "runs": f.runs, "key_numbers": f.key_numbers,
