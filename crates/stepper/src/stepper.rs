@@ -587,6 +587,20 @@ impl<M: Mechanism, O: Observer<M>> ConcreteOp for RunSteps<'_, M, O> {
     }
 }
 
+/// The state of a contact after a step: open without a normal impulse, sticking when its
+/// tangential velocity γ_T is zero up to round-off relative to `scale` (the sum of the
+/// |w_T,i u_i| that γ_T is made of), slipping otherwise.
+#[inline(always)]
+fn contact_state(p_n: f64, gamma_t: f64, scale: f64) -> ContactState {
+    if p_n <= 0.0 {
+        ContactState::Open
+    } else if gamma_t.abs() <= 1e-9 * (1.0 + scale) {
+        ContactState::Stick
+    } else {
+        ContactState::Slip
+    }
+}
+
 /// Internal failure of a contact step, turned into a [`StepError`] with context.
 enum LcpFailure {
     NonFinite { what: &'static str, index: usize },

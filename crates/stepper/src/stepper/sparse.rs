@@ -369,13 +369,7 @@ impl Core {
                     scale += (0..3).map(|i| (c.w_t[side][i] * u[i]).abs()).sum::<f64>();
                 }
             }
-            let state = if p_n <= 0.0 {
-                ContactState::Open
-            } else if gamma_t.abs() <= 1e-9 * (1.0 + scale) {
-                ContactState::Stick
-            } else {
-                ContactState::Slip
-            };
+            let state = contact_state(p_n, gamma_t, scale);
             b.reports.push(ContactReport {
                 active: true,
                 p_n,

@@ -210,13 +210,7 @@ impl Core {
             // P_T = P_R − μ P_N (section 5); P_R is zero for a contact without friction rows.
             let p_t = p_r - mu * p_n;
             let scale: f64 = w_t.iter().zip(u).map(|(w, u)| (w * u).abs()).sum();
-            let state = if p_n <= 0.0 {
-                ContactState::Open
-            } else if gamma_t.abs() <= 1e-9 * (1.0 + scale) {
-                ContactState::Stick
-            } else {
-                ContactState::Slip
-            };
+            let state = contact_state(p_n, gamma_t, scale);
             self.contacts[i] = ContactReport {
                 active: true,
                 p_n,
