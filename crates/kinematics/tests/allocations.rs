@@ -1,36 +1,11 @@
 //! Once warm, the narrow phase and the broad phase allocate nothing: counted with a global
-//! allocator that tallies every allocation of this test binary.
-#![allow(unsafe_code)] // A counting global allocator needs `unsafe impl GlobalAlloc`.
-
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+//! allocator that tallies every allocation of the test's thread.
 
 use moreau_kinematics::{Aabb, BroadPhase, Pose, Shape, SplitMix64, collide};
-
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: every call is forwarded unchanged to the system allocator; the counter only
-// observes.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        // SAFETY: the caller's layout is passed on as it came.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` came from `System.alloc` with this layout.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
+use moreau_testsupport::{CountingAllocator, allocations_in};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations() -> usize {
-    ALLOCATIONS.load(Ordering::Relaxed)
-}
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn warm_detection_allocates_nothing() {
@@ -68,29 +43,30 @@ fn warm_detection_allocates_nothing() {
     broad.pairs(&boxes, 0.001, &mut found);
     broad.pairs(&boxes, 0.001, &mut found);
     found.reserve(found.len());
-    let before = allocations();
     let mut points = 0;
-    for step in 0..100 {
-        let y = 0.05 + 0.001 * step as f64;
-        for (a, b) in pairs {
-            out.clear();
-            collide(
-                a,
-                &Pose::new(0.02, y, 0.01 * step as f64),
-                b,
-                &Pose::new(0.0, 0.0, 0.0),
-                0.2,
-                &mut out,
-            )
-            .unwrap();
-            points += out.len();
+    let count = allocations_in(|| {
+        for step in 0..100 {
+            let y = 0.05 + 0.001 * step as f64;
+            for (a, b) in pairs {
+                out.clear();
+                collide(
+                    a,
+                    &Pose::new(0.02, y, 0.01 * step as f64),
+                    b,
+                    &Pose::new(0.0, 0.0, 0.0),
+                    0.2,
+                    &mut out,
+                )
+                .unwrap();
+                points += out.len();
+            }
+            for b in &mut boxes[..5] {
+                b.min[0] += 1e-4;
+                b.max[0] += 1e-4;
+            }
+            broad.pairs(&boxes, 0.001, &mut found);
         }
-        for b in &mut boxes[..5] {
-            b.min[0] += 1e-4;
-            b.max[0] += 1e-4;
-        }
-        broad.pairs(&boxes, 0.001, &mut found);
-    }
-    assert_eq!(allocations() - before, 0);
+    });
+    assert_eq!(count, 0, "{count} allocations in 100 warm detections");
     assert!(points > 200 && !found.is_empty(), "{points} points, {} pairs", found.len());
 }

@@ -1,54 +1,13 @@
-//! Repeated solves of the same size do not allocate: a counting global allocator.
-#![allow(unsafe_code)]
+//! Repeated solves of the same size do not allocate, counted per thread by a global allocator.
 
 mod common;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use common::{Rng, friction, planted, random_spd};
 use moreau_lcp::{Auto, Lcp, Lemke, Pgs, Solution, Solver};
-
-struct Counting;
-
-thread_local! {
-    // Per thread, because the test harness runs other tests on other threads. A const
-    // initialiser without destructor: using it never allocates.
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-fn bump() {
-    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-}
-
-// SAFETY: every call is forwarded unchanged to the system allocator; the counter is a
-// thread-local cell that does not allocate.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        bump();
-        // SAFETY: same contract as the caller's.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: same contract as the caller's.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        bump();
-        // SAFETY: same contract as the caller's.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+use moreau_testsupport::{CountingAllocator, allocations_in};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-/// Allocations made by `f` on this thread.
-fn allocations(f: impl FnOnce()) -> usize {
-    let before = ALLOCATIONS.with(Cell::get);
-    f();
-    ALLOCATIONS.with(Cell::get) - before
-}
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 fn check(solver: &mut dyn Solver, problems: &[Lcp], warm: bool) {
     let mut out = Solution::new();
@@ -57,7 +16,7 @@ fn check(solver: &mut dyn Solver, problems: &[Lcp], warm: bool) {
     // Warm-up: the first solve sizes the workspace and the solution.
     solver.solve_into(problems[0].view(), ws, &mut out).unwrap();
     assert!(out.is_solved());
-    let count = allocations(|| {
+    let count = allocations_in(|| {
         for p in problems {
             solver.solve_into(p.view(), ws, &mut out).unwrap();
             assert!(out.is_solved());
@@ -101,36 +60,15 @@ fn larger_lemke_solves_do_not_allocate() {
 
 #[test]
 fn nsgs_with_the_same_sparsity_does_not_allocate() {
-    use moreau_lcp::fc2d::{Fc2d, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions};
-    // A chain of 30 contacts: blocks (i, i - 1), (i, i), (i, i + 1), diagonally dominant,
-    // with q and μ changing from problem to problem.
-    let mut rng = Rng::new(34);
-    let n_c = 30;
-    let w = faer::Mat::from_fn(2 * n_c, 2 * n_c, |i, j| {
-        let (ci, cj) = (i / 2, j / 2);
-        if i == j {
-            4.0
-        } else if ci.abs_diff(cj) == 1 && i % 2 == j % 2 {
-            0.5
-        } else if ci == cj {
-            0.3
-        } else {
-            0.0
-        }
-    });
-    let problems: Vec<Fc2d> = (0..10)
-        .map(|_| {
-            let q: Vec<f64> = (0..2 * n_c).map(|_| rng.uniform(-1.0, 1.0)).collect();
-            let mu: Vec<f64> = (0..n_c).map(|_| rng.uniform(0.0, 0.8)).collect();
-            Fc2d::from_dense(w.as_ref(), &q, &mu).unwrap()
-        })
-        .collect();
+    use moreau_lcp::fc2d::{Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions};
+    let (w, problems) = fc2d_chains(34);
+    let n_c = problems[0].n_contacts();
     let mut solver = Nsgs::new(NsgsOptions { tolerance: 1e-10, ..Default::default() }).unwrap();
     let mut out = Fc2dSolution::new();
     let warm = vec![0.1; 2 * n_c];
     solver.solve_into(problems[0].view(), None, &mut out).unwrap();
     assert!(out.is_solved());
-    let count = allocations(|| {
+    let count = allocations_in(|| {
         for p in &problems {
             solver.solve_into(p.view(), None, &mut out).unwrap();
             assert!(out.is_solved());
@@ -143,7 +81,7 @@ fn nsgs_with_the_same_sparsity_does_not_allocate() {
     let mut problem = problems[0].clone();
     let q = problems[1].q().to_vec();
     let mu = problems[1].mu().to_vec();
-    let count = allocations(|| {
+    let count = allocations_in(|| {
         problem.set_dense(w.as_ref(), &q, &mu).unwrap();
         solver.solve_into(problem.view(), None, &mut out).unwrap();
     });
@@ -151,8 +89,9 @@ fn nsgs_with_the_same_sparsity_does_not_allocate() {
     assert_eq!(problem, problems[1]);
 }
 
-/// Ten chains of 30 contacts with the same blocks of W and different q and μ.
-fn fc2d_chains(seed: u64) -> Vec<moreau_lcp::fc2d::Fc2d> {
+/// Ten chains of 30 contacts with the same W and different q and μ, and that W: blocks
+/// (i, i - 1), (i, i), (i, i + 1), diagonally dominant.
+fn fc2d_chains(seed: u64) -> (faer::Mat<f64>, Vec<moreau_lcp::fc2d::Fc2d>) {
     let mut rng = Rng::new(seed);
     let n_c = 30;
     let w = faer::Mat::from_fn(2 * n_c, 2 * n_c, |i, j| {
@@ -167,19 +106,20 @@ fn fc2d_chains(seed: u64) -> Vec<moreau_lcp::fc2d::Fc2d> {
             0.0
         }
     });
-    (0..10)
+    let problems = (0..10)
         .map(|_| {
             let q: Vec<f64> = (0..2 * n_c).map(|_| rng.uniform(-1.0, 1.0)).collect();
             let mu: Vec<f64> = (0..n_c).map(|_| rng.uniform(0.0, 0.8)).collect();
             moreau_lcp::fc2d::Fc2d::from_dense(w.as_ref(), &q, &mu).unwrap()
         })
-        .collect()
+        .collect();
+    (w, problems)
 }
 
 #[test]
 fn newton_and_auto_with_the_same_sparsity_do_not_allocate() {
     use moreau_lcp::fc2d::{Fc2dAuto, Fc2dSolution, Fc2dSolver, Newton, NewtonOptions};
-    let problems = fc2d_chains(35);
+    let (_, problems) = fc2d_chains(35);
     let mut out = Fc2dSolution::new();
     let mut newton = Newton::new(NewtonOptions { tolerance: 1e-10, ..Default::default() }).unwrap();
     // Warm-up: the pattern of J, its symbolic LU and faer's numeric LU storage are sized.
@@ -187,7 +127,7 @@ fn newton_and_auto_with_the_same_sparsity_do_not_allocate() {
         newton.solve_into(p.view(), None, &mut out).unwrap();
         assert!(out.is_solved());
     }
-    let count = allocations(|| {
+    let count = allocations_in(|| {
         for p in &problems {
             newton.solve_into(p.view(), None, &mut out).unwrap();
             assert!(out.is_solved());
@@ -196,20 +136,11 @@ fn newton_and_auto_with_the_same_sparsity_do_not_allocate() {
     assert_eq!(count, 0, "{count} allocations in {} Newton solves", problems.len());
     let mut auto = Fc2dAuto::default();
     auto.solve_into(problems[0].view(), None, &mut out).unwrap();
-    let count = allocations(|| {
+    let count = allocations_in(|| {
         for p in &problems {
             auto.solve_into(p.view(), None, &mut out).unwrap();
             assert!(out.is_solved());
         }
     });
     assert_eq!(count, 0, "{count} allocations in {} Auto solves", problems.len());
-}
-
-#[test]
-fn the_counter_sees_allocations() {
-    let count = allocations(|| {
-        let v: Vec<u64> = std::hint::black_box(vec![1, 2, 3]);
-        assert_eq!(v.len(), 3);
-    });
-    assert!(count >= 1);
 }

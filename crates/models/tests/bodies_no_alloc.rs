@@ -1,37 +1,13 @@
 //! A declared scene steps without touching the heap once warm, its contacts changing or not.
-#![allow(unsafe_code)] // A counting global allocator needs `unsafe impl GlobalAlloc`.
-
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 
 use moreau_kinematics::Shape;
 use moreau_models::LawParams;
 use moreau_models::bodies::{AutoContacts, BodySpec, ContactSet, JointSpec, MultibodyBuilder};
 use moreau_stepper::{Mechanism, Stepper, StepperOptions};
-
-struct Counting;
-
-thread_local! {
-    /// Allocations made by this thread (the harness allocates on its own threads).
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+use moreau_testsupport::{CountingAllocator, allocations_in};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn a_declared_scene_steps_without_allocating() {
@@ -59,13 +35,13 @@ fn a_declared_scene_steps_without_allocating() {
     while stepper.t() < 3.0 {
         stepper.step().unwrap();
     }
-    let before = ALLOCATIONS.with(Cell::get);
     let mut closed = 0;
-    while stepper.t() < 6.0 {
-        let report = stepper.step().unwrap();
-        closed += report.contacts.iter().filter(|c| c.active).count();
-    }
-    let n = ALLOCATIONS.with(Cell::get) - before;
+    let n = allocations_in(|| {
+        while stepper.t() < 6.0 {
+            let report = stepper.step().unwrap();
+            closed += report.contacts.iter().filter(|c| c.active).count();
+        }
+    });
     assert!(closed > 0, "no contact closed");
     assert_eq!(n, 0, "{n} allocations in 3000 steps");
 }
@@ -108,14 +84,15 @@ fn detection_allocates_nothing_once_warm() {
         structure.detect(&q, 0.0, 0.01, &mut out);
     }
     out.reserve(out.len());
-    let before = ALLOCATIONS.with(Cell::get);
     let mut found = 0;
-    for step in 0..50 {
-        wiggle(&mut q, step);
-        out.clear();
-        structure.detect(&q, 0.0, 0.01, &mut out);
-        found += out.len();
-    }
-    assert_eq!(ALLOCATIONS.with(Cell::get), before);
+    let n = allocations_in(|| {
+        for step in 0..50 {
+            wiggle(&mut q, step);
+            out.clear();
+            structure.detect(&q, 0.0, 0.01, &mut out);
+            found += out.len();
+        }
+    });
+    assert_eq!(n, 0, "{n} allocations in 50 detections");
     assert!(found > 50 * 700, "{found}");
 }

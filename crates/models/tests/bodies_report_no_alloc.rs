@@ -1,35 +1,11 @@
 //! Once warm, the declared woodpecker and slider-crank (`scenes/bodies/`) step without touching
 //! the heap, counted per thread.
-#![allow(unsafe_code)] // A counting global allocator needs `unsafe impl GlobalAlloc`.
-
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 
 use moreau_models::Scene;
-
-struct Counting;
-
-thread_local! {
-    /// Allocations made by this thread (the harness allocates on its own threads).
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+use moreau_testsupport::{CountingAllocator, allocations_in};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 /// Steps the scene for `warm` seconds, then counts the allocations and the closed contacts of
 /// the steps up to `until`.
@@ -39,13 +15,14 @@ fn allocations(text: &str, warm: f64, until: f64) -> (usize, usize) {
     while stepper.t() < warm {
         stepper.step().unwrap();
     }
-    let before = ALLOCATIONS.with(Cell::get);
     let mut closed = 0;
-    while stepper.t() < until {
-        let report = stepper.step().unwrap();
-        closed += report.contacts.iter().filter(|c| c.active).count();
-    }
-    (ALLOCATIONS.with(Cell::get) - before, closed)
+    let n = allocations_in(|| {
+        while stepper.t() < until {
+            let report = stepper.step().unwrap();
+            closed += report.contacts.iter().filter(|c| c.active).count();
+        }
+    });
+    (n, closed)
 }
 
 #[test]

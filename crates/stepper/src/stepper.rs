@@ -553,20 +553,64 @@ struct RunSteps<'a, M, O> {
     observer: &'a mut O,
 }
 
+impl<M: Mechanism, O: Observer<M>> RunSteps<'_, M, O> {
+    /// The one loop of [`Stepper::run_until`]: `n` calls of `advance`, each followed by the
+    /// observer with the step's `report`. Each path passes its own step and report, so that
+    /// the loop is compiled once per path with both inlined (on the path of fixed contacts,
+    /// for a fixed number of coordinates).
+    fn steps(
+        self,
+        mut advance: impl FnMut(&mut Core) -> Result<(), StepError>,
+        report: impl Fn(&Core) -> StepReport<'_>,
+    ) -> Result<RunSummary, StepError> {
+        let RunSteps { core, outer, n, t_end, observer } = self;
+        let solves_before = core.ws.lcp_solves;
+        let mut steps = 0;
+        let mut stopped = false;
+        for _ in 0..n {
+            advance(core)?;
+            steps += 1;
+            if observer.observe(outer, &report(core)).is_break() {
+                stopped = true;
+                break;
+            }
+        }
+        Ok(RunSummary {
+            steps,
+            lcp_solves: core.ws.lcp_solves - solves_before,
+            t_end: core.t,
+            stopped_early: stopped && core.t < t_end,
+        })
+    }
+}
+
 impl<M: Mechanism, O: Observer<M>> ConcreteOp for RunSteps<'_, M, O> {
     type Output = Result<RunSummary, StepError>;
     fn run<K: Mechanism>(self, mech: &K) -> Self::Output {
-        let RunSteps { core, outer, n, t_end, observer } = self;
-        if core.body.is_some() {
-            return core.run_steps_bodies::<K, M, O>(mech, outer, n, t_end, observer);
+        if self.core.body.is_some() {
+            return self.steps(|core| core.advance_bodies(mech), Core::report);
         }
-        match core.q.len() {
-            1 => core.run_steps::<K, M, 1, O>(mech, outer, n, t_end, observer),
-            2 => core.run_steps::<K, M, 2, O>(mech, outer, n, t_end, observer),
-            3 => core.run_steps::<K, M, 3, O>(mech, outer, n, t_end, observer),
-            4 => core.run_steps::<K, M, 4, O>(mech, outer, n, t_end, observer),
-            _ => core.run_steps::<K, M, 0, O>(mech, outer, n, t_end, observer),
+        match self.core.q.len() {
+            1 => self.steps(|core| core.advance_n::<K, 1>(mech), Core::dense_report),
+            2 => self.steps(|core| core.advance_n::<K, 2>(mech), Core::dense_report),
+            3 => self.steps(|core| core.advance_n::<K, 3>(mech), Core::dense_report),
+            4 => self.steps(|core| core.advance_n::<K, 4>(mech), Core::dense_report),
+            _ => self.steps(|core| core.advance_n::<K, 0>(mech), Core::dense_report),
         }
+    }
+}
+
+/// The state of a contact after a step: open without a normal impulse, sticking when its
+/// tangential velocity γ_T is zero up to round-off relative to `scale` (the sum of the
+/// |w_T,i u_i| that γ_T is made of), slipping otherwise.
+#[inline(always)]
+fn contact_state(p_n: f64, gamma_t: f64, scale: f64) -> ContactState {
+    if p_n <= 0.0 {
+        ContactState::Open
+    } else if gamma_t.abs() <= 1e-9 * (1.0 + scale) {
+        ContactState::Stick
+    } else {
+        ContactState::Slip
     }
 }
 

@@ -1,56 +1,19 @@
 //! The step loop does not touch the heap once the stepper is built and warmed up.
-#![allow(unsafe_code)] // A counting global allocator needs `unsafe impl GlobalAlloc`.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::ops::ControlFlow;
 
 use moreau_stepper::{SolverChoice, StepReport, Stepper, StepperOptions};
-use moreau_testsupport::{Ball, Rod};
-
-struct Counting;
-
-thread_local! {
-    /// Allocations made by this thread. The count is per thread because the test harness
-    /// allocates on its own threads (for example to report a test that runs long on a loaded
-    /// machine), which says nothing about the step loop.
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-fn record_allocation() {
-    // `try_with` because the allocator is also called while thread-locals are torn down.
-    let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        record_allocation();
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        record_allocation();
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+use moreau_testsupport::{Ball, CountingAllocator, Rod, allocations_in};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn count<F: FnOnce()>(f: F) -> usize {
-    let before = ALLOCATIONS.with(Cell::get);
-    f();
-    ALLOCATIONS.with(Cell::get) - before
-}
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn stepping_does_not_allocate() {
     let mut ball =
         Stepper::new(Ball::new(0.9), &[1.0], &[0.0], 0.0, StepperOptions::new(1e-3)).unwrap();
     ball.run_until(0.5, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).unwrap();
-    let n = count(|| {
+    let n = allocations_in(|| {
         ball.run_until(10.0, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).unwrap();
     });
     assert_eq!(n, 0, "ball: {n} allocations in 9500 steps");
@@ -66,7 +29,7 @@ fn stepping_does_not_allocate() {
         // comes to rest. The same run again must not allocate.
         rod.run_until(3.0, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).unwrap();
         rod.set_state(0.0, &q0, &u0).unwrap();
-        let n = count(|| {
+        let n = allocations_in(|| {
             rod.run_until(3.0, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).unwrap();
         });
         assert_eq!(n, 0, "rod with {solver:?}: {n} allocations");
@@ -87,7 +50,7 @@ fn stepping_a_body_structure_whose_contacts_do_not_change_does_not_allocate() {
         let mut s = Stepper::new(disks_clone(&disks), &q0, &u0, 0.0, opts).unwrap();
         let mut contacts = 0;
         s.run_until(0.2, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).unwrap();
-        let n = count(|| {
+        let n = allocations_in(|| {
             s.run_until(1.0, &mut |r: &StepReport<'_>| {
                 contacts = r.contacts.len();
                 ControlFlow::Continue(())

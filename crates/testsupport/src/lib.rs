@@ -12,7 +12,9 @@
 //!   solutions ([`planted`]) and Murty's exponential problem ([`murty`]);
 //! - reading a [`Record`](moreau_stepper::Record): impact onsets, level crossings,
 //!   interpolated velocities, finiteness, energy gain, deepest penetration, and the path of
-//!   a shipped scene file.
+//!   a shipped scene file;
+//! - [`CountingAllocator`] and [`allocations_in`]: the per-thread allocation count of the
+//!   tests that assert a warm hot path does not touch the heap.
 //!
 //! **For**: the integration tests, doc tests and benches of this workspace (it is a
 //! dev-dependency only and is not published). **Not for**: users' simulations, whose
@@ -39,12 +41,14 @@
 //! ```
 #![deny(missing_docs)]
 
+mod allocations;
 mod disks;
 mod mechanisms;
 mod pairs;
 mod problems;
 mod record;
 
+pub use allocations::{CountingAllocator, allocations_in};
 pub use disks::{Disks, Feature};
 pub use mechanisms::{Ball, Block, Chain, G, Rod};
 pub use moreau_kinematics::SplitMix64;

@@ -222,72 +222,52 @@ fn joint(
     if !bodies[a].is_dynamic() && !bodies[b].is_dynamic() {
         return Err(bad(field("body_b"), nb, "a joint needs at least one dynamic body".to_owned()));
     }
-    let reference = |angle: &Option<f64>| -> Result<f64, ModelError> {
+    let reference = |angle: Option<f64>| -> Result<f64, ModelError> {
         match angle {
-            Some(v) => finite(&field("angle"), *v).map(|()| *v),
+            Some(v) => finite(&field("angle"), v).map(|()| v),
             None => Ok(relative_angle(bodies, a, b)),
         }
     };
-    let anchors = |ra: [f64; 2], rb: [f64; 2]| -> Result<(), ModelError> {
+    // The anchors of every kind are checked alike, before what is particular to the kind.
+    if let Some((ra, rb)) = spec.anchors() {
         finite2(&field("anchor_a"), ra)?;
-        finite2(&field("anchor_b"), rb)
-    };
-    let mut contact_law = None;
-    let kind = match spec {
+        finite2(&field("anchor_b"), rb)?;
+    }
+    let kind = match *spec {
         JointSpec::Revolute { anchor_a, anchor_b, .. } => {
-            anchors(*anchor_a, *anchor_b)?;
-            JointKind::Revolute { ra: *anchor_a, rb: *anchor_b }
+            JointKind::Revolute { ra: anchor_a, rb: anchor_b }
         }
         JointSpec::Prismatic { anchor_a, anchor_b, axis, angle, .. } => {
-            anchors(*anchor_a, *anchor_b)?;
-            let d = unit(&field("axis"), *axis)?;
+            let d = unit(&field("axis"), axis)?;
             JointKind::Prismatic {
-                ra: *anchor_a,
-                rb: *anchor_b,
+                ra: anchor_a,
+                rb: anchor_b,
                 normal_a: [-d[1], d[0]],
                 angle: reference(angle)?,
             }
         }
         JointSpec::Weld { anchor_a, anchor_b, angle, .. } => {
-            anchors(*anchor_a, *anchor_b)?;
-            JointKind::Weld { ra: *anchor_a, rb: *anchor_b, angle: reference(angle)? }
+            JointKind::Weld { ra: anchor_a, rb: anchor_b, angle: reference(angle)? }
         }
         JointSpec::PointOnLine { anchor_a, anchor_b, axis, .. } => {
-            anchors(*anchor_a, *anchor_b)?;
-            let d = unit(&field("axis"), *axis)?;
-            JointKind::PointOnLine { ra: *anchor_a, rb: *anchor_b, normal_b: [-d[1], d[0]] }
+            let d = unit(&field("axis"), axis)?;
+            JointKind::PointOnLine { ra: anchor_a, rb: anchor_b, normal_b: [-d[1], d[0]] }
         }
         JointSpec::Motor { omega, angle, .. } => {
-            finite(&field("omega"), *omega)?;
-            JointKind::Motor { omega: *omega, angle: reference(angle)? }
+            finite(&field("omega"), omega)?;
+            JointKind::Motor { omega, angle: reference(angle)? }
         }
-        JointSpec::RevoluteClearance {
-            anchor_a,
-            anchor_b,
-            pin_radius,
-            bearing_radius,
-            eps_n,
-            eps_t,
-            mu,
-            ..
-        } => {
-            anchors(*anchor_a, *anchor_b)?;
-            non_negative(&field("pin_radius"), *pin_radius)?;
-            non_negative(&field("bearing_radius"), *bearing_radius)?;
+        JointSpec::RevoluteClearance { anchor_a, anchor_b, pin_radius, bearing_radius, .. } => {
+            non_negative(&field("pin_radius"), pin_radius)?;
+            non_negative(&field("bearing_radius"), bearing_radius)?;
             if bearing_radius < pin_radius {
                 return Err(relation(
                     &field("bearing_radius"),
-                    *bearing_radius,
+                    bearing_radius,
                     "must be at least pin_radius",
                 ));
             }
-            contact_law = Some(law(&path, *eps_n, *eps_t, *mu)?);
-            JointKind::RevoluteClearance {
-                ra: *anchor_a,
-                rb: *anchor_b,
-                pin_radius: *pin_radius,
-                bearing_radius: *bearing_radius,
-            }
+            JointKind::RevoluteClearance { ra: anchor_a, rb: anchor_b, pin_radius, bearing_radius }
         }
         JointSpec::TranslationalClearance {
             anchor_a,
@@ -297,34 +277,27 @@ fn joint(
             anchor_b,
             axis_b,
             guide_width,
-            eps_n,
-            eps_t,
-            mu,
             ..
         } => {
-            anchors(*anchor_a, *anchor_b)?;
-            positive(&field("length"), *length)?;
-            positive(&field("width"), *width)?;
-            positive(&field("guide_width"), *guide_width)?;
+            positive(&field("length"), length)?;
+            positive(&field("width"), width)?;
+            positive(&field("guide_width"), guide_width)?;
             if guide_width < width {
-                return Err(relation(
-                    &field("guide_width"),
-                    *guide_width,
-                    "must be at least width",
-                ));
+                return Err(relation(&field("guide_width"), guide_width, "must be at least width"));
             }
-            contact_law = Some(law(&path, *eps_n, *eps_t, *mu)?);
             JointKind::TranslationalClearance {
-                ra: *anchor_a,
-                axis_a: unit(&field("axis_a"), *axis_a)?,
+                ra: anchor_a,
+                axis_a: unit(&field("axis_a"), axis_a)?,
                 half_length: 0.5 * length,
                 half_width: 0.5 * width,
-                rb: *anchor_b,
-                axis_b: unit(&field("axis_b"), *axis_b)?,
+                rb: anchor_b,
+                axis_b: unit(&field("axis_b"), axis_b)?,
                 half_guide: 0.5 * guide_width,
             }
         }
     };
+    let contact_law =
+        spec.clearance_law().map(|(eps_n, eps_t, mu)| law(&path, eps_n, eps_t, mu)).transpose()?;
     Ok((Joint { name: name.to_owned(), a, b, kind }, contact_law))
 }
 

@@ -3,7 +3,7 @@
 
 use super::body::{Kind, add, perp, scale};
 use super::forces::Force;
-use super::joints::JointKind;
+use super::joints::{JointKind, block_corner};
 use super::multibody::Multibody;
 use crate::draw::{Drawing, Role};
 
@@ -65,16 +65,19 @@ impl Multibody {
                     axis_b,
                     half_guide,
                 } => {
-                    let corners =
-                        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(s, c)| {
-                            fa.point(add(
+                    // Counter-clockwise, for the polygon's outline.
+                    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(
+                        |(along, across)| {
+                            fa.point(block_corner(
                                 ra,
-                                add(
-                                    scale(axis_a, s * half_length),
-                                    scale(perp(axis_a), c * half_width),
-                                ),
+                                axis_a,
+                                half_length,
+                                half_width,
+                                along,
+                                across,
                             ))
-                        });
+                        },
+                    );
                     d.polygon(Role::Slider, corners.to_vec());
                     let (c, along, across) =
                         (fb.point(rb), fb.rotate(axis_b), fb.rotate(perp(axis_b)));

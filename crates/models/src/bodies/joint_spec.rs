@@ -173,6 +173,32 @@ impl JointSpec {
         }
     }
 
+    /// The anchors (a, b) of every joint but the motor, which has none.
+    pub(crate) fn anchors(&self) -> Option<([f64; 2], [f64; 2])> {
+        match *self {
+            JointSpec::Revolute { anchor_a, anchor_b, .. }
+            | JointSpec::Prismatic { anchor_a, anchor_b, .. }
+            | JointSpec::Weld { anchor_a, anchor_b, .. }
+            | JointSpec::PointOnLine { anchor_a, anchor_b, .. }
+            | JointSpec::RevoluteClearance { anchor_a, anchor_b, .. }
+            | JointSpec::TranslationalClearance { anchor_a, anchor_b, .. } => {
+                Some((anchor_a, anchor_b))
+            }
+            JointSpec::Motor { .. } => None,
+        }
+    }
+
+    /// The contact law's parameters (ε_N, ε_T, μ) of a clearance joint.
+    pub(crate) fn clearance_law(&self) -> Option<(f64, f64, f64)> {
+        match *self {
+            JointSpec::RevoluteClearance { eps_n, eps_t, mu, .. }
+            | JointSpec::TranslationalClearance { eps_n, eps_t, mu, .. } => {
+                Some((eps_n, eps_t, mu))
+            }
+            _ => None,
+        }
+    }
+
     /// The joint's type as written in a scene file (`revolute`, `point_on_line`, ...).
     pub fn type_name(&self) -> &'static str {
         match self {

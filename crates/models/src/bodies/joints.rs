@@ -107,6 +107,20 @@ impl SlotGeometry {
 /// rear, upper front, lower rear, lower front.
 const CORNERS: [(f64, f64); 4] = [(-1.0, 1.0), (1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)];
 
+/// A corner of a translational clearance joint's block in body a's frame: `ra` the block's
+/// centre, `axis_a` its unit long axis, and `along`, `across` the corner's signs (±1) along
+/// and across that axis.
+pub(crate) fn block_corner(
+    ra: [f64; 2],
+    axis_a: [f64; 2],
+    half_length: f64,
+    half_width: f64,
+    along: f64,
+    across: f64,
+) -> [f64; 2] {
+    add(ra, add(scale(axis_a, along * half_length), scale(perp(axis_a), across * half_width)))
+}
+
 /// g = n_L · (P_P − P_L) for a direction n_L that turns with body L (an axis' normal), the
 /// line point P_L on body L and the point P_P on body P.
 #[allow(clippy::too_many_arguments)]
@@ -226,14 +240,8 @@ impl JointKind {
                 half_guide,
             } => {
                 let (along, across) = CORNERS[k];
-                let local = add(
-                    ra,
-                    add(
-                        scale(axis_a, along * half_length),
-                        scale(perp(axis_a), across * half_width),
-                    ),
-                );
-                let corner = fa.point(local);
+                let corner =
+                    fa.point(block_corner(ra, axis_a, half_length, half_width, along, across));
                 // The guide line on the corner's side, and the normal from the corner to it.
                 let n = scale(fb.rotate(perp(axis_b)), across);
                 let line = add(fb.point(rb), scale(n, half_guide));

@@ -369,13 +369,7 @@ impl Core {
                     scale += (0..3).map(|i| (c.w_t[side][i] * u[i]).abs()).sum::<f64>();
                 }
             }
-            let state = if p_n <= 0.0 {
-                ContactState::Open
-            } else if gamma_t.abs() <= 1e-9 * (1.0 + scale) {
-                ContactState::Stick
-            } else {
-                ContactState::Slip
-            };
+            let state = contact_state(p_n, gamma_t, scale);
             b.reports.push(ContactReport {
                 active: true,
                 p_n,
@@ -466,33 +460,5 @@ impl Core {
                 problem,
             },
         }
-    }
-
-    /// The loop of [`Stepper::run_until`] on the many-body path.
-    pub(super) fn run_steps_bodies<K: Mechanism, M: Mechanism, O: Observer<M>>(
-        &mut self,
-        mech: &K,
-        outer: &M,
-        n: u64,
-        t_end: f64,
-        observer: &mut O,
-    ) -> Result<RunSummary, StepError> {
-        let solves_before = self.ws.lcp_solves;
-        let mut steps = 0;
-        let mut stopped = false;
-        for _ in 0..n {
-            self.advance_bodies(mech)?;
-            steps += 1;
-            if observer.observe(outer, &self.report()).is_break() {
-                stopped = true;
-                break;
-            }
-        }
-        Ok(RunSummary {
-            steps,
-            lcp_solves: self.ws.lcp_solves - solves_before,
-            t_end: self.t,
-            stopped_early: stopped && self.t < t_end,
-        })
     }
 }

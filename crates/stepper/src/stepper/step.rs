@@ -210,13 +210,7 @@ impl Core {
             // P_T = P_R − μ P_N (section 5); P_R is zero for a contact without friction rows.
             let p_t = p_r - mu * p_n;
             let scale: f64 = w_t.iter().zip(u).map(|(w, u)| (w * u).abs()).sum();
-            let state = if p_n <= 0.0 {
-                ContactState::Open
-            } else if gamma_t.abs() <= 1e-9 * (1.0 + scale) {
-                ContactState::Stick
-            } else {
-                ContactState::Slip
-            };
+            let state = contact_state(p_n, gamma_t, scale);
             self.contacts[i] = ContactReport {
                 active: true,
                 p_n,
@@ -617,34 +611,5 @@ impl Core {
                 }
             }
         }
-    }
-
-    /// The loop of [`Stepper::run_until`]: `n` steps of [`Self::advance_n`] with `mech`, the
-    /// concrete mechanism behind `outer`, which the observer sees.
-    pub(super) fn run_steps<K: Mechanism, M: Mechanism, const N: usize, O: Observer<M>>(
-        &mut self,
-        mech: &K,
-        outer: &M,
-        n: u64,
-        t_end: f64,
-        observer: &mut O,
-    ) -> Result<RunSummary, StepError> {
-        let solves_before = self.ws.lcp_solves;
-        let mut steps = 0;
-        let mut stopped = false;
-        for _ in 0..n {
-            self.advance_n::<K, N>(mech)?;
-            steps += 1;
-            if observer.observe(outer, &self.dense_report()).is_break() {
-                stopped = true;
-                break;
-            }
-        }
-        Ok(RunSummary {
-            steps,
-            lcp_solves: self.ws.lcp_solves - solves_before,
-            t_end: self.t,
-            stopped_early: stopped && self.t < t_end,
-        })
     }
 }

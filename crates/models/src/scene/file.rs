@@ -1,0 +1,283 @@
+//! The two forms of a scene file, a report model's (with `[params]`) and a declared
+//! mechanism's, as serde structs; and the reader's errors turned into ones that name the
+//! field at fault.
+
+use serde::{Deserialize, Serialize};
+
+use super::{Scene, StopRule};
+use crate::bodies::{
+    AutoContacts, BodySpec, ContactSet, ContactSpec, FillSpec, ForceSpec, JointSpec, SystemSpec,
+};
+use crate::{
+    BallParams, CamParams, ModelError, ModelKind, ModelParams, PainleveParams,
+    SliderCrankIdealParams, SliderCrankParams, WoodpeckerParams,
+};
+use moreau_stepper::SolverChoice;
+
+fn one() -> usize {
+    1
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+fn is_true(b: &bool) -> bool {
+    *b
+}
+
+/// A report model's scene as written in TOML.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct BuiltinFile {
+    dt: f64,
+    t_end: f64,
+    #[serde(default = "one")]
+    record_every: usize,
+    #[serde(default)]
+    solver: SolverChoice,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    stop_at: Option<StopRule>,
+    #[serde(default, skip_serializing_if = "is_false")]
+    projection: bool,
+    params: ModelParams,
+}
+
+/// A declared mechanism's scene as written in TOML: the scene's keys and the declaration's.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DeclaredFile {
+    dt: f64,
+    t_end: f64,
+    #[serde(default = "one")]
+    record_every: usize,
+    #[serde(default)]
+    solver: SolverChoice,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    stop_at: Option<StopRule>,
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    projection: bool,
+    gravity: [f64; 2],
+    bodies: Vec<BodySpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    joints: Vec<JointSpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    forces: Vec<ForceSpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    contacts: Vec<ContactSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    contacts_auto: Option<AutoContacts>,
+    #[serde(default, skip_serializing_if = "ContactSet::is_fixed")]
+    contact_set: ContactSet,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    fill: Vec<FillSpec>,
+}
+
+impl From<BuiltinFile> for Scene {
+    fn from(f: BuiltinFile) -> Self {
+        Scene {
+            dt: f.dt,
+            t_end: f.t_end,
+            record_every: f.record_every,
+            solver: f.solver,
+            stop_at: f.stop_at,
+            projection: f.projection,
+            params: f.params,
+        }
+    }
+}
+
+impl From<DeclaredFile> for Scene {
+    fn from(f: DeclaredFile) -> Self {
+        let spec = SystemSpec {
+            gravity: f.gravity,
+            bodies: f.bodies,
+            joints: f.joints,
+            forces: f.forces,
+            contacts: f.contacts,
+            contacts_auto: f.contacts_auto,
+            contact_set: f.contact_set,
+            fill: f.fill,
+        };
+        Scene {
+            dt: f.dt,
+            t_end: f.t_end,
+            record_every: f.record_every,
+            solver: f.solver,
+            stop_at: f.stop_at,
+            projection: f.projection,
+            params: ModelParams::Declared(Box::new(spec)),
+        }
+    }
+}
+
+impl Serialize for Scene {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match &self.params {
+            ModelParams::Declared(spec) => DeclaredFile {
+                dt: self.dt,
+                t_end: self.t_end,
+                record_every: self.record_every,
+                solver: self.solver,
+                stop_at: self.stop_at.clone(),
+                projection: self.projection,
+                gravity: spec.gravity,
+                bodies: spec.bodies.clone(),
+                joints: spec.joints.clone(),
+                forces: spec.forces.clone(),
+                contacts: spec.contacts.clone(),
+                contacts_auto: spec.contacts_auto.clone(),
+                contact_set: spec.contact_set,
+                fill: spec.fill.clone(),
+            }
+            .serialize(serializer),
+            params => BuiltinFile {
+                dt: self.dt,
+                t_end: self.t_end,
+                record_every: self.record_every,
+                solver: self.solver,
+                stop_at: self.stop_at.clone(),
+                projection: self.projection,
+                params: params.clone(),
+            }
+            .serialize(serializer),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Scene {
+    /// Reads either form: with a `params` table the report model's, otherwise the declared.
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let value = toml::Value::deserialize(deserializer)?;
+        if value.get("params").is_some() {
+            BuiltinFile::deserialize(value).map(Scene::from).map_err(D::Error::custom)
+        } else {
+            DeclaredFile::deserialize(value).map(Scene::from).map_err(D::Error::custom)
+        }
+    }
+}
+
+/// Turns the TOML reader's error into a [`ModelError::Parse`] that names the field.
+pub(super) fn parse_error(text: &str, error: &toml::de::Error) -> ModelError {
+    let located = error.span().and_then(|span| locate_key(text, span.start));
+    if let Some(field) = located {
+        return ModelError::Parse { path: None, field: Some(field), message: error.to_string() };
+    }
+    // Errors inside `[params]` come from a buffered, internally tagged enum and point at the
+    // table header only; read the table again as the named model's parameters to find the key.
+    if let Some((field, message)) = diagnose_params(text) {
+        return ModelError::Parse {
+            path: None,
+            field: Some(field),
+            message: format!("{}\n{message}", error.message()),
+        };
+    }
+    ModelError::Parse { path: None, field: None, message: error.to_string() }
+}
+
+/// The dotted key written on the line that holds byte `offset`, with its table header.
+fn locate_key(text: &str, offset: usize) -> Option<String> {
+    let offset = offset.min(text.len());
+    let line_start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
+    let line = text[line_start..].lines().next().unwrap_or("").trim();
+    if line.starts_with('[') || !line.contains('=') {
+        return None;
+    }
+    let key = unquote(line.split('=').next()?.trim());
+    let header = text[..line_start].lines().rev().map(str::trim).find(|l| l.starts_with('['));
+    Some(match header {
+        Some(h) => format!("{}.{key}", unquote(h.trim_matches(|c| c == '[' || c == ']').trim())),
+        None => key,
+    })
+}
+
+fn unquote(s: &str) -> String {
+    s.split('.')
+        .map(|p| p.trim().trim_matches('"').trim_matches('\''))
+        .collect::<Vec<_>>()
+        .join(".")
+}
+
+/// Reads `[params]` again as the named model's own parameter struct, whose errors carry
+/// spans; returns the offending field and the reader's message.
+fn diagnose_params(text: &str) -> Option<(String, String)> {
+    let doc: toml::Table = toml::from_str(text).ok()?;
+    let mut params = doc.get("params")?.as_table()?.clone();
+    let kind: ModelKind = params.remove("model")?.as_str()?.parse().ok()?;
+    let sub = toml::to_string(&params).ok()?;
+    let error = match kind {
+        ModelKind::Ball => toml::from_str::<BallParams>(&sub).err(),
+        ModelKind::Woodpecker => toml::from_str::<WoodpeckerParams>(&sub).err(),
+        ModelKind::SliderCrank => toml::from_str::<SliderCrankParams>(&sub).err(),
+        ModelKind::SliderCrankIdeal => toml::from_str::<SliderCrankIdealParams>(&sub).err(),
+        ModelKind::Cam => toml::from_str::<CamParams>(&sub).err(),
+        ModelKind::Painleve => toml::from_str::<PainleveParams>(&sub).err(),
+        ModelKind::Declared => None,
+    }?;
+    let message = error.message().to_owned();
+    let field = match error.span().and_then(|s| locate_key(&sub, s.start)) {
+        Some(f) => format!("params.{f}"),
+        None => match unknown_field_name(&message) {
+            Some(f) => format!("params.{f}"),
+            None => "params".to_owned(),
+        },
+    };
+    Some((field, message))
+}
+
+/// The name in "unknown field `name`, expected ...".
+fn unknown_field_name(message: &str) -> Option<String> {
+    let rest = message.strip_prefix("unknown field `")?;
+    Some(rest[..rest.find('`')?].to_owned())
+}
+
+/// Turns the TOML reader's error on a declared scene into a [`ModelError::Parse`] that names
+/// the field by its `--set` path: each element of the arrays of tables is read again alone to
+/// find the one at fault (the reader's positions name the array, not the element, and the
+/// tagged tables of joints and forces lose them).
+pub(super) fn declared_parse_error(
+    text: &str,
+    table: &toml::Table,
+    error: &toml::de::Error,
+) -> ModelError {
+    fn first_error<T: serde::de::DeserializeOwned>(
+        table: &toml::Table,
+        key: &str,
+    ) -> Option<(String, String)> {
+        let items = table.get(key)?.as_array()?;
+        items.iter().enumerate().find_map(|(i, item)| {
+            let e = T::deserialize(item.clone()).err()?;
+            let name = item.get("name").and_then(toml::Value::as_str);
+            let element = name.map_or_else(|| i.to_string(), str::to_owned);
+            let message = e.message().to_owned();
+            let field = match unknown_field_name(&message) {
+                Some(f) => format!("{key}.{element}.{f}"),
+                None => format!("{key}.{element}"),
+            };
+            Some((field, message))
+        })
+    }
+    let found = first_error::<BodySpec>(table, "bodies")
+        .or_else(|| first_error::<JointSpec>(table, "joints"))
+        .or_else(|| first_error::<ForceSpec>(table, "forces"))
+        .or_else(|| first_error::<ContactSpec>(table, "contacts"))
+        .or_else(|| first_error::<FillSpec>(table, "fill"));
+    match found {
+        Some((field, message)) => ModelError::Parse {
+            path: None,
+            field: Some(field),
+            message: format!("{}\n{message}", error.message()),
+        },
+        // An error outside the arrays of tables keeps the reader's position.
+        None => ModelError::Parse {
+            path: None,
+            field: error.span().and_then(|span| locate_key(text, span.start)),
+            message: error.to_string(),
+        },
+    }
+}
