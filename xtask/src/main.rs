@@ -60,6 +60,10 @@ enum Command {
         /// Siconos' FC2D format (for `crates/lcp/siconos/compare_fc2d.sh`).
         #[arg(long)]
         problems: Option<PathBuf>,
+        /// Only the runs whose scene and size contain this text, e.g. `pyramid` or
+        /// `count=1000`.
+        #[arg(long)]
+        only: Option<String>,
     },
     /// Join the CSV parts of a sharded sweep (the `moreau merge` command).
     Merge(MergeArgs),
@@ -101,8 +105,14 @@ fn run(command: Command) -> Result<()> {
                 summary.simulation_seconds
             );
         }
-        Command::Scale { out, quick, problems } => {
-            let specs = scale::specs(quick);
+        Command::Scale { out, quick, problems, only } => {
+            let mut specs = scale::specs(quick);
+            if let Some(only) = &only {
+                specs.retain(|s| s.label().contains(only.as_str()));
+                if specs.is_empty() {
+                    anyhow::bail!("no run of the scaling study matches {only:?}");
+                }
+            }
             let results = scale::run_all(&specs, problems.as_deref());
             let written = scale::write(&results, &specs, &out)?;
             println!("wrote {} files to {}", written.files.len(), out.display());

@@ -48,6 +48,21 @@ pub struct RunSpec {
     pub reference: f64,
 }
 
+impl RunSpec {
+    /// The scene and its size overrides, e.g. `disk-column fill.grain.count=1000`, and the
+    /// threads when more than one.
+    pub fn label(&self) -> String {
+        let mut label = self.scene.to_owned();
+        for (k, v) in &self.set {
+            label.push_str(&format!(" {k}={v}"));
+        }
+        if self.threads > 1 {
+            label.push_str(&format!(" threads={}", self.threads));
+        }
+        label
+    }
+}
+
 /// What one run measured.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct RunResult {

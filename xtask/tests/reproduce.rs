@@ -176,14 +176,13 @@ fn check_outputs(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The rows of a CSV without its measured columns (wall time and the rates derived from it).
-fn without_wall_times(path: &Path) -> Result<Vec<Vec<String>>> {
+/// The rows of a CSV without the given columns (measured wall times and the rates derived
+/// from them), which must all be there.
+fn without_columns(path: &Path, measured: &[&str]) -> Result<Vec<Vec<String>>> {
     let mut r = csv::Reader::from_path(path)?;
     let h: Vec<String> = r.headers()?.iter().map(str::to_owned).collect();
-    let keep: Vec<usize> = (0..h.len())
-        .filter(|&i| !["wall_s", "steps_per_s", "lcp_solves_per_s"].contains(&h[i].as_str()))
-        .collect();
-    ensure!(keep.len() + 3 == h.len(), "{} lacks the wall-time columns", path.display());
+    let keep: Vec<usize> = (0..h.len()).filter(|&i| !measured.contains(&h[i].as_str())).collect();
+    ensure!(keep.len() + measured.len() == h.len(), "{} lacks {measured:?}", path.display());
     let mut rows = vec![keep.iter().map(|&i| h[i].clone()).collect()];
     for rec in r.records() {
         let rec = rec?;
@@ -213,14 +212,19 @@ fn quick_reproduction_is_complete_and_independent_of_the_thread_count() -> Resul
     let names = csv_files(one.path())?;
     ensure!(names == csv_files(two.path())?);
     for name in &names {
-        // The speed/accuracy figure plots measured wall times, which differ between runs; the
-        // speed/accuracy table is compared without them.
-        if name.starts_with("figS1") {
+        // The speed/accuracy and scaling figures plot measured wall times, which differ
+        // between runs; their tables are compared without them.
+        if name.starts_with("figS1") || name.starts_with("fig_scale") {
             continue;
         }
-        if name == "tradeoff.csv" {
-            let a = without_wall_times(&one.path().join(name))?;
-            ensure!(a == without_wall_times(&two.path().join(name))?, "{name} differs");
+        let measured: &[&str] = match name.as_str() {
+            "tradeoff.csv" => &["wall_s", "steps_per_s", "lcp_solves_per_s"],
+            "scale.csv" => &["ms_per_step", "ms_detection", "ms_assembly", "ms_solution"],
+            _ => &[],
+        };
+        if !measured.is_empty() {
+            let a = without_columns(&one.path().join(name), measured)?;
+            ensure!(a == without_columns(&two.path().join(name), measured)?, "{name} differs");
             continue;
         }
         let a = std::fs::read(one.path().join(name))?;
