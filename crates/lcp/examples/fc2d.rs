@@ -1,7 +1,7 @@
 //! Solves a Siconos FC2D or GFC2D file and prints one JSON object.
 //!
 //! ```text
-//! cargo run --release -p moreau-lcp --example fc2d -- [--solver auto|nsgs|lcp|newton] [--tol T] [--repeat N] FILE
+//! cargo run --release -p moreau-lcp --example fc2d -- [--solver auto|nsgs|lcp|newton|proximal] [--tol T] [--repeat N] FILE
 //! ```
 //!
 //! Keys: `solver`, `status` ("solved" when, and only when, the natural-map residual is
@@ -15,7 +15,7 @@ use std::time::Instant;
 use moreau_lcp::LcpError;
 use moreau_lcp::fc2d::{
     Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dSolution, Fc2dSolver, Gfc2d, LcpRoute, LcpRouteOptions,
-    Newton, NewtonOptions, Nsgs, NsgsOptions,
+    Newton, NewtonOptions, Nsgs, NsgsOptions, Proximal, ProximalOptions,
 };
 
 struct Args {
@@ -46,7 +46,8 @@ fn parse_args() -> Result<Args, String> {
     }
     if args.file.is_empty() {
         return Err(
-            "usage: fc2d [--solver auto|nsgs|lcp|newton] [--tol T] [--repeat N] FILE".into()
+            "usage: fc2d [--solver auto|nsgs|lcp|newton|proximal] [--tol T] [--repeat N] FILE"
+                .into(),
         );
     }
     Ok(args)
@@ -77,7 +78,13 @@ fn make_solver(
             let options = NewtonOptions { tolerance, ..Default::default() };
             (Box::new(Newton::new(options).map_err(err)?), "newton")
         }
-        other => return Err(format!("unknown solver '{other}' (auto, nsgs, lcp, newton)")),
+        "proximal" => {
+            let options = ProximalOptions { tolerance, ..Default::default() };
+            (Box::new(Proximal::new(options).map_err(err)?), "proximal")
+        }
+        other => {
+            return Err(format!("unknown solver '{other}' (auto, nsgs, lcp, newton, proximal)"));
+        }
     })
 }
 

@@ -79,6 +79,9 @@ pub enum Method {
     /// solves (LCP route) of the clusters of contacts where it stalled
     /// ([`fc2d::Fc2dAuto`](crate::fc2d::Fc2dAuto)).
     NsgsClusters,
+    /// The proximal point method on a planar frictional-contact problem, its regularised
+    /// sub-problems solved by nonsmooth Newton ([`fc2d::Proximal`](crate::fc2d::Proximal)).
+    ProximalNewton,
 }
 
 impl fmt::Display for Method {
@@ -94,6 +97,7 @@ impl fmt::Display for Method {
             Method::LcpRoute => "lcp_route",
             Method::Newton => "newton",
             Method::NsgsClusters => "nsgs_clusters",
+            Method::ProximalNewton => "proximal_newton",
         })
     }
 }

@@ -38,7 +38,8 @@
 //! |---|---|
 //! | [`Nsgs`] | any size: block Gauss-Seidel with the exact local solution per contact, ω, warm start, no allocation on repeated solves |
 //! | [`LcpRoute`] | small problems (up to about 100 contacts): the exact LCP reformulation solved by pivoting, the certified answer |
-//! | [`Newton`] | nonsmooth Newton on Alart and Curnier's function with sparse LU and a line search: fast local convergence from a good start; stalls on dense packings whose W is nearly singular |
+//! | [`Newton`] | nonsmooth Newton on Alart and Curnier's function with sparse LU and a non-monotone line search, optionally smoothed by Gauss-Seidel sweeps: fast local convergence from a good start; can cycle on dense packings whose W is singular |
+//! | [`Proximal`] | the proximal point method, each sub-problem (W + η, positive definite) solved by Newton: slower, but finishes the dense packings where Newton cycles |
 //! | [`Fc2dAuto`] | the default: Gauss-Seidel, the LCP route for small problems it does not finish, exact solves of the clusters where it stalls |
 //!
 //! **The local problem of NSGS.** With the others' reactions fixed, contact i sees
@@ -79,6 +80,7 @@
 //! | u = (u_N, u_T) | `Fc2dSolution::u` | velocities u = W r + q (ξ in a step) |
 //! | K | | Coulomb cone {\|r_T\| <= μ r_N} |
 //! | ω | `NsgsOptions::omega` | relaxation factor |
+//! | η, α | `ProximalOptions::initial_weight` | proximal weights η_i = α W_NN,ii |
 //! | ρ_N, ρ_T | `NewtonOptions::rho` | Alart and Curnier's augmentation parameters |
 //! | Φ, J | | Alart and Curnier's function and its generalised Jacobian |
 //! | M, H, b | `Gfc2d` | global form: M v = q + H r, u = Hᵀ v + b |
@@ -124,6 +126,7 @@ mod local;
 mod newton;
 mod nsgs;
 mod problem;
+mod proximal;
 mod residual;
 mod solution;
 
@@ -133,5 +136,6 @@ pub use lcp_route::{LcpRoute, LcpRouteOptions, LcpRouteSolver};
 pub use newton::{Newton, NewtonOptions, Rho};
 pub use nsgs::{Nsgs, NsgsOptions};
 pub use problem::{Fc2d, Fc2dBuilder, Fc2dParts, Fc2dRef, PSD_TOLERANCE};
+pub use proximal::{Proximal, ProximalOptions};
 pub use residual::Fc2dResidual;
 pub use solution::{Fc2dSolution, Fc2dSolver};

@@ -39,8 +39,17 @@ pub struct NewtonOptions {
     /// The augmentation parameters ρ. Default [`Rho::Diagonal`].
     pub rho: Rho,
     /// Armijo's sufficient-decrease constant σ in (0, 1/2) (dimensionless): a step t is
-    /// accepted when `ψ(r + t d) <= (1 - 2 σ t) ψ(r)`. Default 1e-4.
+    /// accepted when `ψ(r + t d) <= ψ_ref - 2 σ t ψ(r)`, ψ_ref the largest merit of the
+    /// last `nonmonotone` iterates. Default 1e-4.
     pub armijo: f64,
+    /// Number m >= 1 of past merits the line search compares with (Grippo, Lampariello &
+    /// Lucidi's non-monotone rule; m = 1 is the monotone Armijo rule). A non-monotone
+    /// search lets the full Newton step cross the kinks of Φ, where contacts at the
+    /// boundary between two of their cases (r_N = u_N = 0, or |r_T| = μ r_N with
+    /// u_T = 0) flip case, instead of shrinking the step towards zero. Default 1: on
+    /// Siconos' FrictionContactProblem00727 the non-monotone rule (m = 10) wanders off,
+    /// while on a settling column of disks it is what lets Newton converge.
+    pub nonmonotone: usize,
     /// Factor β in (0, 1) by which the step shrinks after a rejected trial. Default 0.5.
     pub backtrack: f64,
     /// Trials of the line search before the fallback. Default 20.
@@ -48,6 +57,12 @@ pub struct NewtonOptions {
     /// Gauss-Seidel sweeps of the fallback taken when the line search finds no decrease.
     /// Default 10.
     pub fallback_sweeps: usize,
+    /// Gauss-Seidel sweeps taken after every accepted Newton step (0 for none). Newton's
+    /// step fixes the long-range part of the error that Gauss-Seidel spreads only slowly
+    /// (through a tall pile of grains, about H² sweeps for H layers), and the sweeps fix
+    /// the contacts whose case the step guessed wrong, which the next linearisation would
+    /// otherwise see from the wrong piece of Φ. Default 0.
+    pub smoothing_sweeps: usize,
     /// Smallest shift δ >= 0 added to the diagonal of the Jacobian (in the units of the
     /// ρ-scaled function, dimensionless), which keeps the linear solve defined when W is
     /// singular (indeterminate reactions of a dense packing). A failed or non-finite solve
@@ -71,7 +86,9 @@ impl Default for NewtonOptions {
             armijo: 1e-4,
             backtrack: 0.5,
             max_backtracks: 20,
+            nonmonotone: 1,
             fallback_sweeps: 10,
+            smoothing_sweeps: 0,
             regularization: 1e-10,
             regularization_gain: 1.0,
             keep_history: false,
@@ -98,10 +115,12 @@ const MAX_REGULARIZATION: f64 = 1e-2;
 /// bilateral rows hold (Alart & Curnier 1991). Φ is piecewise linear in r; on each piece
 /// its Jacobian is `J = A + B W` with A and B block diagonal (2x2 per contact: open,
 /// stick or slip in either direction), so J has the block sparsity of W. Each iteration
-/// solves `(J + δ I) d = -Φ` (δ a small shift that follows ‖Φ‖) by faer's sparse LU with partial pivoting, and an Armijo
-/// line search on the merit `ψ = ½ ‖Φ‖²` picks the step. When the line search finds no
-/// decrease, a few sweeps of the nonsmooth Gauss-Seidel method ([`Nsgs`]) are taken from
-/// the current iterate instead, and Newton resumes from their result.
+/// solves `(J + δ I) d = -Φ` (δ a small shift that follows ‖Φ‖) by faer's sparse LU
+/// with partial pivoting, and an Armijo line search on the merit `ψ = ½ ‖Φ‖²` picks the step, non-monotone by default (a step
+/// is compared with the worst of the last few merits, Grippo et al. 1986). When the line
+/// search finds no decrease, a few sweeps of the nonsmooth Gauss-Seidel method ([`Nsgs`])
+/// are taken from the current iterate instead, and Newton resumes from their result;
+/// with `smoothing_sweeps`, such sweeps also follow every accepted step.
 ///
 /// **Sparse LU.** The pattern of J (every entry of every stored block of W) and its
 /// symbolic LU analysis (column ordering and supernodal structure) are kept and reused
@@ -124,10 +143,13 @@ const MAX_REGULARIZATION: f64 = 1e-2;
 ///   92 (1991) 353-375.
 /// - V. Acary, B. Brogliato, Numerical Methods for Nonsmooth Dynamical Systems, Springer,
 ///   2008, §13.
+/// - L. Grippo, F. Lampariello, S. Lucidi, A nonmonotone line search technique for
+///   Newton's method, SIAM Journal on Numerical Analysis 23 (1986) 707-716.
 pub struct Newton {
     options: NewtonOptions,
     work: Workspace,
     fallback: Nsgs,
+    smoother: Option<Nsgs>,
     fallback_out: Fc2dSolution,
 }
 
@@ -176,6 +198,8 @@ struct Workspace {
     /// Per group, the 2x2 coefficients of `J = A + B W` (row-major).
     a: Vec<[f64; 4]>,
     b: Vec<[f64; 4]>,
+    /// The merits of the last `nonmonotone` iterates, as a ring.
+    merits: Vec<f64>,
 }
 
 impl Newton {
@@ -183,13 +207,14 @@ impl Newton {
     ///
     /// # Errors
     /// [`LcpError::InvalidOption`] unless `tolerance` is finite and > 0,
-    /// `max_iterations >= 1`, `0 < armijo < 1/2`, `0 < backtrack < 1`, a fixed ρ is
+    /// `max_iterations >= 1`, `nonmonotone >= 1`, `0 < armijo < 1/2`, `0 < backtrack < 1`, a fixed ρ is
     /// finite and > 0, `regularization` is finite, >= 0 and below 1e-2, and
     /// `regularization_gain` is finite and >= 0.
     pub fn new(options: NewtonOptions) -> Result<Newton, LcpError> {
         let bad = |name: &'static str, reason: &str| Err(rules::invalid(name, reason));
         rules::tolerance(options.tolerance)?;
         rules::count("max_iterations", options.max_iterations)?;
+        rules::count("nonmonotone", options.nonmonotone)?;
         if !(options.armijo > 0.0 && options.armijo < 0.5) {
             return bad("armijo", "must be in (0, 1/2)");
         }
@@ -212,10 +237,20 @@ impl Newton {
             max_sweeps: options.fallback_sweeps.max(1),
             ..Default::default()
         })?;
+        let smoother = if options.smoothing_sweeps > 0 {
+            Some(Nsgs::new(NsgsOptions {
+                tolerance: options.tolerance,
+                max_sweeps: options.smoothing_sweeps,
+                ..Default::default()
+            })?)
+        } else {
+            None
+        };
         Ok(Newton {
             options,
             work: Workspace::default(),
             fallback,
+            smoother,
             fallback_out: Fc2dSolution::new(),
         })
     }
@@ -487,11 +522,18 @@ impl Fc2dSolver for Newton {
         }
         let mut delta = self.options.regularization;
         let sigma = self.options.armijo;
+        self.work.merits.clear();
         for iteration in 1..=self.options.max_iterations {
             out.iterations = iteration;
             let w = &mut self.work;
             let merit =
                 evaluate(problem, &w.rho, &out.r, &w.u, &mut w.phi, Some((&mut w.a, &mut w.b)));
+            if w.merits.len() < self.options.nonmonotone {
+                w.merits.push(merit);
+            } else {
+                w.merits[iteration % self.options.nonmonotone] = merit;
+            }
+            let reference = w.merits.iter().fold(merit, |m, &v| m.max(v));
             // The Newton direction, with the diagonal shift raised until the solve works.
             let mut solved = false;
             // A shift proportional to ‖Φ‖∞ keeps the step of a nearly singular J (W
@@ -523,7 +565,7 @@ impl Fc2dSolver for Newton {
                     problem.velocity(&w.r_trial, &mut w.u_trial);
                     let trial =
                         evaluate(problem, &w.rho, &w.r_trial, &w.u_trial, &mut w.phi_trial, None);
-                    if trial <= (1.0 - 2.0 * sigma * t) * merit {
+                    if trial <= reference - 2.0 * sigma * t * merit {
                         accepted = true;
                         break;
                     }
@@ -533,6 +575,11 @@ impl Fc2dSolver for Newton {
             if accepted {
                 std::mem::swap(&mut out.r, &mut w.r_trial);
                 std::mem::swap(&mut w.u, &mut w.u_trial);
+                if let Some(smoother) = self.smoother.as_mut() {
+                    smoother.solve_into(problem, Some(&out.r), &mut self.fallback_out)?;
+                    out.r.copy_from_slice(&self.fallback_out.r);
+                    w.u.copy_from_slice(&self.fallback_out.u);
+                }
                 // A good step lets the shift fall back towards its floor.
                 delta = (delta * 0.01).max(self.options.regularization);
             } else {
@@ -569,6 +616,7 @@ mod tests {
         for (options, name) in [
             (NewtonOptions { tolerance: -1.0, ..Default::default() }, "tolerance"),
             (NewtonOptions { max_iterations: 0, ..Default::default() }, "max_iterations"),
+            (NewtonOptions { nonmonotone: 0, ..Default::default() }, "nonmonotone"),
             (NewtonOptions { armijo: 0.5, ..Default::default() }, "armijo"),
             (NewtonOptions { backtrack: 1.0, ..Default::default() }, "backtrack"),
             (NewtonOptions { rho: Rho::Fixed(0.0), ..Default::default() }, "rho"),

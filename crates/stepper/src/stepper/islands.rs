@@ -11,7 +11,8 @@ use std::ops::Range;
 
 use moreau_lcp::fc2d::{
     Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dParts, Fc2dRef, Fc2dSolution, Fc2dSolver, LcpRoute,
-    LcpRouteOptions, LcpRouteSolver, Newton, NewtonOptions, Nsgs, NsgsOptions,
+    LcpRouteOptions, LcpRouteSolver, Newton, NewtonOptions, Nsgs, NsgsOptions, Proximal,
+    ProximalOptions,
 };
 use moreau_lcp::{LcpError, Status};
 use rayon::prelude::*;
@@ -50,6 +51,21 @@ const SMALL_ISLAND: usize = 8;
 /// island before nonsmooth Newton takes over.
 const LARGE_ISLAND_SWEEPS: usize = 5_000;
 
+/// The Gauss-Seidel sweeps that follow each accepted Newton step of a large island: the step
+/// carries the long-range correction, the sweeps settle the contacts whose case (stick or
+/// slip, open or closed) it guessed wrong. On the settling disk column (N = 1000, islands
+/// of 388 and 631 contacts) cold Newton with them needs 23 and 31 iterations to 1e-10.
+const NEWTON_SMOOTHING_SWEEPS: usize = 20;
+
+/// The past merits that the line search of a large island's Newton compares with: the
+/// monotone rule stalls near 5e-5 on the settling column, where contacts at the boundary
+/// of two cases flip from one iteration to the next.
+const NEWTON_NONMONOTONE: usize = 10;
+
+/// The Newton iterations the default choice gives a large island before the proximal
+/// point method takes over: Newton either converges in a few dozen or cycles.
+const NEWTON_ITERATIONS: usize = 50;
+
 /// The largest island the default choice hands to pivoting (a dense solve of 3 n_c rows)
 /// when Gauss-Seidel and Newton leave it unsolved.
 const PIVOTING_ISLAND: usize = 300;
@@ -59,10 +75,11 @@ const SMALL_TOLERANCE: f64 = 1e-13;
 
 /// The solver of the islands' problems, from the stepper's [`SolverChoice`].
 enum IslandSolver {
-    /// The default choice: one `Fc2dAuto` for small islands and one for large ones, and
-    /// nonsmooth Newton for the large islands that Gauss-Seidel and its cluster solves leave
-    /// unsolved.
-    Auto(Box<([Fc2dAuto; 2], Newton, LcpRoute)>),
+    /// The default choice: one `Fc2dAuto` for small islands and one for large ones, then,
+    /// for the large islands that Gauss-Seidel and its cluster solves leave unsolved,
+    /// nonsmooth Newton, the proximal point method, Gauss-Seidel resumed with the full
+    /// budget from the proximal iterate, and pivoting.
+    Auto(Box<([Fc2dAuto; 3], Newton, Proximal, LcpRoute)>),
     Nsgs(Nsgs),
     Lcp(LcpRoute),
 }
@@ -82,10 +99,22 @@ impl IslandSolver {
                         max_sweeps: LARGE_ISLAND_SWEEPS,
                         ..Fc2dAutoOptions::default()
                     })?,
+                    Fc2dAuto::new(Fc2dAutoOptions {
+                        tolerance: FC2D_TOLERANCE,
+                        ..Fc2dAutoOptions::default()
+                    })?,
                 ],
                 Newton::new(NewtonOptions {
                     tolerance: FC2D_TOLERANCE,
+                    max_iterations: NEWTON_ITERATIONS,
+                    smoothing_sweeps: NEWTON_SMOOTHING_SWEEPS,
+                    nonmonotone: NEWTON_NONMONOTONE,
                     ..NewtonOptions::default()
+                })?,
+                Proximal::new(ProximalOptions {
+                    tolerance: FC2D_TOLERANCE,
+                    smoothing_sweeps: NEWTON_SMOOTHING_SWEEPS,
+                    ..ProximalOptions::default()
                 })?,
                 LcpRoute::new(LcpRouteOptions {
                     tolerance: FC2D_TOLERANCE,
@@ -124,15 +153,27 @@ impl IslandSolver {
     ) -> Result<(), LcpError> {
         match self {
             Self::Auto(s) => {
-                let (auto, newton, lcp) = &mut **s;
+                let (auto, newton, proximal, lcp) = &mut **s;
                 let k = usize::from(problem.n_contacts() > SMALL_ISLAND);
                 auto[k].solve_into(problem, Some(warm), out)?;
                 if !out.is_solved() && k == 1 {
                     // Dense packings make W singular and their reactions indeterminate, where
-                    // Gauss-Seidel can crawl; Newton's regularised steps, started cold, then
-                    // solve the island, and pivoting is the last resort of islands small
-                    // enough for it.
+                    // Gauss-Seidel can crawl; Newton's regularised steps, started cold and
+                    // each followed by a few sweeps, then usually solve the island. Where
+                    // Newton cycles between the cases of contacts at the boundary of two,
+                    // the proximal point method's positive definite sub-problems do not;
+                    // pivoting is the last resort of islands small enough for it.
                     newton.solve_into(problem, None, out)?;
+                    if !out.is_solved() {
+                        proximal.solve_into(problem, None, out)?;
+                    }
+                    if !out.is_solved() {
+                        // The proximal iterate is close (1e-6 on an island of 986 contacts of
+                        // the settling column, which Gauss-Seidel alone finishes in 37,800
+                        // sweeps): Gauss-Seidel with the full budget finishes from it.
+                        let start = std::mem::take(&mut out.r);
+                        auto[2].solve_into(problem, Some(&start), out)?;
+                    }
                     if !out.is_solved() && problem.n_contacts() <= PIVOTING_ISLAND {
                         lcp.solve_into(problem, None, out)?;
                     }
