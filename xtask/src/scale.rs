@@ -137,7 +137,7 @@ pub fn specs(quick: bool) -> Vec<RunSpec> {
         reference: 0.0,
     };
     if quick {
-        vec![column(100, 1.0, 20, 1), pyramid(10, 1.0), pyramid(20, 1.0), flow(0.1)]
+        vec![column(100, 1.0, 20, 1), pyramid(10, 1.0), flow(0.1)]
     } else {
         vec![
             column(100, 2.0, 100, 1),
