@@ -199,6 +199,40 @@ struct Slot {
     solve: bool,
 }
 
+/// A batch's concatenated island problems, borrowed apart from its solver.
+#[derive(Clone, Copy)]
+struct Buffers<'a> {
+    block_off: &'a [usize],
+    row_ptr: &'a [usize],
+    col: &'a [u32],
+    blocks: &'a [[f64; 4]],
+    q: &'a [f64],
+    mu: &'a [f64],
+}
+
+impl<'a> Buffers<'a> {
+    /// The problem of island `j` of the batch, at `slot`.
+    fn problem(
+        &self,
+        j: usize,
+        slot: &Slot,
+        group_start: &'a [usize],
+    ) -> Result<Fc2dRef<'a>, LcpError> {
+        let (c, n) = (slot.c_off, slot.n);
+        let b0 = self.block_off[j];
+        let b1 = b0 + self.row_ptr[slot.rp_off + n];
+        Fc2dRef::from_parts(Fc2dParts {
+            n_contacts: n,
+            group_start: &group_start[..n + 1],
+            row_ptr: &self.row_ptr[slot.rp_off..slot.rp_off + n + 1],
+            col: &self.col[b0..b1],
+            blocks: &self.blocks[b0..b1],
+            q: &self.q[2 * c..2 * (c + n)],
+            mu: &self.mu[c..c + n],
+        })
+    }
+}
+
 /// Why an island's solve failed.
 pub(super) enum IslandFailure {
     /// The problem or the warm start was refused, or the solver's options.
@@ -371,18 +405,15 @@ impl Batch {
                 continue;
             }
             let (c, n) = (slot.c_off, slot.n);
-            let b0 = self.block_off[j];
-            let b1 = b0 + self.row_ptr[slot.rp_off + n];
-            let parts = Fc2dParts {
-                n_contacts: n,
-                group_start: &group_start[..n + 1],
-                row_ptr: &self.row_ptr[slot.rp_off..slot.rp_off + n + 1],
-                col: &self.col[b0..b1],
-                blocks: &self.blocks[b0..b1],
-                q: &self.q[2 * c..2 * (c + n)],
-                mu: &self.mu[c..c + n],
+            let buffers = Buffers {
+                block_off: &self.block_off,
+                row_ptr: &self.row_ptr,
+                col: &self.col,
+                blocks: &self.blocks,
+                q: &self.q,
+                mu: &self.mu,
             };
-            let problem = match Fc2dRef::from_parts(parts) {
+            let problem = match buffers.problem(j, slot, group_start) {
                 Ok(p) => p,
                 Err(e) => {
                     self.failure = Some(IslandFailure::Input(e));
@@ -670,23 +701,19 @@ impl Islands {
     pub(super) fn problems(&self) -> impl Iterator<Item = Fc2dRef<'_>> {
         let group_start = &self.group_start;
         self.batches[..self.n_batches].iter().flat_map(move |b| {
-            b.slots.iter().enumerate().filter(|(_, slot)| slot.solve).filter_map(
-                move |(j, slot)| {
-                    let (c, n) = (slot.c_off, slot.n);
-                    let b0 = b.block_off[j];
-                    let b1 = b0 + b.row_ptr[slot.rp_off + n];
-                    Fc2dRef::from_parts(Fc2dParts {
-                        n_contacts: n,
-                        group_start: &group_start[..n + 1],
-                        row_ptr: &b.row_ptr[slot.rp_off..slot.rp_off + n + 1],
-                        col: &b.col[b0..b1],
-                        blocks: &b.blocks[b0..b1],
-                        q: &b.q[2 * c..2 * (c + n)],
-                        mu: &b.mu[c..c + n],
-                    })
-                    .ok()
-                },
-            )
+            let buffers = Buffers {
+                block_off: &b.block_off,
+                row_ptr: &b.row_ptr,
+                col: &b.col,
+                blocks: &b.blocks,
+                q: &b.q,
+                mu: &b.mu,
+            };
+            b.slots
+                .iter()
+                .enumerate()
+                .filter(|(_, slot)| slot.solve)
+                .filter_map(move |(j, slot)| buffers.problem(j, slot, group_start).ok())
         })
     }
 
