@@ -160,25 +160,6 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().map(Path::to_path_buf).unwrap_or_default()
 }
 
-/// Kinetic energy ½ Σ u_kᵀ M_k u_k of the bodies, from their mass blocks at q.
-fn kinetic_energy(model: &AnyModel, q: &[f64], u: &[f64], t: f64, blocks: &mut [[f64; 9]]) -> f64 {
-    let Some(bodies) = model.body_structure() else { return f64::NAN };
-    bodies.mass_blocks(q, t, blocks);
-    blocks
-        .iter()
-        .zip(u.chunks_exact(3))
-        .map(|(m, u)| {
-            let mut e = 0.0;
-            for r in 0..3 {
-                for c in 0..3 {
-                    e += u[r] * m[r + 3 * c] * u[c];
-                }
-            }
-            0.5 * e
-        })
-        .sum()
-}
-
 /// The vertical force of the fixed supports on the bodies over the step just taken: the
 /// impulses P_N w_N + P_T w_T of every contact with one side without coordinates, summed on
 /// the side with coordinates, over Δt. The contacts' directions are those of the step's
@@ -294,7 +275,6 @@ fn measure(spec: &RunSpec, stepper: &mut Stepper<AnyModel>, start: Instant) -> R
     let (mut wall, mut detection, mut assembly, mut solution) = (Duration::ZERO, 0.0, 0.0, 0.0);
     let mut iterations = 0usize;
     let mut found = Vec::new();
-    let mut blocks = vec![[0.0; 9]; bodies];
     for k in 0..spec.window {
         let (q_a, u_a, t_a) = (stepper.q().to_vec(), stepper.u().to_vec(), stepper.t());
         let t0 = Instant::now();
@@ -334,8 +314,11 @@ fn measure(spec: &RunSpec, stepper: &mut Stepper<AnyModel>, start: Instant) -> R
     r.iterations = iterations as f64 / n;
     r.contacts /= n;
     r.detected /= n;
-    let (q, u, t) = (stepper.q(), stepper.u(), stepper.t());
-    r.kinetic_energy = kinetic_energy(stepper.mechanism(), q, u, t, &mut blocks);
+    let (q, u) = (stepper.q(), stepper.u());
+    r.kinetic_energy = match stepper.mechanism() {
+        AnyModel::Declared(m) => m.kinetic_energy(q, u),
+        _ => f64::NAN,
+    };
     let ys = q.chunks_exact(3).map(|b| b[1]);
     let (lo, hi) =
         ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| (lo.min(y), hi.max(y)));
