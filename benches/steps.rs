@@ -12,18 +12,29 @@ use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_mai
 use moreau::models::{AnyModel, ModelKind, Scene};
 use moreau::stepper::{Mechanism, StepReport, Stepper, StepperOptions};
 
-/// Runs `kind`'s report scene for `t_end` seconds at step `dt` with a no-op observer, with
-/// the model as a scene file builds it (`AnyModel`, which dispatches every call on the model
-/// kind) and, where given, as its concrete type (what a user's own `Mechanism` gets).
+/// Runs `kind`'s report scene for `t_end` seconds at step `dt` with a no-op observer, as a
+/// scene runs it (`Scene::run_with`: the model built and its own type stepped) and, where
+/// given, as a stepper of its concrete type built beforehand (what a user's own `Mechanism`
+/// gets).
 fn bench_model(c: &mut Criterion, kind: ModelKind, dt: f64, t_end: f64) {
-    let scene = Scene::report(kind);
+    let mut scene = Scene::report(kind);
+    scene.dt = dt;
+    scene.t_end = t_end;
+    scene.stop_at = None;
     let model = scene.build().expect("report scene builds");
     let steps = (t_end / dt).round() as u64;
     let mut group = c.benchmark_group(format!("simulate/{kind}"));
     group.throughput(Throughput::Elements(steps));
     let name = format!("{steps} steps, dt = {dt:e}");
     let x0 = model.initial_state();
-    run_group(&mut group, &name, model.clone(), &x0, dt, t_end);
+    group.bench_function(&name, |b| {
+        b.iter(|| {
+            let summary = scene
+                .run_with(&mut |_: &StepReport<'_>| ControlFlow::Continue(()))
+                .expect("the report scene runs");
+            black_box(summary.t_end)
+        });
+    });
     let concrete = format!("{name}, concrete");
     match model {
         AnyModel::Ball(m) => run_group(&mut group, &concrete, m, &x0, dt, t_end),

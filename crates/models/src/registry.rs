@@ -5,7 +5,7 @@ use std::str::FromStr;
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::{BilateralPoint, BodyStructure, ConcreteOp, Mechanism, SharedWork};
+use moreau_stepper::{BilateralPoint, BodyStructure, Mechanism, SharedWork};
 use serde::{Deserialize, Serialize};
 
 use crate::bodies::{Multibody, SystemSpec};
@@ -180,10 +180,10 @@ impl ModelParams {
     }
 }
 
-/// Any model of the report, as one [`Mechanism`] type (dispatching by `match`; a stepper of
-/// an `AnyModel` runs the model's own type through [`Mechanism::with_concrete`]).
-// One model is built per run and stepped in place, so the size of the largest variant costs
-// nothing, while boxing it would take the declared mechanism out of `with_concrete`'s reach.
+/// Any model of the report, as one [`Mechanism`] type (dispatching each call by `match`;
+/// [`crate::Scene::run`] and [`crate::Scene::run_with`] instead step the model's own type,
+/// the choice made once per run).
+// One model is built per run, so the size of the largest variant costs nothing.
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub enum AnyModel {
@@ -216,6 +216,7 @@ macro_rules! dispatch {
         }
     };
 }
+pub(crate) use dispatch;
 
 impl AnyModel {
     /// Which model this is.
@@ -372,11 +373,6 @@ impl Mechanism for AnyModel {
 
     fn bilaterals(&self, q: &[f64], t: f64, w: &mut [f64], points: &mut [BilateralPoint]) {
         dispatch!(self, m => m.bilaterals(q, t, w, points))
-    }
-    /// Runs `op` with the model inside, so that a stepper of an `AnyModel` runs the loop
-    /// compiled for that model's type (chosen once per run).
-    fn with_concrete<O: ConcreteOp>(&self, op: O) -> O::Output {
-        dispatch!(self, m => op.run(m))
     }
 }
 

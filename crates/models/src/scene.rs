@@ -13,11 +13,13 @@ use std::path::Path;
 use std::time::Instant;
 
 use moreau_stepper::{
-    Observer, Record, Recorder, RunSummary, SolverChoice, StepReport, Stepper, StepperOptions,
+    Mechanism, Observer, Record, Recorder, RunSummary, SolverChoice, StepReport, Stepper,
+    StepperOptions,
 };
 use serde::{Deserialize, Serialize};
 
 use crate::params::{finite, non_negative, positive, relation};
+use crate::registry::dispatch;
 use crate::{AnyModel, ModelError, ModelKind, ModelParams};
 use file::{BuiltinFile, DeclaredFile, declared_parse_error, parse_error};
 
@@ -126,13 +128,44 @@ struct StopObserver<'a, O> {
     start_below: bool,
 }
 
-impl<O: Observer<AnyModel>> Observer<AnyModel> for StopObserver<'_, O> {
-    fn observe(&mut self, mechanism: &AnyModel, report: &StepReport<'_>) -> ControlFlow<()> {
+impl<M, O: Observer<M>> Observer<M> for StopObserver<'_, O> {
+    fn observe(&mut self, mechanism: &M, report: &StepReport<'_>) -> ControlFlow<()> {
         self.inner.observe(mechanism, report)?;
         let x = report.q[self.index];
         let crossed = if self.start_below { x >= self.value } else { x <= self.value };
         if crossed { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
     }
+}
+
+/// Shows an observer of scene-built models the [`AnyModel`] whose inner model a stepper of
+/// the model's own type steps.
+struct AsAnyModel<'a, O> {
+    model: &'a AnyModel,
+    inner: &'a mut O,
+}
+
+impl<M, O: Observer<AnyModel>> Observer<M> for AsAnyModel<'_, O> {
+    fn observe(&mut self, _: &M, report: &StepReport<'_>) -> ControlFlow<()> {
+        self.inner.observe(self.model, report)
+    }
+}
+
+/// Runs `stepper` until `t_end`, or until the coordinate `index` crosses `value` when `stop`
+/// is `Some((index, value))`.
+fn run_to_end<M: Mechanism, O: Observer<M>>(
+    stepper: &mut Stepper<M>,
+    stop: Option<(usize, f64)>,
+    t_end: f64,
+    observer: &mut O,
+) -> Result<RunSummary, ModelError> {
+    Ok(match stop {
+        Some((index, value)) => {
+            let start_below = stepper.q()[index] < value;
+            let mut wrapped = StopObserver { inner: observer, index, value, start_below };
+            stepper.run_until(t_end, &mut wrapped)?
+        }
+        None => stepper.run_until(t_end, observer)?,
+    })
 }
 
 impl Scene {
@@ -283,24 +316,27 @@ impl Scene {
     /// Builds the model, runs it to the stop rule (or `t_end`) and records every
     /// `record_every`-th step; row 0 of the record is the initial state.
     ///
+    /// The run steps the model's own type (a [`Stepper`] of [`crate::Ball`], say), so that a
+    /// scene-built model costs what the concrete type costs.
+    ///
     /// # Errors
     /// The errors of [`Self::stepper`] and every [`moreau_stepper::StepError`] of the run.
     pub fn run(&self) -> Result<Simulation, ModelError> {
         let start = Instant::now();
-        let mut stepper = self.stepper()?;
+        let model = self.build()?;
+        let (q0, u0) = model.initial_state();
         let mut recorder = Recorder::every(self.record_every);
-        recorder.push_initial(stepper.mechanism(), stepper.t(), stepper.q(), stepper.u());
+        recorder.push_initial(&model, 0.0, &q0, &u0);
         // The rows up to t_end, or a million when more (a stop rule may end the run early).
-        let steps = (self.t_end - stepper.t()) / stepper.options().dt;
-        let rows = (steps / self.record_every.max(1) as f64).ceil().clamp(0.0, 1e6);
+        let rows = (self.t_end / self.dt / self.record_every.max(1) as f64).ceil().clamp(0.0, 1e6);
         recorder.record.reserve(rows as usize + 1);
-        let summary = self.drive(&mut stepper, &mut recorder)?;
+        let summary = self.run_model(&model, &mut recorder)?;
         Ok(Simulation {
             record: recorder.record,
             wall_seconds: start.elapsed().as_secs_f64(),
             steps: summary.steps,
             lcp_solves: summary.lcp_solves,
-            model: stepper.mechanism().clone(),
+            model,
         })
     }
 
@@ -312,8 +348,8 @@ impl Scene {
         &self,
         observer: &mut O,
     ) -> Result<RunSummary, ModelError> {
-        let mut stepper = self.stepper()?;
-        self.drive(&mut stepper, observer)
+        let model = self.build()?;
+        self.run_model(&model, observer)
     }
 
     /// Runs an existing stepper to the scene's stop rule or end time.
@@ -325,23 +361,37 @@ impl Scene {
         stepper: &mut Stepper<AnyModel>,
         observer: &mut O,
     ) -> Result<RunSummary, ModelError> {
-        let summary = match &self.stop_at {
-            Some(stop) => {
-                let index =
-                    stepper.mechanism().coordinate_names().position(&stop.coordinate).ok_or_else(
-                        || ModelError::BadValue {
-                            key: "stop_at.coordinate".to_owned(),
-                            value: stop.coordinate.clone(),
-                            reason: "not a coordinate of the model".to_owned(),
-                        },
-                    )?;
-                let start_below = stepper.q()[index] < stop.value;
-                let mut wrapped =
-                    StopObserver { inner: observer, index, value: stop.value, start_below };
-                stepper.run_until(self.t_end, &mut wrapped)?
+        let stop = self.stop(stepper.mechanism())?;
+        run_to_end(stepper, stop, self.t_end, observer)
+    }
+
+    /// Runs a stepper of `model`'s own type from its initial state at t = 0 to the stop rule
+    /// or end time, showing `observer` the scene-built `model`.
+    fn run_model<O: Observer<AnyModel>>(
+        &self,
+        model: &AnyModel,
+        observer: &mut O,
+    ) -> Result<RunSummary, ModelError> {
+        let stop = self.stop(model)?;
+        let (q0, u0) = model.initial_state();
+        let options = self.stepper_options();
+        let mut shown = AsAnyModel { model, inner: observer };
+        dispatch!(model, m => {
+            let mut stepper = Stepper::new(m.clone(), &q0, &u0, 0.0, options)?;
+            run_to_end(&mut stepper, stop, self.t_end, &mut shown)
+        })
+    }
+
+    /// The index of the stop rule's coordinate in `model` and the rule's value.
+    fn stop(&self, model: &AnyModel) -> Result<Option<(usize, f64)>, ModelError> {
+        let Some(stop) = &self.stop_at else { return Ok(None) };
+        let index = model.coordinate_names().position(&stop.coordinate).ok_or_else(|| {
+            ModelError::BadValue {
+                key: "stop_at.coordinate".to_owned(),
+                value: stop.coordinate.clone(),
+                reason: "not a coordinate of the model".to_owned(),
             }
-            None => stepper.run_until(self.t_end, observer)?,
-        };
-        Ok(summary)
+        })?;
+        Ok(Some((index, stop.value)))
     }
 }

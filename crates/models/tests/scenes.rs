@@ -302,9 +302,9 @@ fn trajectory<M: moreau_stepper::Mechanism + Clone>(
 
 #[test]
 fn a_scene_built_model_steps_exactly_as_its_concrete_type() {
-    // `AnyModel` hands the stepper the model inside (`Mechanism::with_concrete`); the
-    // trajectories must be those of the model's own type, bit for bit (a declared mechanism's
-    // joints included).
+    // A stepper of `AnyModel` dispatches each call, `Scene::run` steps the model's own type;
+    // the trajectories must be the same, bit for bit (a declared mechanism's joints
+    // included).
     for kind in ModelKind::ALL.into_iter().chain([ModelKind::Declared]) {
         let scene = Scene::report(kind);
         let steps = 3000;
@@ -325,20 +325,29 @@ fn a_scene_built_model_steps_exactly_as_its_concrete_type() {
 
 #[test]
 fn the_observer_of_a_scene_built_stepper_sees_the_scene_built_model() {
-    struct Kinds(Vec<ModelKind>);
+    struct Kinds(Vec<ModelKind>, Vec<u64>);
     impl moreau_stepper::Observer<AnyModel> for Kinds {
         fn observe(
             &mut self,
             model: &AnyModel,
-            _: &moreau_stepper::StepReport<'_>,
+            r: &moreau_stepper::StepReport<'_>,
         ) -> std::ops::ControlFlow<()> {
             self.0.push(model.kind());
+            self.1.extend(r.q.iter().chain(r.u).map(|v| v.to_bits()));
             std::ops::ControlFlow::Continue(())
         }
     }
-    let scene = Scene::report(ModelKind::Woodpecker);
+    let mut scene = Scene::report(ModelKind::Woodpecker);
+    scene.t_end = 3000.0 * scene.dt;
     let mut stepper = scene.stepper().unwrap();
-    let mut kinds = Kinds(Vec::new());
-    stepper.run_until(10.0 * scene.dt, &mut kinds).unwrap();
-    assert_eq!(kinds.0, vec![ModelKind::Woodpecker; 10]);
+    let mut by_stepper = Kinds(Vec::new(), Vec::new());
+    stepper.run_until(scene.t_end, &mut by_stepper).unwrap();
+    assert_eq!(by_stepper.0, vec![ModelKind::Woodpecker; 3000]);
+    // `Scene::run_with` steps the woodpecker's own type and shows the observer the
+    // scene-built model, with the same steps.
+    let mut by_scene = Kinds(Vec::new(), Vec::new());
+    let summary = scene.run_with(&mut by_scene).unwrap();
+    assert_eq!(summary.steps, 3000);
+    assert_eq!(by_scene.0, by_stepper.0);
+    assert!(by_scene.1 == by_stepper.1);
 }

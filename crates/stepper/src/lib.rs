@@ -146,7 +146,7 @@ mod stepper;
 pub use bodies::{BodyContact, BodyStructure, NO_BODY};
 pub use check::{EvaluateMismatch, check_evaluate};
 pub use error::StepError;
-pub use mechanism::{BilateralPoint, ConcreteOp, Mechanism, SharedWork};
+pub use mechanism::{BilateralPoint, Mechanism, SharedWork};
 pub use observer::{Impact, Observer, Record, Recorder};
 pub use options::{SolverChoice, StepperOptions, UnknownSolver};
 pub use rows::{RowIter, Rows};

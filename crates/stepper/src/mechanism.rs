@@ -84,18 +84,6 @@ pub trait Mechanism: ContactKinematics {
     fn body_structure(&self) -> Option<&dyn BodyStructure> {
         None
     }
-
-    /// Runs `op` with the mechanism that does the work: `self` by default. A type that
-    /// forwards every method to one of several mechanisms (an enum over models) passes the
-    /// one it holds, so that the stepper's loop is compiled for that type and the choice is
-    /// made once per run instead of at every call. The mechanism passed must behave exactly
-    /// as `self` does.
-    fn with_concrete<O: ConcreteOp>(&self, op: O) -> O::Output
-    where
-        Self: Sized,
-    {
-        op.run(self)
-    }
 }
 
 /// An opt-in speed hook: everything the stepper evaluates at the midpoint of a step, in one
@@ -196,13 +184,4 @@ pub struct BilateralPoint {
     /// The rheonomic term ŵ_B = ∂g_B/∂t, non-zero for a driven joint such as a motor (m/s or
     /// rad/s).
     pub w_hat: f64,
-}
-
-/// An operation generic over the concrete mechanism type, for [`Mechanism::with_concrete`].
-pub trait ConcreteOp {
-    /// What the operation returns.
-    type Output;
-
-    /// Runs the operation with `mechanism`.
-    fn run<K: Mechanism>(self, mechanism: &K) -> Self::Output;
 }

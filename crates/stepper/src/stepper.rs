@@ -13,7 +13,7 @@ use moreau_lcp::{
 use crate::dense::{Cholesky, dot, order};
 use crate::observer::{Observer, Recorder};
 pub use crate::report::{ContactReport, ContactState, LcpInfo, PhaseTimes, RunSummary, StepReport};
-use crate::{ConcreteOp, Mechanism, Record, SolverChoice, StepError, StepperOptions};
+use crate::{Mechanism, Record, SolverChoice, StepError, StepperOptions};
 
 mod islands;
 mod joints;
@@ -182,8 +182,8 @@ pub struct Stepper<M: Mechanism> {
     core: Core,
 }
 
-/// A stepper's state and workspace: everything but the mechanism, so that the step loop can
-/// be compiled for the concrete mechanism that [`Mechanism::with_concrete`] names.
+/// A stepper's state and workspace: everything but the mechanism, which the step borrows
+/// beside it.
 struct Core {
     options: StepperOptions,
     solver: SolverImpl,
@@ -458,7 +458,11 @@ impl<M: Mechanism> Stepper<M> {
     /// [`crate::BodyStructure`], whose detected contacts may also be
     /// [`StepError::InvalidContact`]). The state is left at the start of the failed step.
     pub fn step(&mut self) -> Result<StepReport<'_>, StepError> {
-        self.mechanism.with_concrete(Advance { core: &mut self.core })?;
+        if self.core.body.is_some() {
+            self.core.advance_bodies(&self.mechanism)?;
+        } else {
+            self.core.advance(&self.mechanism)?;
+        }
         Ok(self.core.report())
     }
 
@@ -513,8 +517,7 @@ impl<M: Mechanism> Stepper<M> {
         }
         let x = (t_end - self.core.t) / self.core.options.dt;
         let n = if (x - x.round()).abs() < 1e-6 { x.round() } else { x.ceil() } as u64;
-        let run = RunSteps { core: &mut self.core, outer: &self.mechanism, n, t_end, observer };
-        self.mechanism.with_concrete(run)
+        RunSteps { core: &mut self.core, mechanism: &self.mechanism, n, t_end, observer }.run()
     }
 
     /// Runs until t_end and records every step (row 0 is the current state).
@@ -529,25 +532,10 @@ impl<M: Mechanism> Stepper<M> {
     }
 }
 
-/// One step of a [`Core`] with the concrete mechanism.
-struct Advance<'a> {
-    core: &'a mut Core,
-}
-
-impl ConcreteOp for Advance<'_> {
-    type Output = Result<(), StepError>;
-    fn run<K: Mechanism>(self, mechanism: &K) -> Self::Output {
-        if self.core.body.is_some() {
-            return self.core.advance_bodies(mechanism);
-        }
-        self.core.advance(mechanism)
-    }
-}
-
-/// The loop of [`Stepper::run_until`] with the concrete mechanism, the order f chosen once.
+/// The loop of [`Stepper::run_until`], the path and the order f chosen once.
 struct RunSteps<'a, M, O> {
     core: &'a mut Core,
-    outer: &'a M,
+    mechanism: &'a M,
     n: u64,
     t_end: f64,
     observer: &'a mut O,
@@ -563,14 +551,14 @@ impl<M: Mechanism, O: Observer<M>> RunSteps<'_, M, O> {
         mut advance: impl FnMut(&mut Core) -> Result<(), StepError>,
         report: impl Fn(&Core) -> StepReport<'_>,
     ) -> Result<RunSummary, StepError> {
-        let RunSteps { core, outer, n, t_end, observer } = self;
+        let RunSteps { core, mechanism, n, t_end, observer } = self;
         let solves_before = core.ws.lcp_solves;
         let mut steps = 0;
         let mut stopped = false;
         for _ in 0..n {
             advance(core)?;
             steps += 1;
-            if observer.observe(outer, &report(core)).is_break() {
+            if observer.observe(mechanism, &report(core)).is_break() {
                 stopped = true;
                 break;
             }
@@ -582,20 +570,20 @@ impl<M: Mechanism, O: Observer<M>> RunSteps<'_, M, O> {
             stopped_early: stopped && core.t < t_end,
         })
     }
-}
 
-impl<M: Mechanism, O: Observer<M>> ConcreteOp for RunSteps<'_, M, O> {
-    type Output = Result<RunSummary, StepError>;
-    fn run<K: Mechanism>(self, mech: &K) -> Self::Output {
+    /// Runs the loop compiled for the mechanism's path and, on the path of fixed contacts,
+    /// for its number of coordinates.
+    fn run(self) -> Result<RunSummary, StepError> {
+        let mech = self.mechanism;
         if self.core.body.is_some() {
             return self.steps(|core| core.advance_bodies(mech), Core::report);
         }
         match self.core.q.len() {
-            1 => self.steps(|core| core.advance_n::<K, 1>(mech), Core::dense_report),
-            2 => self.steps(|core| core.advance_n::<K, 2>(mech), Core::dense_report),
-            3 => self.steps(|core| core.advance_n::<K, 3>(mech), Core::dense_report),
-            4 => self.steps(|core| core.advance_n::<K, 4>(mech), Core::dense_report),
-            _ => self.steps(|core| core.advance_n::<K, 0>(mech), Core::dense_report),
+            1 => self.steps(|core| core.advance_n::<M, 1>(mech), Core::dense_report),
+            2 => self.steps(|core| core.advance_n::<M, 2>(mech), Core::dense_report),
+            3 => self.steps(|core| core.advance_n::<M, 3>(mech), Core::dense_report),
+            4 => self.steps(|core| core.advance_n::<M, 4>(mech), Core::dense_report),
+            _ => self.steps(|core| core.advance_n::<M, 0>(mech), Core::dense_report),
         }
     }
 }
