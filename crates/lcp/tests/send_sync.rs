@@ -3,7 +3,7 @@
 //! rely on.
 
 use moreau_lcp::fc2d::{
-    Fc2d, Fc2dAuto, Fc2dRef, Fc2dResidual, Fc2dSolution, Gfc2d, LcpRoute, Newton, Nsgs,
+    Fc2d, Fc2dAuto, Fc2dRef, Fc2dResidual, Fc2dSolution, Gfc2d, LcpRoute, Newton, Nsgs, Proximal,
 };
 use moreau_lcp::{Auto, Enumeration, Lcp, LcpError, LcpRef, Lemke, Pgs, Residual, Solution};
 
@@ -17,6 +17,7 @@ fn solvers_problems_and_solutions_are_send_and_sync() {
     send_sync::<Enumeration>();
     send_sync::<Nsgs>();
     send_sync::<Newton>();
+    send_sync::<Proximal>();
     send_sync::<LcpRoute>();
     send_sync::<Fc2dAuto>();
     send_sync::<Lcp>();

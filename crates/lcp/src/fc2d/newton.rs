@@ -59,7 +59,7 @@ pub struct NewtonOptions {
     pub fallback_sweeps: usize,
     /// Gauss-Seidel sweeps taken after every accepted Newton step (0 for none). Newton's
     /// step fixes the long-range part of the error that Gauss-Seidel spreads only slowly
-    /// (through a tall pile of grains, about H² sweeps for H layers), and the sweeps fix
+    /// (through a pile of grains with friction, tens of thousands of sweeps), and the sweeps fix
     /// the contacts whose case the step guessed wrong, which the next linearisation would
     /// otherwise see from the wrong piece of Φ. Default 0.
     pub smoothing_sweeps: usize,
