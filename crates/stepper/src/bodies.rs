@@ -6,10 +6,13 @@
 //! changes from step to step. The stepper then keeps M⁻¹ by blocks, stores each contact's force
 //! directions as two 3-vectors, and solves each step's contact problem on sparse 2 × 2 blocks,
 //! island by island, instead of the dense rows of length f that suit a mechanism of a few
-//! coordinates.
+//! coordinates. Its joints' rows are split by body the same way ([`BodyBilateral`]) and join
+//! the islands' problems as bilateral groups.
 
 use moreau_kinematics::ContactPoint;
 use moreau_setvalued::ContactLaw;
+
+use crate::BilateralPoint;
 
 /// The body index of a contact's side that carries no coordinates: a fixed or driven body.
 pub const NO_BODY: u32 = u32::MAX;
@@ -39,6 +42,28 @@ pub struct BodyContact {
     pub law: ContactLaw,
 }
 
+/// One bilateral constraint row (a joint's equation g_B(q, t) = 0) at (q, t), restricted to
+/// the at most two bodies with coordinates it acts on.
+///
+/// As for a [`BodyContact`], `w[s]` holds the entries of w_B = (∂g_B/∂q)ᵀ in the coordinates
+/// (x, y, θ) of body `bodies[s]`, ignored when `bodies[s]` is [`NO_BODY`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyBilateral {
+    /// The two bodies the row acts on, [`NO_BODY`] for a side without coordinates.
+    pub bodies: [u32; 2],
+    /// w_B restricted to each body's (x, y, θ): `w[s]` belongs to `bodies[s]`.
+    pub w: [[f64; 3]; 2],
+    /// g_B and ŵ_B = ∂g_B/∂t.
+    pub point: BilateralPoint,
+}
+
+impl Default for BodyBilateral {
+    /// A row on no body, with w_B = 0 and g_B = ŵ_B = 0.
+    fn default() -> Self {
+        Self { bodies: [NO_BODY; 2], w: [[0.0; 3]; 2], point: BilateralPoint::default() }
+    }
+}
+
 /// The structure of a mechanism made of rigid bodies in maximal coordinates, announced by
 /// [`crate::Mechanism::body_structure`].
 ///
@@ -63,4 +88,19 @@ pub trait BodyStructure: Sync {
     /// exist ([`crate::StepError::InvalidContact`]) and non-finite numbers
     /// ([`crate::StepError::NonFinite`]).
     fn detect(&self, q: &[f64], t: f64, margin: f64, out: &mut Vec<BodyContact>);
+
+    /// Writes bilateral constraint i of [`crate::Mechanism::bilaterals`] at (q, t), split by
+    /// body, into `rows[i]`, for every `i < rows.len()` = [`crate::Mechanism::num_bilaterals`].
+    ///
+    /// The stepper solves consecutive rows on the same two bodies as one group of at most two
+    /// rows (a revolute joint's two rows together, a weld's three as two and one), and corrects
+    /// the positions' drift off g_B = 0 after each step when the projection is on. The
+    /// default, for mechanisms without bilateral constraints, writes non-finite values, so that
+    /// a mechanism that states constraints but does not split them fails with
+    /// [`crate::StepError::NonFinite`] at its first step.
+    fn bilateral_rows(&self, q: &[f64], t: f64, rows: &mut [BodyBilateral]) {
+        let _ = (q, t);
+        let nan = BilateralPoint { g: f64::NAN, w_hat: f64::NAN };
+        rows.fill(BodyBilateral { point: nan, ..BodyBilateral::default() });
+    }
 }

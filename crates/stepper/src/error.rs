@@ -96,16 +96,6 @@ pub enum StepError {
         /// What is wrong (a body that does not exist, identities out of order).
         reason: String,
     },
-    /// A mechanism with a [`crate::BodyStructure`] states bilateral constraints: joints are not
-    /// yet solved on the many-body path.
-    #[error(
-        "a mechanism with a body structure has {bilaterals} bilateral constraints; joints are \
-         not supported on the many-body path"
-    )]
-    JointsWithBodyStructure {
-        /// The number of bilateral constraints stated.
-        bilaterals: usize,
-    },
     /// The frictional-contact problem of one island of a step (mechanism with a
     /// [`crate::BodyStructure`]) has no acceptable solution from the chosen solver.
     ///

@@ -97,9 +97,9 @@
 //! detection, assembly, solution and projection. A [`Recorder`] keeps the bodies' q and u and the
 //! energies, and lists impacts by contact identity; it keeps no per-contact columns, since the
 //! contacts come and go. Nothing is allocated per step once the buffers have grown to the
-//! largest contact set. Joints (bilateral constraints) are not yet solved on this path:
-//! [`Stepper::new`] refuses a mechanism with a body structure and bilateral constraints
-//! ([`StepError::JointsWithBodyStructure`]).
+//! largest contact set. Joints (bilateral constraints, split by body through
+//! [`BodyStructure::bilateral_rows`]) link their bodies into islands as contacts do and join
+//! each island's problem as bilateral groups; the projection corrects their drift.
 //!
 //! # References
 //! - Moreau, J. J. (1988). Unilateral contact and dry friction in finite freedom dynamics.
@@ -143,7 +143,7 @@ mod report;
 mod rows;
 mod stepper;
 
-pub use bodies::{BodyContact, BodyStructure, NO_BODY};
+pub use bodies::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
 pub use check::{EvaluateMismatch, check_evaluate};
 pub use error::StepError;
 pub use mechanism::{BilateralPoint, Mechanism, SharedWork};

@@ -103,6 +103,10 @@ pub struct StepReport<'a> {
     /// The largest |g_B| of the bilateral constraints at the step's midpoint q_M (m or rad):
     /// how far the positions have drifted off the joints; 0 without joints.
     pub joint_drift: f64,
+    /// The number of islands the step's problem split into, for a mechanism with a
+    /// [`crate::BodyStructure`]: the connected components of the bodies linked by the step's
+    /// contacts and joints (0 on the path of fixed contacts).
+    pub islands: usize,
     /// The wall time of the step's phases, measured for a mechanism with a
     /// [`crate::BodyStructure`] (all zero otherwise).
     pub times: PhaseTimes,

@@ -263,8 +263,7 @@ impl<M: Mechanism> Stepper<M> {
     /// [`StepError::Dimension`] for state vectors or law lists of the wrong length,
     /// [`StepError::NonFinite`] for a non-finite state, and the solver's option errors. For a
     /// mechanism with a [`crate::BodyStructure`]: [`StepError::Dimension`] when f is not three
-    /// times its number of bodies, [`StepError::JointsWithBodyStructure`] when it states
-    /// bilateral constraints.
+    /// times its number of bodies.
     pub fn new(
         mechanism: M,
         q0: &[f64],
@@ -289,11 +288,7 @@ impl<M: Mechanism> Stepper<M> {
                         found: f,
                     });
                 }
-                let bilaterals = mechanism.num_bilaterals();
-                if bilaterals != 0 {
-                    return Err(StepError::JointsWithBodyStructure { bilaterals });
-                }
-                Some(Box::new(BodyPath::new(nb)))
+                Some(Box::new(BodyPath::new(nb, mechanism.num_bilaterals())))
             }
             None => None,
         };

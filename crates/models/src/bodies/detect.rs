@@ -9,13 +9,14 @@
 //! Each point of the narrow phase within the margin becomes a `BodyContact` whose identity is
 //! i · 2⁴⁰ + j · 2¹⁶ + feature: unique, the same while the same features touch, and increasing
 //! in the order the broad phase and the sorted features give. Its force directions are those of
-//! the fixed slots ([`SlotGeometry::rows`]) restricted to each body's three coordinates.
+//! the fixed slots ([`SlotGeometry::rows`]) restricted to each body's three coordinates, and
+//! the joints' rows are split by body the same way.
 
 use std::cell::RefCell;
 
 use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Shape, collide, max_points};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::{BodyContact, BodyStructure, NO_BODY};
+use moreau_stepper::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
 
 use super::body::{Body, Frame, Kind};
 use super::build::bad;
@@ -149,6 +150,17 @@ fn coordinate_body(frame: &Frame) -> u32 {
     frame.dof.map_or(NO_BODY, |d| (d / 3) as u32)
 }
 
+/// The frames of a row's two bodies with their coordinates renumbered 0..3 and 3..6, so that
+/// the rows written for the dense q fill the six numbers of a split row.
+fn local_frames(fa: &Frame, fb: &Frame) -> (Frame, Frame) {
+    (Frame { dof: fa.dof.map(|_| 0), ..*fa }, Frame { dof: fb.dof.map(|_| 3), ..*fb })
+}
+
+/// Six numbers (body a's x, y, θ, then body b's) as the two sides of a split row.
+fn split(w: [f64; 6]) -> [[f64; 3]; 2] {
+    [[w[0], w[1], w[2]], [w[3], w[4], w[5]]]
+}
+
 impl Multibody {
     /// The contact of one narrow-phase point between the bodies at frames `fa` and `fb`.
     fn body_contact(
@@ -165,11 +177,9 @@ impl Multibody {
             gap: point.gap,
         };
         // The fixed slots' rows, written into the six coordinates of the two bodies.
-        let local_a = Frame { dof: fa.dof.map(|_| 0), ..*fa };
-        let local_b = Frame { dof: fb.dof.map(|_| 3), ..*fb };
+        let (local_a, local_b) = local_frames(fa, fb);
         let (mut w_n, mut w_t) = ([0.0; 6], [0.0; 6]);
         let contact_point = geometry.rows(&local_a, &local_b, &mut w_n, &mut w_t);
-        let split = |w: [f64; 6]| [[w[0], w[1], w[2]], [w[3], w[4], w[5]]];
         BodyContact {
             id,
             bodies: [coordinate_body(fa), coordinate_body(fb)],
@@ -243,6 +253,25 @@ impl BodyStructure for Multibody {
                         out.push(Self::body_contact(contact_id(i, j, p.feature), p, fa, fb, law));
                     }
                 }
+            }
+        });
+    }
+
+    /// The joints' rows of `Mechanism::bilaterals`, each written for the six coordinates of
+    /// its two bodies and split, from one frame per body.
+    fn bilateral_rows(&self, q: &[f64], t: f64, rows: &mut [BodyBilateral]) {
+        self.with_frames(q, t, |frames| {
+            for (row, &(joint, k)) in rows.iter_mut().zip(&self.rows) {
+                let j = &self.joints[joint];
+                let (fa, fb) = (&frames[j.a], &frames[j.b]);
+                let (local_a, local_b) = local_frames(fa, fb);
+                let mut w = [0.0; 6];
+                let point = j.kind.row(k, &local_a, &local_b, t, &mut w);
+                *row = BodyBilateral {
+                    bodies: [coordinate_body(fa), coordinate_body(fb)],
+                    w: split(w),
+                    point,
+                };
             }
         });
     }

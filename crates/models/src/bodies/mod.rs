@@ -29,15 +29,16 @@
 //! * `fixed` (default): a list of slots built once, one per pair and feature of the pair, each
 //!   named and closed or open at each step, the contacts of
 //!   `moreau_kinematics::ContactKinematics`. Automatic slots grow as the square of the number
-//!   of bodies; joints need this mode.
+//!   of bodies; clearance joints, whose contacts are slots, need this mode.
 //! * `detected`: no slots, so `num_contacts()` is 0; [`Multibody`] announces
 //!   `Mechanism::body_structure` and implements `moreau_stepper::BodyStructure`: a 3 × 3 mass
 //!   block per dynamic body, and at each (q, t) the contacts within the stepper's margin found
 //!   by the broad phase over all shapes and the narrow phase, under the same rules and with the
 //!   same force directions as the slots. Each contact's identity is built from its two shapes
 //!   (numbered in body then shape order) and its feature: unique, increasing in the order
-//!   returned, and the same while the same features touch. A scene with joints is refused in
-//!   this mode, naming `contact_set`.
+//!   returned, and the same while the same features touch. The ideal joints' rows are split
+//!   by body too (`BodyStructure::bilateral_rows`) and solved in each island's problem; a
+//!   scene with a clearance joint is refused in this mode, naming `contact_set`.
 //!
 //! # Generated bodies
 //! A [`FillSpec`] (`[[fill]]` in a scene file) expands at build time into many dynamic bodies

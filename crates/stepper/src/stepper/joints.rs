@@ -17,8 +17,14 @@
 use crate::dense::{Cholesky, dot, factor_small, solve_small};
 use crate::{BilateralPoint, Mechanism, StepError};
 
-/// Largest number of corrections of the positions per step.
-const PROJECTION_ITERATIONS: usize = 4;
+/// Largest number of corrections of the positions per step (on both paths).
+pub(super) const PROJECTION_ITERATIONS: usize = 4;
+
+/// The drift |g_B| that the correction of the positions leaves alone at q (on both paths):
+/// 1e-12 (1 + ‖q‖∞), round-off of the positions.
+pub(super) fn drift_tolerance(q: &[f64]) -> f64 {
+    1e-12 * q.iter().fold(1.0f64, |s, v| s.max(v.abs()))
+}
 
 /// The bilateral constraints' part of a stepper's workspace.
 pub(super) struct Joints {
@@ -182,7 +188,7 @@ impl Joints {
         // K is formed only when a correction is needed.
         let mut holding = None;
         let m = n + held.len() / f;
-        let scale = q.iter().fold(1.0f64, |s, v| s.max(v.abs()));
+        let tolerance = drift_tolerance(q);
         for _ in 0..PROJECTION_ITERATIONS {
             let mut drift = 0.0f64;
             mech.bilaterals(q, t, &mut self.w_end, &mut self.points);
@@ -194,7 +200,7 @@ impl Joints {
                 self.g_end[i] = g;
                 drift = drift.max(g.abs());
             }
-            if drift <= 1e-12 * scale {
+            if drift <= tolerance {
                 return Ok(());
             }
             if *holding

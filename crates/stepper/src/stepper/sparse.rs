@@ -1,14 +1,21 @@
 //! The step of a mechanism with a [`BodyStructure`]: the same midpoint rule and impact law
 //! as the path of fixed contacts (docs/theory.md sections 4-7), with M kept as one 3 × 3
 //! block per body, the contacts detected at the midpoint, and their problem solved island by
-//! island on sparse 2 × 2 blocks (section 10).
+//! island on sparse 2 × 2 blocks (section 10), the joints' rows in it as bilateral groups.
+//!
+//! The joints are not eliminated by a Schur complement as on the path of fixed contacts
+//! (joints.rs), whose S = W_Bᵀ M⁻¹ W_B and rows of length f cost O(f n_B) per step and
+//! couple every body: their rows stay in each island's problem, whose solution keeps
+//! γ_B,E = 0 exactly as the elimination does, and their drift is corrected by the same
+//! sparse projection as the contacts' penetration.
 #![allow(non_snake_case)]
 
 use std::time::Instant;
 
-use super::islands::{ContactWork, IslandFailure, Islands};
+use super::islands::{ContactWork, IslandFailure, Islands, JointGroup, group_rows, link};
+use super::joints::{PROJECTION_ITERATIONS, drift_tolerance};
 use super::*;
-use crate::bodies::{BodyContact, BodyStructure, NO_BODY};
+use crate::bodies::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
 use crate::report::{MassView, PhaseTimes};
 
 /// The state and buffers of the many-body path, sized by the bodies and by the most
@@ -30,6 +37,14 @@ pub(super) struct BodyPath {
     q_e: Vec<f64>,
     /// The contacts detected at the midpoint (then at q_E, by the projection), in id order.
     detected: Vec<BodyContact>,
+    /// The bilateral rows at the midpoint (then at q_E), and their groups.
+    rows: Vec<BodyBilateral>,
+    groups: Vec<JointGroup>,
+    /// The groups at q_E during the projection, of which only g_B is used.
+    end_groups: Vec<JointGroup>,
+    /// Whether each body has a joint row.
+    jointed: Vec<bool>,
+    /// The work of the contacts, then of the joint groups.
     work: Vec<ContactWork>,
     /// The step's contacts' identities and reports.
     ids: Vec<u64>,
@@ -37,10 +52,16 @@ pub(super) struct BodyPath {
     /// The step's impulses (P_N, P_T) by identity, in increasing order: the next step's
     /// warm start, and what tells an impact from persistent contact.
     prev: Vec<(u64, [f64; 2])>,
+    /// The joint groups' impulses of the step, the next step's warm start.
+    joint_prev: Vec<[f64; 2]>,
     pub(super) islands: Islands,
     info: Option<LcpInfo>,
     lcp_size: usize,
     penetration: f64,
+    /// The largest |g_B| at the midpoint.
+    joint_drift: f64,
+    /// The number of islands of the step's problem (the projection splits its own).
+    islands_solved: usize,
     times: PhaseTimes,
 }
 
@@ -150,8 +171,8 @@ fn check_contacts(
 }
 
 impl BodyPath {
-    /// The path for a mechanism of `nb` bodies.
-    pub(super) fn new(nb: usize) -> Self {
+    /// The path for a mechanism of `nb` bodies and `n_bilaterals` bilateral rows.
+    pub(super) fn new(nb: usize, n_bilaterals: usize) -> Self {
         let f = 3 * nb;
         BodyPath {
             nb,
@@ -164,14 +185,21 @@ impl BodyPath {
             u_e: vec![0.0; f],
             q_e: vec![0.0; f],
             detected: Vec::new(),
+            rows: vec![BodyBilateral::default(); n_bilaterals],
+            groups: Vec::with_capacity(n_bilaterals),
+            end_groups: Vec::with_capacity(n_bilaterals),
+            jointed: vec![false; nb],
             work: Vec::new(),
             ids: Vec::new(),
             reports: Vec::new(),
             prev: Vec::new(),
+            joint_prev: Vec::with_capacity(n_bilaterals),
             islands: Islands::default(),
             info: None,
             lcp_size: 0,
             penetration: 0.0,
+            joint_drift: 0.0,
+            islands_solved: 0,
             times: PhaseTimes::default(),
         }
     }
@@ -179,6 +207,7 @@ impl BodyPath {
     /// Forgets the impulses of the last step (the warm start and the closed contacts).
     pub(super) fn forget(&mut self) {
         self.prev.clear();
+        self.joint_prev.clear();
     }
 
     /// The rows of the contact reports of the last step.
@@ -193,41 +222,61 @@ impl BodyPath {
             lcp_size: self.lcp_size,
             lcp: self.info,
             penetration: self.penetration,
-            joint_drift: 0.0,
+            joint_drift: self.joint_drift,
+            islands: self.islands_solved,
             times: self.times,
             mass: MassView::Blocks(&self.mass),
             u_free: &self.u_free,
         }
     }
 
-    /// M⁻¹ w_N and M⁻¹ w_T of each side of each detected contact.
+    /// M⁻¹ w_N and M⁻¹ w_T of each side of each detected contact, then M⁻¹ w_B of each side
+    /// of each joint group's rows.
     fn directions(&mut self) {
         let inv = &self.inv;
         self.work.clear();
-        self.work.extend(self.detected.iter().map(|c| {
+        let n = self.detected.len() + self.groups.len();
+        self.work.extend((0..n).map(|a| {
+            let (bodies, w_0, w_1) = link(&self.detected, &self.groups, a);
             let mut w = ContactWork::default();
             for side in 0..2 {
-                let k = c.bodies[side];
+                let k = bodies[side];
                 if k != NO_BODY {
                     let m = &inv[k as usize];
-                    w.mw_n[side] = mul3(m, &c.w_n[side]);
-                    w.mw_t[side] = mul3(m, &c.w_t[side]);
+                    w.mw_n[side] = mul3(m, &w_0[side]);
+                    w.mw_t[side] = mul3(m, &w_1[side]);
                 }
             }
             w
         }));
     }
-}
 
-/// v += M⁻¹ (W_N P_N + W_T P_T) with the impulses `r` of the contacts.
-fn apply_impulses(detected: &[BodyContact], work: &[ContactWork], r: &[[f64; 2]], v: &mut [f64]) {
-    {
-        for ((c, w), r) in detected.iter().zip(work).zip(r) {
+    /// Evaluates and groups the bilateral rows at (q, t); returns the largest |g_B|.
+    fn joints_at(
+        &mut self,
+        structure: &dyn BodyStructure,
+        q: &[f64],
+        t: f64,
+    ) -> Result<f64, StepError> {
+        if self.rows.is_empty() {
+            return Ok(0.0);
+        }
+        structure.bilateral_rows(q, t, &mut self.rows);
+        group_rows(&self.rows, t, &mut self.groups)?;
+        Ok(self.rows.iter().fold(0.0f64, |d, r| d.max(r.point.g.abs())))
+    }
+
+    /// v += M⁻¹ (W_N P_N + W_T P_T + W_B Λ_B) with the impulses of the contacts and the joint
+    /// groups of the last solve.
+    fn apply_impulses(&self, v: &mut [f64]) {
+        let r = self.islands.r.iter().chain(&self.islands.r_joints);
+        for (a, (w, r)) in self.work.iter().zip(r).enumerate() {
             if r[0] == 0.0 && r[1] == 0.0 {
                 continue;
             }
+            let bodies = link(&self.detected, &self.groups, a).0;
             for side in 0..2 {
-                let k = c.bodies[side];
+                let k = bodies[side];
                 if k != NO_BODY {
                     let v = &mut v[3 * k as usize..][..3];
                     for j in 0..3 {
@@ -287,6 +336,11 @@ impl Core {
             }
         }
 
+        let q_m = std::mem::take(&mut b.q_m);
+        let drift = b.joints_at(structure, &q_m, t_m);
+        b.q_m = q_m;
+        b.joint_drift = drift?;
+
         let detect_start = Instant::now();
         b.detected.clear();
         structure.detect(&b.q_m, t_m, self.options.gap_tolerance, &mut b.detected);
@@ -317,16 +371,29 @@ impl Core {
             w.warm = if j < b.prev.len() && b.prev[j].0 == c.id { b.prev[j].1 } else { [0.0; 2] };
             b.ids.push(c.id);
         }
-        b.islands.split(nb, &b.detected);
-        b.islands.assemble(&b.detected, &b.work, &self.options.solver)?;
+        // The joint groups ask γ_B,E = w_Bᵀ u_E + ŵ_B = 0: q_B = w_Bᵀ ũ + ŵ_B, warm-started
+        // from the step before (the groups are the same at every step).
+        let warm_joints = b.joint_prev.len() == b.groups.len();
+        let nc = b.detected.len();
+        for (g, (group, w)) in b.groups.iter().zip(&mut b.work[nc..]).enumerate() {
+            for row in 0..group.rows {
+                w.b[row] = side_dot(group.bodies, &group.w[row], &b.u_free) + group.w_hat[row];
+            }
+            w.warm = if warm_joints { b.joint_prev[g] } else { [0.0; 2] };
+        }
+        b.islands.split(nb, &b.detected, &b.groups);
+        b.islands.assemble(&b.detected, &b.groups, &b.work, &self.options.solver)?;
+        b.islands_solved = b.islands.count();
         let assembled = Instant::now();
 
-        let info = match b.islands.solve() {
+        let info = match b.islands.solve(true) {
             Ok(info) => info,
             Err(failure) => return Err(self.island_error(failure)),
         };
-        b.u_e.copy_from_slice(&b.u_free);
-        apply_impulses(&b.detected, &b.work, &b.islands.r, &mut b.u_e);
+        let mut u_e = std::mem::take(&mut b.u_e);
+        u_e.copy_from_slice(&b.u_free);
+        b.apply_impulses(&mut u_e);
+        b.u_e = u_e;
         let mut poison = 0.0;
         for ((q_e, q_m), u) in b.q_e.iter_mut().zip(&b.q_m).zip(&b.u_e) {
             *q_e = q_m + half * u;
@@ -335,7 +402,6 @@ impl Core {
         if poison != 0.0 {
             diagnose_non_finite(&b.h, &b.u_e, &b.q_e, t_m)?;
         }
-        let nc = b.detected.len();
         b.lcp_size = 2 * nc;
         b.info = (nc > 0).then(|| {
             info.unwrap_or(LcpInfo {
@@ -345,7 +411,7 @@ impl Core {
                 residual: 0.0,
             })
         });
-        if info.is_some() {
+        if nc > 0 && info.is_some() {
             self.ws.lcp_solves += 1;
         }
 
@@ -384,6 +450,8 @@ impl Core {
         }
         b.prev.clear();
         b.prev.extend(b.ids.iter().zip(&b.islands.r).map(|(&id, &r)| (id, r)));
+        b.joint_prev.clear();
+        b.joint_prev.extend_from_slice(&b.islands.r_joints);
         std::mem::swap(&mut self.u, &mut b.u_e);
         std::mem::swap(&mut self.q, &mut b.q_e);
         let solved = Instant::now();
@@ -404,21 +472,89 @@ impl Core {
         Ok(())
     }
 
-    /// Moves q_E back onto the admissible set along M⁻¹ W_N, island by island: with the
-    /// contacts detected at q_E, when one penetrates by more than the projection tolerance,
-    /// 0 ≤ λ ⊥ W_Nᵀ M⁻¹ W_N λ + g_N ≥ 0 is solved by the step's solver as a frictional-contact
-    /// problem with μ = 0 and q_E += M⁻¹ W_N λ, repeated as on the path of fixed contacts.
-    /// M⁻¹ is the midpoint's. A projection that cannot be computed leaves q_E as it is.
+    /// Moves q_E back onto the joints and the admissible set, island by island, as the path
+    /// of fixed contacts does (joints.rs, then its contact projection), each correction a
+    /// problem solved by the step's solver as a frictional-contact problem with μ = 0 and
+    /// bilateral groups, and q_E += M⁻¹ W λ with the midpoint's M⁻¹:
+    /// 1. the joints, while g_B(q_E) exceeds [`drift_tolerance`] (at most
+    ///    [`PROJECTION_ITERATIONS`] times): W_Bᵀ M⁻¹ W λ + g_B(q_E) = 0 with W = [W_B W_H],
+    ///    where the held contacts H, those of the step that carried an impulse and touch a
+    ///    body with a joint, keep their gaps (W_Hᵀ M⁻¹ W λ = 0), so that the correction
+    ///    neither opens nor closes a resting contact. W_B and W_H are the midpoint's (a
+    ///    simplified Newton method, as on the other path). When that problem has no solution
+    ///    (held contacts that repeat each other or a joint), the contacts are not held. The
+    ///    other contacts of the bodies it moves (a pile under a chain) are not held: a
+    ///    hyperstatic pile would make the problem singular;
+    /// 2. the contacts, when one detected at q_E penetrates by more than the projection
+    ///    tolerance (at most four times): 0 ≤ λ_N ⊥ W_Nᵀ M⁻¹ W λ + g_N ≥ 0 with the joints'
+    ///    midpoint rows kept, W_Bᵀ M⁻¹ W λ = 0, as M̂⁻¹ keeps them on the other path.
+    ///
+    /// A projection that cannot be computed leaves q_E as it is.
     fn project_bodies(
         &mut self,
         structure: &dyn BodyStructure,
         b: &mut BodyPath,
         t_e: f64,
     ) -> Result<(), StepError> {
+        let gap_tolerance = self.options.gap_tolerance;
+        let n_joints = b.groups.len();
+        if n_joints > 0 {
+            b.jointed.fill(false);
+            for g in &b.groups {
+                for &k in g.bodies.iter().filter(|&&k| k != NO_BODY) {
+                    b.jointed[k as usize] = true;
+                }
+            }
+            let jointed = |k: u32| k != NO_BODY && b.jointed[k as usize];
+            for (c, r) in b.detected.iter().zip(&b.islands.r) {
+                if r[0] > 0.0 && c.bodies.iter().any(|&k| jointed(k)) {
+                    b.groups.push(JointGroup {
+                        bodies: c.bodies,
+                        w: [c.w_n, [[0.0; 3]; 2]],
+                        g: [0.0; 2],
+                        w_hat: [0.0; 2],
+                        rows: 1,
+                    });
+                }
+            }
+        }
+        if n_joints > 0 {
+            let tolerance = drift_tolerance(&self.q);
+            b.detected.clear();
+            b.directions();
+            let mut corrections = 0;
+            while corrections < PROJECTION_ITERATIONS {
+                structure.bilateral_rows(&self.q, t_e, &mut b.rows);
+                group_rows(&b.rows, t_e, &mut b.end_groups)?;
+                let drift = b.rows.iter().fold(0.0f64, |d, r| d.max(r.point.g.abs()));
+                if drift <= tolerance {
+                    break;
+                }
+                for ((w, group), end) in b.work.iter_mut().zip(&b.groups).zip(&b.end_groups) {
+                    w.b = [end.g[0], if group.rows == 2 { end.g[1] } else { 0.0 }];
+                }
+                for w in &mut b.work[n_joints..] {
+                    w.b = [0.0; 2];
+                }
+                b.islands.split(b.nb, &b.detected, &b.groups);
+                b.islands.assemble(&b.detected, &b.groups, &b.work, &self.options.solver)?;
+                if b.islands.solve(true).is_err() {
+                    if b.groups.len() > n_joints {
+                        b.groups.truncate(n_joints);
+                        b.directions();
+                        continue;
+                    }
+                    break;
+                }
+                b.apply_impulses(&mut self.q);
+                corrections += 1;
+            }
+            b.groups.truncate(n_joints);
+        }
         for _ in 0..4 {
             b.detected.clear();
-            structure.detect(&self.q, t_e, self.options.gap_tolerance, &mut b.detected);
-            check_contacts(&mut b.detected, b.nb, self.options.gap_tolerance, t_e)?;
+            structure.detect(&self.q, t_e, gap_tolerance, &mut b.detected);
+            check_contacts(&mut b.detected, b.nb, gap_tolerance, t_e)?;
             let tolerance = self.options.projection_tolerance;
             if !b.detected.iter().any(|c| c.point.g_n < -tolerance) {
                 break;
@@ -427,16 +563,20 @@ impl Core {
                 c.w_t = [[0.0; 3]; 2];
             }
             b.directions();
+            let nc = b.detected.len();
             for (c, w) in b.detected.iter().zip(b.work.iter_mut()) {
                 w.b = [c.point.g_n, 0.0];
                 w.mu = 0.0;
             }
-            b.islands.split(b.nb, &b.detected);
-            b.islands.assemble(&b.detected, &b.work, &self.options.solver)?;
-            if b.islands.solve().is_err() {
+            for w in &mut b.work[nc..] {
+                w.b = [0.0; 2];
+            }
+            b.islands.split(b.nb, &b.detected, &b.groups);
+            b.islands.assemble(&b.detected, &b.groups, &b.work, &self.options.solver)?;
+            if b.islands.solve(false).is_err() {
                 break;
             }
-            apply_impulses(&b.detected, &b.work, &b.islands.r, &mut self.q);
+            b.apply_impulses(&mut self.q);
         }
         check_finite("q", &self.q, t_e)
     }

@@ -30,6 +30,7 @@ impl Core {
             lcp: if self.ws.lcp_size > 0 { self.ws.lcp_info } else { None },
             penetration: self.ws.penetration,
             joint_drift: self.ws.joint_drift,
+            islands: 0,
             times: crate::report::PhaseTimes::default(),
             mass: crate::report::MassView::Dense(&self.ws.mass),
             u_free: &self.ws.u_free,
