@@ -1,0 +1,388 @@
+//! The batches of islands: each island's problem assembled into a batch's buffers (the 2 × 2
+//! blocks of its Delassus matrix, q, μ and the warm start), solved, and measured by the LCP
+//! residual the dense path reports.
+
+use std::ops::Range;
+
+use moreau_lcp::fc2d::{Fc2d, Fc2dParts, Fc2dRef, Fc2dSolution};
+use moreau_lcp::{LcpError, Status};
+
+use super::solver::IslandSolver;
+use super::{ContactWork, JointGroup, link};
+use crate::LcpInfo;
+use crate::SolverChoice;
+use crate::bodies::{BodyContact, NO_BODY};
+
+/// Where one island's problem lies in its batch's buffers.
+#[derive(Clone, Copy, Debug, Default)]
+struct Slot {
+    /// First contact of the island among the batch's contacts (the offset into `mu`).
+    c_off: usize,
+    /// Number of contacts.
+    n: usize,
+    /// Number of groups: contacts, then joint groups.
+    groups: usize,
+    /// First row of the island in the batch's rows (q, the warm start and r).
+    row_off: usize,
+    /// Number of rows.
+    rows: usize,
+    /// First entry of the island's row pointers in the batch's `row_ptr`, and of its group
+    /// starts in `group_start`.
+    rp_off: usize,
+    /// Whether some b_N < 0 or a joint group is present, so that the island needs a solve.
+    solve: bool,
+}
+
+/// A batch's island problems, concatenated: group starts and row pointers relative to each
+/// island's first row and block, columns local to the island, blocks, q, μ and the warm start.
+#[derive(Default)]
+struct Problems {
+    slots: Vec<Slot>,
+    group_start: Vec<usize>,
+    row_ptr: Vec<usize>,
+    col: Vec<u32>,
+    blocks: Vec<[f64; 4]>,
+    q: Vec<f64>,
+    mu: Vec<f64>,
+    warm: Vec<f64>,
+    /// First block of each island in `blocks`.
+    block_off: Vec<usize>,
+}
+
+impl Problems {
+    fn clear(&mut self) {
+        self.slots.clear();
+        self.group_start.clear();
+        self.row_ptr.clear();
+        self.col.clear();
+        self.blocks.clear();
+        self.q.clear();
+        self.mu.clear();
+        self.warm.clear();
+        self.block_off.clear();
+    }
+
+    /// The problem of island `j` of the batch.
+    fn problem(&self, j: usize) -> Result<Fc2dRef<'_>, LcpError> {
+        let slot = &self.slots[j];
+        let (c, n, groups) = (slot.c_off, slot.n, slot.groups);
+        let b0 = self.block_off[j];
+        let b1 = b0 + self.row_ptr[slot.rp_off + groups];
+        let groups_of = slot.rp_off..slot.rp_off + groups + 1;
+        Fc2dRef::from_parts(Fc2dParts {
+            n_contacts: n,
+            group_start: &self.group_start[groups_of.clone()],
+            row_ptr: &self.row_ptr[groups_of],
+            col: &self.col[b0..b1],
+            blocks: &self.blocks[b0..b1],
+            q: &self.q[slot.row_off..slot.row_off + slot.rows],
+            mu: &self.mu[c..c + n],
+        })
+    }
+}
+
+/// Why an island's solve failed.
+pub(in crate::stepper) enum IslandFailure {
+    /// The problem or the warm start was refused, or the solver's options.
+    Input(LcpError),
+    /// The solver ended without a solution; the island's problem is kept to reproduce it.
+    Status(Status, Box<Fc2d>),
+}
+
+/// A run of consecutive islands with its scratch and solver.
+pub(super) struct Batch {
+    /// The islands of the batch.
+    pub(super) islands: Range<usize>,
+    /// The links of the batch, a range of the step's island order.
+    pub(super) links: Range<usize>,
+    /// The islands' problems.
+    problems: Problems,
+    /// The (column, block) entries of one block row before they are sorted and merged.
+    row: Vec<(u32, [f64; 4])>,
+    solver: IslandSolver,
+    solution: Fc2dSolution,
+    /// The impulses of the batch's rows, in the batch's order: (P_N, P_T) of each contact,
+    /// Λ_B of each joint row.
+    pub(super) r: Vec<f64>,
+    /// Scratch of the LCP residual.
+    sums: Vec<[f64; 4]>,
+    /// The worst island's information, and the first failure.
+    pub(super) info: Option<LcpInfo>,
+    pub(super) failure: Option<IslandFailure>,
+}
+
+/// The read-only data of a step that the batches share.
+pub(super) struct Shared<'a> {
+    pub(super) contacts: &'a [BodyContact],
+    pub(super) joints: &'a [JointGroup],
+    /// The work of each link: contacts, then joint groups.
+    pub(super) work: &'a [ContactWork],
+    pub(super) order: &'a [u32],
+    pub(super) island_start: &'a [usize],
+    pub(super) local: &'a [u32],
+    pub(super) body_start: &'a [usize],
+    pub(super) body_list: &'a [(u32, u8)],
+}
+
+impl Shared<'_> {
+    /// The bodies of link `a` and its two rows' directions by side (w_N and w_T of a
+    /// contact, the rows of a joint group).
+    #[inline(always)]
+    fn link(&self, a: usize) -> ([u32; 2], &[[f64; 3]; 2], &[[f64; 3]; 2]) {
+        link(self.contacts, self.joints, a)
+    }
+
+    /// The number of rows of link `a`.
+    #[inline(always)]
+    fn rows(&self, a: usize) -> usize {
+        let nc = self.contacts.len();
+        if a < nc { 2 } else { self.joints[a - nc].rows }
+    }
+}
+
+impl Batch {
+    pub(super) fn new(choice: &SolverChoice) -> Result<Self, LcpError> {
+        Ok(Batch {
+            islands: 0..0,
+            links: 0..0,
+            problems: Problems::default(),
+            row: Vec::new(),
+            solver: IslandSolver::new(choice)?,
+            solution: Fc2dSolution::new(),
+            r: Vec::new(),
+            sums: Vec::new(),
+            info: None,
+            failure: None,
+        })
+    }
+
+    /// Assembles the problem of every island of the batch: W_ij = Σ_k w_i,kᵀ M_k⁻¹ w_j,k
+    /// over the bodies k that links i and j share, q = b, μ and the warm start.
+    pub(super) fn assemble(&mut self, s: &Shared<'_>) {
+        let p = &mut self.problems;
+        p.clear();
+        let nc = s.contacts.len();
+        for island in self.islands.clone() {
+            let range = s.island_start[island]..s.island_start[island + 1];
+            let mut slot = Slot {
+                c_off: p.mu.len(),
+                n: 0,
+                groups: range.len(),
+                row_off: p.q.len(),
+                rows: 0,
+                rp_off: p.row_ptr.len(),
+                solve: false,
+            };
+            for k in range.clone() {
+                let a = s.order[k] as usize;
+                slot.n += usize::from(a < nc);
+                slot.solve |= a >= nc || s.work[a].b[0] < 0.0;
+            }
+            let b0 = p.blocks.len();
+            p.block_off.push(b0);
+            p.row_ptr.push(0);
+            p.group_start.push(0);
+            for k in range {
+                let a = s.order[k] as usize;
+                let w = &s.work[a];
+                let rows = s.rows(a);
+                p.q.extend_from_slice(&w.b[..rows]);
+                p.warm.extend_from_slice(&w.warm[..rows]);
+                if a < nc {
+                    p.mu.push(w.mu);
+                }
+                slot.rows += rows;
+                if slot.solve {
+                    Self::block_row(&mut self.row, p, s, a);
+                } else {
+                    // An island without a solve needs no blocks: its impulses are zero.
+                    p.col.push((k - s.island_start[island]) as u32);
+                    p.blocks.push([0.0; 4]);
+                }
+                p.row_ptr.push(p.blocks.len() - b0);
+                p.group_start.push(slot.rows);
+            }
+            p.slots.push(slot);
+        }
+    }
+
+    /// Appends the block row of link `a`: its blocks with every link sharing a body, by
+    /// increasing local column, the contributions of two shared bodies added up. A joint
+    /// group of one row has a zero second row and zero M⁻¹ of it, so its blocks' padding is
+    /// zero as the problem's layout asks.
+    fn block_row(row: &mut Vec<(u32, [f64; 4])>, p: &mut Problems, s: &Shared<'_>, a: usize) {
+        let (bodies, w_0, w_1) = s.link(a);
+        row.clear();
+        for side in 0..2 {
+            let k = bodies[side];
+            if k == NO_BODY {
+                continue;
+            }
+            let (wn, wt) = (&w_0[side], &w_1[side]);
+            let k = k as usize;
+            for &(c, sc) in &s.body_list[s.body_start[k]..s.body_start[k + 1]] {
+                let wc = &s.work[c as usize];
+                let (yn, yt) = (&wc.mw_n[sc as usize], &wc.mw_t[sc as usize]);
+                row.push((
+                    s.local[c as usize],
+                    [dot3(wn, yn), dot3(wn, yt), dot3(wt, yn), dot3(wt, yt)],
+                ));
+            }
+        }
+        row.sort_unstable_by_key(|e| e.0);
+        let mut last = u32::MAX;
+        for &(c, b) in row.iter() {
+            if c == last {
+                let dst = p.blocks.last_mut().expect("a block of this column was pushed");
+                for (d, v) in dst.iter_mut().zip(b) {
+                    *d += v;
+                }
+            } else {
+                p.col.push(c);
+                p.blocks.push(b);
+                last = c;
+            }
+        }
+    }
+
+    /// The problems of the batch's islands that need a solve, in island order.
+    pub(super) fn problems(&self) -> impl Iterator<Item = Fc2dRef<'_>> {
+        let p = &self.problems;
+        (0..p.slots.len()).filter(|&j| p.slots[j].solve).filter_map(|j| p.problem(j).ok())
+    }
+
+    /// Solves the batch's islands in turn; the impulses go to `r`, the worst island's
+    /// information to `info`, the first failure to `failure` (and the batch stops there).
+    pub(super) fn solve(&mut self, newton_first: bool) {
+        self.info = None;
+        self.failure = None;
+        self.r.clear();
+        self.r.resize(self.problems.q.len(), 0.0);
+        for (j, slot) in self.problems.slots.iter().enumerate() {
+            if !slot.solve {
+                continue;
+            }
+            let rows = slot.row_off..slot.row_off + slot.rows;
+            let problem = match self.problems.problem(j) {
+                Ok(p) => p,
+                Err(e) => {
+                    self.failure = Some(IslandFailure::Input(e));
+                    return;
+                }
+            };
+            let warm = &self.problems.warm[rows.clone()];
+            if let Err(e) = self.solver.solve(problem, warm, newton_first, &mut self.solution) {
+                self.failure = Some(IslandFailure::Input(e));
+                return;
+            }
+            let out = &self.solution;
+            if out.status != Status::Solved {
+                self.failure =
+                    Some(IslandFailure::Status(out.status, Box::new(problem.to_owned())));
+                return;
+            }
+            self.r[rows].copy_from_slice(&out.r);
+            let residual = lcp_residual(problem, &out.r, &mut self.sums);
+            let info = LcpInfo {
+                method: out.method,
+                status: Status::Solved,
+                iterations: out.iterations,
+                residual,
+            };
+            self.info = Some(worse(self.info, info));
+        }
+    }
+}
+
+#[inline(always)]
+fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The worse of two islands' information: the largest iteration count, and the method and
+/// residual of the island of largest residual.
+pub(super) fn worse(a: Option<LcpInfo>, b: LcpInfo) -> LcpInfo {
+    match a {
+        None => b,
+        Some(a) => {
+            let (m, r) = if b.residual > a.residual {
+                (b.method, b.residual)
+            } else {
+                (a.method, a.residual)
+            };
+            LcpInfo {
+                method: m,
+                status: Status::Solved,
+                iterations: a.iterations.max(b.iterations),
+                residual: r,
+            }
+        }
+    }
+}
+
+/// `moreau_lcp::Residual::relative` of the LCP of eq. 7.41 in z = (P_N; P_R; ξ_L) that an
+/// island's frictional-contact solution r stands for, evaluated on the island's blocks: the
+/// residual the dense path reports for the same step problem. As there, w = A z + b is
+/// recomputed in the LCP's own terms, and ξ_L = max(0, −u_T) from the u_T so recomputed;
+/// `sums` is scratch (Σ|A z| and A z + b of the rows N and R of each contact, then of each
+/// bilateral row). The joint impulses Λ_B enter the contacts' rows as the given terms they
+/// are on the dense path, and each bilateral row adds its equation W_B r + q_B = 0 as a row
+/// with w = 0, whose violation |u_B| counts against the row's scale.
+fn lcp_residual(problem: Fc2dRef<'_>, r: &[f64], sums: &mut Vec<[f64; 4]>) -> f64 {
+    let parts = problem.parts();
+    let n = parts.n_contacts;
+    let (mu, q, gs) = (parts.mu, parts.q, parts.group_start);
+    let groups = gs.len() - 1;
+    // Rows N and R without ξ_L: the column of P_N,j carries W_·N − μ_j W_·T, that of
+    // P_R,j = P_T,j + μ_j P_N,j carries W_·T, that of a bilateral group its rows' W_·B.
+    sums.clear();
+    for i in 0..groups {
+        let (mut abs_0, mut abs_1) = (0.0, 0.0);
+        let (mut sum_0, mut sum_1) =
+            (q[gs[i]], if gs[i + 1] - gs[i] == 2 { q[gs[i] + 1] } else { 0.0 });
+        let blocks = parts.row_ptr[i]..parts.row_ptr[i + 1];
+        for (b, &j) in parts.blocks[blocks.clone()].iter().zip(&parts.col[blocks]) {
+            let j = j as usize;
+            let terms = if j < n {
+                let (p_n, m) = (r[2 * j], mu[j]);
+                let p_r = r[2 * j + 1] + m * p_n;
+                [(b[0] - m * b[1]) * p_n, b[1] * p_r, (b[2] - m * b[3]) * p_n, b[3] * p_r]
+            } else {
+                let r_0 = r[gs[j]];
+                let r_1 = if gs[j + 1] - gs[j] == 2 { r[gs[j] + 1] } else { 0.0 };
+                [b[0] * r_0, b[1] * r_1, b[2] * r_0, b[3] * r_1]
+            };
+            for t in &terms[..2] {
+                sum_0 += t;
+                abs_0 += t.abs();
+            }
+            for t in &terms[2..] {
+                sum_1 += t;
+                abs_1 += t.abs();
+            }
+        }
+        sums.push([sum_0, abs_0, sum_1, abs_1]);
+    }
+    let z = |i: usize| {
+        let p_n = r[2 * i];
+        [p_n, r[2 * i + 1] + mu[i] * p_n, (-sums[i][2]).max(0.0)]
+    };
+    let mut rows = moreau_lcp::ResidualRows::new((0..n).flat_map(z));
+    for i in 0..n {
+        let [p_n, p_r, xi_l] = z(i);
+        let [sum_n, abs_n, sum_r, abs_r] = sums[i];
+        rows.row(q[2 * i], p_n, sum_n, abs_n, sum_n);
+        let w_r = sum_r + xi_l;
+        rows.row(q[2 * i + 1], p_r, w_r, abs_r + xi_l, w_r);
+        let (a, b) = (2.0 * mu[i] * p_n, -p_r);
+        rows.row(0.0, xi_l, a + b, a.abs() + b.abs(), a + b);
+    }
+    for g in n..groups {
+        let [sum_0, abs_0, sum_1, abs_1] = sums[g];
+        rows.row(q[gs[g]], 0.0, 0.0, abs_0, sum_0);
+        if gs[g + 1] - gs[g] == 2 {
+            rows.row(q[gs[g] + 1], 0.0, 0.0, abs_1, sum_1);
+        }
+    }
+    rows.finish().relative
+}

@@ -1,0 +1,175 @@
+//! The solver chain of an island's problem, from the stepper's [`SolverChoice`].
+
+use moreau_lcp::LcpError;
+use moreau_lcp::fc2d::{
+    Fc2dAuto, Fc2dAutoOptions, Fc2dRef, Fc2dSolution, Fc2dSolver, LcpRoute, LcpRouteOptions,
+    LcpRouteSolver, Newton, NewtonOptions, Nsgs, NsgsOptions, Proximal, ProximalOptions,
+};
+
+use crate::SolverChoice;
+use crate::stepper::FC2D_TOLERANCE;
+
+/// Islands of at most this many contacts are small: the default choice solves them with
+/// unrelaxed Gauss-Seidel (whose exact local solution answers a one-contact island in one
+/// sweep) to [`SMALL_TOLERANCE`], and by pivoting if that stalls.
+const SMALL_ISLAND: usize = 8;
+
+/// The Gauss-Seidel sweeps (cluster solves included) that the default choice gives a large
+/// island before nonsmooth Newton takes over.
+const LARGE_ISLAND_SWEEPS: usize = 5_000;
+
+/// The Gauss-Seidel sweeps that follow each accepted Newton step of a large island: the step
+/// carries the long-range correction, the sweeps settle the contacts whose case (stick or
+/// slip, open or closed) it guessed wrong. On the settling disk column (N = 1000, islands
+/// of 388 and 631 contacts) cold Newton with them needs 23 and 31 iterations to 1e-10.
+const NEWTON_SMOOTHING_SWEEPS: usize = 20;
+
+/// The past merits that the line search of a large island's Newton compares with: the
+/// monotone rule stalls near 5e-5 on the settling column, where contacts at the boundary
+/// of two cases flip from one iteration to the next.
+const NEWTON_NONMONOTONE: usize = 10;
+
+/// The Newton iterations the default choice gives a large island before the proximal
+/// point method takes over: Newton either converges in a few dozen or cycles.
+const NEWTON_ITERATIONS: usize = 50;
+
+/// The largest island the default choice hands to pivoting (a dense solve of 3 n_c rows)
+/// when Gauss-Seidel and Newton leave it unsolved.
+const PIVOTING_ISLAND: usize = 300;
+
+/// The natural-map tolerance of small islands, where it costs a few sweeps more.
+const SMALL_TOLERANCE: f64 = 1e-13;
+
+/// The solver of the islands' problems, from the stepper's [`SolverChoice`].
+pub(super) enum IslandSolver {
+    /// The default choice: one `Fc2dAuto` for small islands and one for large ones, then,
+    /// for the large islands that Gauss-Seidel and its cluster solves leave unsolved,
+    /// nonsmooth Newton, the proximal point method, Gauss-Seidel resumed with the full
+    /// budget from the proximal iterate, and pivoting.
+    Auto(Box<([Fc2dAuto; 3], [Newton; 2], Proximal, LcpRoute)>),
+    Nsgs(Nsgs),
+    Lcp(LcpRoute),
+}
+
+impl IslandSolver {
+    pub(super) fn new(choice: &SolverChoice) -> Result<Self, LcpError> {
+        Ok(match *choice {
+            SolverChoice::Auto => Self::Auto(Box::new((
+                [
+                    Fc2dAuto::new(Fc2dAutoOptions {
+                        tolerance: SMALL_TOLERANCE,
+                        omega: 1.0,
+                        ..Fc2dAutoOptions::default()
+                    })?,
+                    Fc2dAuto::new(Fc2dAutoOptions {
+                        tolerance: FC2D_TOLERANCE,
+                        max_sweeps: LARGE_ISLAND_SWEEPS,
+                        ..Fc2dAutoOptions::default()
+                    })?,
+                    Fc2dAuto::new(Fc2dAutoOptions {
+                        tolerance: FC2D_TOLERANCE,
+                        ..Fc2dAutoOptions::default()
+                    })?,
+                ],
+                {
+                    let newton = |tolerance| {
+                        Newton::new(NewtonOptions {
+                            tolerance,
+                            max_iterations: NEWTON_ITERATIONS,
+                            smoothing_sweeps: NEWTON_SMOOTHING_SWEEPS,
+                            nonmonotone: NEWTON_NONMONOTONE,
+                            ..NewtonOptions::default()
+                        })
+                    };
+                    [newton(FC2D_TOLERANCE)?, newton(SMALL_TOLERANCE)?]
+                },
+                Proximal::new(ProximalOptions {
+                    tolerance: FC2D_TOLERANCE,
+                    smoothing_sweeps: NEWTON_SMOOTHING_SWEEPS,
+                    ..ProximalOptions::default()
+                })?,
+                LcpRoute::new(LcpRouteOptions {
+                    tolerance: FC2D_TOLERANCE,
+                    max_contacts: PIVOTING_ISLAND,
+                    ..LcpRouteOptions::default()
+                })?,
+            ))),
+            SolverChoice::Pgs { tolerance, omega, max_iterations } => {
+                Self::Nsgs(Nsgs::new(NsgsOptions {
+                    tolerance,
+                    omega,
+                    max_sweeps: max_iterations,
+                    ..NsgsOptions::default()
+                })?)
+            }
+            SolverChoice::Lemke | SolverChoice::Enumeration => {
+                let solver = if matches!(choice, SolverChoice::Lemke) {
+                    LcpRouteSolver::Lemke
+                } else {
+                    LcpRouteSolver::Enumeration
+                };
+                Self::Lcp(LcpRoute::new(LcpRouteOptions {
+                    tolerance: FC2D_TOLERANCE,
+                    solver,
+                    ..LcpRouteOptions::default()
+                })?)
+            }
+        })
+    }
+
+    /// Solves `problem` from `warm`; with `newton_first`, the default choice starts an island
+    /// with joint groups by Newton.
+    pub(super) fn solve(
+        &mut self,
+        problem: Fc2dRef<'_>,
+        warm: &[f64],
+        newton_first: bool,
+        out: &mut Fc2dSolution,
+    ) -> Result<(), LcpError> {
+        match self {
+            Self::Auto(s) => {
+                let (auto, [newton, joints], proximal, lcp) = &mut **s;
+                if newton_first && problem.n_groups() > problem.n_contacts() {
+                    // Joints couple their bodies stiffly (a chain's rows form a path whose W
+                    // has a condition number growing as the square of its length), where
+                    // Gauss-Seidel crawls; Newton solves the joints' rows exactly once it has
+                    // the contacts' cases, and from the step before's impulses it usually has
+                    // them. A cold start in a hyperstatic pile (the contact projection's) is
+                    // better left to Gauss-Seidel, where Newton cycles. Its tolerance is that of
+                    // small islands: the joints' correction asks for their drift to round-off.
+                    joints.solve_into(problem, Some(warm), out)?;
+                    if out.is_solved() {
+                        return Ok(());
+                    }
+                }
+                let k = usize::from(problem.n_groups() > SMALL_ISLAND);
+                auto[k].solve_into(problem, Some(warm), out)?;
+                if !out.is_solved() && k == 1 {
+                    // Dense packings make W singular and their reactions indeterminate, where
+                    // Gauss-Seidel can crawl; Newton's regularised steps, started cold and
+                    // each followed by a few sweeps, then usually solve the island. Where
+                    // Newton cycles between the cases of contacts at the boundary of two,
+                    // the proximal point method's positive definite sub-problems do not;
+                    // pivoting is the last resort of islands small enough for it.
+                    newton.solve_into(problem, None, out)?;
+                    if !out.is_solved() {
+                        proximal.solve_into(problem, None, out)?;
+                    }
+                    if !out.is_solved() {
+                        // The proximal iterate is close (1e-6 on an island of 986 contacts of
+                        // the settling column, which Gauss-Seidel alone finishes in 37,800
+                        // sweeps): Gauss-Seidel with the full budget finishes from it.
+                        let start = std::mem::take(&mut out.r);
+                        auto[2].solve_into(problem, Some(&start), out)?;
+                    }
+                    if !out.is_solved() && problem.n_groups() <= PIVOTING_ISLAND {
+                        lcp.solve_into(problem, None, out)?;
+                    }
+                }
+                Ok(())
+            }
+            Self::Nsgs(s) => s.solve_into(problem, Some(warm), out),
+            Self::Lcp(s) => s.solve_into(problem, None, out),
+        }
+    }
+}
