@@ -90,6 +90,13 @@ pub struct RunResult {
     pub iterations: f64,
     /// The largest relative residual at exit over the window.
     pub residual: f64,
+    /// Steps of the whole run (settling and window) taken with an island above the solvers'
+    /// tolerance, as the scene's `inexact_residual` allows.
+    pub inexact_steps: u64,
+    /// Of which in the window.
+    pub inexact_in_window: u64,
+    /// The largest residual of those steps (0 when none).
+    pub inexact_residual: f64,
     /// |Σ support reactions − weight| / weight at the last step (resting scenes), else NaN.
     pub force_balance_rel: f64,
     /// The largest penetration over the window (m).
@@ -257,12 +264,22 @@ fn measure(spec: &RunSpec, stepper: &mut Stepper<AnyModel>, start: Instant) -> R
     let bodies = q0.len() / 3;
     let settle_steps = (spec.settle / dt).round() as u64;
     let reference_step = (spec.reference / dt).round() as u64;
+    let (mut inexact_steps, mut inexact_residual) = (0, 0.0f64);
+    let mut inexact = |info: Option<moreau_stepper::LcpInfo>| match info {
+        Some(i) if i.status != moreau_lcp::Status::Solved => {
+            inexact_steps += 1;
+            inexact_residual = inexact_residual.max(i.residual);
+            1
+        }
+        _ => 0,
+    };
     for k in 0..settle_steps {
         if k == reference_step {
             q0.copy_from_slice(stepper.q());
         }
         let t = stepper.t();
-        stepper.step().with_context(|| format!("{} at t = {t}", spec.scene))?;
+        let report = stepper.step().with_context(|| format!("{} at t = {t}", spec.scene))?;
+        inexact(report.lcp);
     }
     let mut r = RunResult {
         scene: spec.scene.to_owned(),
@@ -286,6 +303,7 @@ fn measure(spec: &RunSpec, stepper: &mut Stepper<AnyModel>, start: Instant) -> R
         solution += phases.solution.as_secs_f64();
         r.contacts += report.contacts.iter().filter(|c| c.p_n > 0.0).count() as f64;
         r.detected += report.contacts.len() as f64;
+        r.inexact_in_window += inexact(report.lcp);
         if let Some(info) = report.lcp {
             iterations += info.iterations;
             r.residual = r.residual.max(info.residual);
@@ -306,6 +324,7 @@ fn measure(spec: &RunSpec, stepper: &mut Stepper<AnyModel>, start: Instant) -> R
             }
         }
     }
+    (r.inexact_steps, r.inexact_residual) = (inexact_steps, inexact_residual);
     let n = spec.window.max(1) as f64;
     r.ms_per_step = 1e3 * wall.as_secs_f64() / n;
     r.ms_detection = 1e3 * detection / n;
@@ -427,6 +446,11 @@ const COLUMNS: &[Column] = &[
     ("ms_solution", "solution", |r| Cell::Fixed(r.ms_solution, 3)),
     ("iterations", "iterations", |r| Cell::Fixed(r.iterations, 1)),
     ("residual", "residual", |r| Cell::Sci(r.residual)),
+    ("inexact_steps", "inexact steps", |r| Cell::Text(r.inexact_steps.to_string())),
+    ("inexact_in_window", "of which in the window", |r| {
+        Cell::Text(r.inexact_in_window.to_string())
+    }),
+    ("inexact_residual", "inexact residual", |r| Cell::Sci(r.inexact_residual)),
     ("force_balance_rel", "force balance", |r| Cell::Sci(r.force_balance_rel)),
     ("max_penetration", "penetration [m]", |r| Cell::Sci(r.max_penetration)),
     ("kinetic_energy", "kinetic energy [J]", |r| Cell::Sci(r.kinetic_energy)),

@@ -126,6 +126,13 @@ impl SimulateArgs {
             done.rows,
             self.out.display()
         );
+        if done.inexact_steps > 0 {
+            println!(
+                "{} steps took an island above the solvers' tolerance, as inexact_residual = {} \
+                 allows (largest LCP residual {:.1e})",
+                done.inexact_steps, done.scene.inexact_residual, done.inexact_residual
+            );
+        }
         Ok(())
     }
 }

@@ -196,6 +196,8 @@ pub fn run_scene(scene: &Scene, max_steps: u64) -> Result<Simulation> {
         wall_seconds: start.elapsed().as_secs_f64(),
         steps: run.summary.steps,
         lcp_solves: run.summary.lcp_solves,
+        inexact_steps: run.summary.inexact_steps,
+        inexact_residual: run.summary.inexact_residual,
         model,
     })
 }
@@ -329,6 +331,11 @@ pub struct Simulated {
     pub steps: u64,
     /// Steps whose LCP needed a solver.
     pub lcp_solves: u64,
+    /// Steps taken with an island above the solvers' tolerance (the scene's
+    /// `inexact_residual`), and the largest LCP residual among them.
+    pub inexact_steps: u64,
+    /// See `inexact_steps`; 0 when there were none.
+    pub inexact_residual: f64,
     /// Rows written (row 0 is the initial state).
     pub rows: u64,
     /// Wall-clock time (s).
@@ -412,6 +419,8 @@ pub fn run_to_csv(
         scene,
         steps: run.summary.steps,
         lcp_solves: run.summary.lcp_solves,
+        inexact_steps: run.summary.inexact_steps,
+        inexact_residual: run.summary.inexact_residual,
         rows: streamer.rows,
         wall_seconds: start.elapsed().as_secs_f64(),
         warnings,

@@ -101,6 +101,11 @@ pub struct Scene {
     /// (`StepperOptions::projection`); default `false` for the report's models, `true` for
     /// declared mechanisms.
     pub projection: bool,
+    /// The natural residual up to which an island of detected contacts that the solvers leave
+    /// above their tolerance is still taken, and counted (`StepperOptions::inexact_residual`;
+    /// key `inexact_residual`, dimensionless); default 0, which ends the run on such an island
+    /// instead. Only the many-body path (`contact_set = "detected"`) has islands.
+    pub inexact_residual: f64,
     /// The model and its parameters (the table `[params]`, or the declaration).
     pub params: ModelParams,
 }
@@ -116,6 +121,11 @@ pub struct Simulation {
     pub steps: u64,
     /// Steps whose LCP needed a solver.
     pub lcp_solves: u64,
+    /// Steps taken with an island above the solvers' tolerance (see
+    /// [`Scene::inexact_residual`]), and the largest LCP residual among them (0 when none).
+    pub inexact_steps: u64,
+    /// See `inexact_steps`.
+    pub inexact_residual: f64,
     /// The model that was run.
     pub model: AnyModel,
 }
@@ -197,6 +207,7 @@ impl Scene {
             solver: SolverChoice::Auto,
             stop_at,
             projection: kind == ModelKind::Declared,
+            inexact_residual: 0.0,
             params: ModelParams::report(kind),
         }
     }
@@ -291,8 +302,10 @@ impl Scene {
     /// ([`crate::bodies::Multibody::projection_tolerance`]), which keeps resting contacts
     /// closed.
     pub fn stepper_options(&self) -> StepperOptions {
-        let options =
-            StepperOptions::new(self.dt).with_solver(self.solver).with_projection(self.projection);
+        let options = StepperOptions::new(self.dt)
+            .with_solver(self.solver)
+            .with_projection(self.projection)
+            .with_inexact_residual(self.inexact_residual);
         match &self.params {
             ModelParams::Declared(spec) if self.projection => match spec.build() {
                 Ok(m) => options.with_projection_tolerance(m.projection_tolerance()),
@@ -336,6 +349,8 @@ impl Scene {
             wall_seconds: start.elapsed().as_secs_f64(),
             steps: summary.steps,
             lcp_solves: summary.lcp_solves,
+            inexact_steps: summary.inexact_steps,
+            inexact_residual: summary.inexact_residual,
             model,
         })
     }

@@ -57,6 +57,13 @@ pub enum StepError {
         /// The rejected value (m).
         value: f64,
     },
+    /// The residual up to which an inexact island is taken is negative, not finite or not
+    /// below 1.
+    #[error("inexact residual {value} must be finite, >= 0 and < 1")]
+    InvalidInexactResidual {
+        /// The rejected value.
+        value: f64,
+    },
     /// The end time lies before the current time.
     #[error("end time {t_end} lies before the current time {t}")]
     EndBeforeStart {

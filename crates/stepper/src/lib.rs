@@ -81,14 +81,16 @@
 //! on 2 × 2 blocks W_ij = w_iᵀ M⁻¹ w_j and solved by `moreau_lcp::fc2d`: the default
 //! [`SolverChoice::Auto`] by `Fc2dAuto` (unrelaxed to 1e-13 for islands of up to 8 contacts,
 //! a one-contact island in one sweep; over-relaxed to 1e-10 beyond, within 5,000 sweeps, and
-//! then nonsmooth Newton started cold, then pivoting for islands of up to 300 contacts),
+//! then nonsmooth Newton started cold, the proximal point method, 100,000 more sweeps, and
+//! pivoting for islands of up to 300 contacts),
 //! [`SolverChoice::Pgs`] by
 //! `Nsgs` with its options, [`SolverChoice::Lemke`] and [`SolverChoice::Enumeration`] by the
 //! exact `LcpRoute` with that pivoting solver. Every contact is warm-started from the impulses
 //! last found under its identity. Islands are solved in parallel on rayon's current pool,
 //! batched so that many one-contact islands do not cost a task each; the results are
 //! bit-identical for any number of threads. A failed island is [`StepError::IslandFailed`],
-//! carrying its problem.
+//! carrying its problem, unless [`StepperOptions::inexact_residual`] takes it: then the step's
+//! [`LcpInfo`] has status `IterationLimit` and [`RunSummary`] counts the step.
 //!
 //! The midpoint rule, Newton's impact law, the impact test, the projection and the reports are
 //! those of the path of fixed contacts: [`StepReport::contacts`] lists the contacts detected at

@@ -174,6 +174,23 @@ pub struct StepperOptions {
     /// still removes the penetration of impacts and its drift.
     #[serde(default)]
     pub projection_tolerance: f64,
+    /// For a mechanism with a [`crate::BodyStructure`]: the natural residual
+    /// (`moreau_lcp::fc2d::Fc2dResidual::natural`, dimensionless) up to which an island that
+    /// the default solver's chain (or the chosen solver) leaves above its tolerance is still
+    /// taken. Default 0: such an island ends the run with
+    /// [`StepError::IslandFailed`](crate::StepError::IslandFailed).
+    ///
+    /// Dense frictional packings arrested by impacts (a column of grains while it settles)
+    /// give problems where Gauss-Seidel's residual falls only as the inverse of its sweeps
+    /// (about 1e-4 after 5,000 sweeps on 500 contacts at μ = 0.3) and Newton's method cycles.
+    /// With a positive value, an island above it still goes through the whole chain, one at
+    /// or below it is taken after Gauss-Seidel's budget (5,000 sweeps, cluster solves
+    /// included) without pivoting; the step's [`LcpInfo`](crate::LcpInfo) then has status
+    /// `IterationLimit` and its residual, and [`RunSummary`](crate::RunSummary) counts such
+    /// steps. The residual is in the units of velocity and impulse, relative to the free
+    /// velocities above 1 (m/s): 1e-4 leaves velocity errors of about 0.1 mm/s.
+    #[serde(default)]
+    pub inexact_residual: f64,
 }
 
 impl StepperOptions {
@@ -186,7 +203,15 @@ impl StepperOptions {
             gap_tolerance: 0.0,
             projection: false,
             projection_tolerance: 0.0,
+            inexact_residual: 0.0,
         }
+    }
+
+    /// The same options with a residual up to which an island left above the solvers'
+    /// tolerance is taken (see [`Self::inexact_residual`]).
+    pub fn with_inexact_residual(mut self, residual: f64) -> Self {
+        self.inexact_residual = residual;
+        self
     }
 
     /// The same options with an active-set threshold (see [`Self::gap_tolerance`]).

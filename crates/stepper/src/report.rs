@@ -56,7 +56,9 @@ pub struct ContactReport {
 pub struct LcpInfo {
     /// The method that produced the accepted solution.
     pub method: Method,
-    /// The solver's status (always `Solved` in a report: failures are errors).
+    /// The solver's status: `Solved`, or, for a mechanism with a [`crate::BodyStructure`]
+    /// whose options set [`crate::StepperOptions::inexact_residual`], the status of an island
+    /// taken above the solvers' tolerance (`IterationLimit`). Other failures are errors.
     pub status: Status,
     /// Pivots or sweeps used.
     pub iterations: usize,
@@ -171,6 +173,12 @@ pub struct RunSummary {
     pub steps: u64,
     /// Steps whose LCP needed a solver (neither empty nor settled by the zero impulse).
     pub lcp_solves: u64,
+    /// Steps taken with an island above the solvers' tolerance, as
+    /// [`StepperOptions::inexact_residual`](crate::StepperOptions::inexact_residual) allows;
+    /// always 0 without it.
+    pub inexact_steps: u64,
+    /// The largest [`LcpInfo::residual`] of those steps; 0 when there were none.
+    pub inexact_residual: f64,
     /// Time reached (s).
     pub t_end: f64,
     /// Whether the observer stopped the run before `t_end`.

@@ -277,6 +277,9 @@ impl<M: Mechanism> Stepper<M> {
         if !(options.gap_tolerance >= 0.0 && options.gap_tolerance.is_finite()) {
             return Err(StepError::InvalidGapTolerance { value: options.gap_tolerance });
         }
+        if !(0.0..1.0).contains(&options.inexact_residual) {
+            return Err(StepError::InvalidInexactResidual { value: options.inexact_residual });
+        }
         let f = mechanism.num_coordinates();
         let body = match mechanism.body_structure() {
             Some(structure) => {
@@ -550,10 +553,18 @@ impl<M: Mechanism, O: Observer<M>> RunSteps<'_, M, O> {
         let solves_before = core.ws.lcp_solves;
         let mut steps = 0;
         let mut stopped = false;
+        let (mut inexact_steps, mut inexact_residual) = (0, 0.0f64);
         for _ in 0..n {
             advance(core)?;
             steps += 1;
-            if observer.observe(mechanism, &report(core)).is_break() {
+            let r = report(core);
+            if let Some(info) = r.lcp
+                && info.status != Status::Solved
+            {
+                inexact_steps += 1;
+                inexact_residual = inexact_residual.max(info.residual);
+            }
+            if observer.observe(mechanism, &r).is_break() {
                 stopped = true;
                 break;
             }
@@ -561,6 +572,8 @@ impl<M: Mechanism, O: Observer<M>> RunSteps<'_, M, O> {
         Ok(RunSummary {
             steps,
             lcp_solves: core.ws.lcp_solves - solves_before,
+            inexact_steps,
+            inexact_residual,
             t_end: core.t,
             stopped_early: stopped && core.t < t_end,
         })

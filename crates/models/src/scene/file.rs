@@ -30,6 +30,10 @@ fn is_true(b: &bool) -> bool {
     *b
 }
 
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 /// A report model's scene as written in TOML.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -44,6 +48,8 @@ pub(super) struct BuiltinFile {
     stop_at: Option<StopRule>,
     #[serde(default, skip_serializing_if = "is_false")]
     projection: bool,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    inexact_residual: f64,
     params: ModelParams,
 }
 
@@ -61,6 +67,8 @@ pub(super) struct DeclaredFile {
     stop_at: Option<StopRule>,
     #[serde(default = "yes", skip_serializing_if = "is_true")]
     projection: bool,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    inexact_residual: f64,
     gravity: [f64; 2],
     bodies: Vec<BodySpec>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -86,6 +94,7 @@ impl From<BuiltinFile> for Scene {
             solver: f.solver,
             stop_at: f.stop_at,
             projection: f.projection,
+            inexact_residual: f.inexact_residual,
             params: f.params,
         }
     }
@@ -110,6 +119,7 @@ impl From<DeclaredFile> for Scene {
             solver: f.solver,
             stop_at: f.stop_at,
             projection: f.projection,
+            inexact_residual: f.inexact_residual,
             params: ModelParams::Declared(Box::new(spec)),
         }
     }
@@ -125,6 +135,7 @@ impl Serialize for Scene {
                 solver: self.solver,
                 stop_at: self.stop_at.clone(),
                 projection: self.projection,
+                inexact_residual: self.inexact_residual,
                 gravity: spec.gravity,
                 bodies: spec.bodies.clone(),
                 joints: spec.joints.clone(),
@@ -142,6 +153,7 @@ impl Serialize for Scene {
                 solver: self.solver,
                 stop_at: self.stop_at.clone(),
                 projection: self.projection,
+                inexact_residual: self.inexact_residual,
                 params: params.clone(),
             }
             .serialize(serializer),

@@ -323,13 +323,19 @@ impl Islands {
     /// Solves every island (the batches in parallel), writes the impulses into `r` and
     /// `r_joints` and returns the worst island's information (`None` when no island needed a
     /// solve). With `newton_first`, the default choice starts the islands with joints by
-    /// Newton (a step's problem, warm-started, or the joints' correction, linear).
-    pub(super) fn solve(&mut self, newton_first: bool) -> Result<Option<LcpInfo>, IslandFailure> {
+    /// Newton (a step's problem, warm-started, or the joints' correction, linear). An island
+    /// that the solvers leave above their tolerance is taken when its natural residual is at
+    /// most `inexact` (see `StepperOptions::inexact_residual`).
+    pub(super) fn solve(
+        &mut self,
+        newton_first: bool,
+        inexact: f64,
+    ) -> Result<Option<LcpInfo>, IslandFailure> {
         let batches = &mut self.batches[..self.n_batches];
         if batches.len() > 1 {
-            batches.par_iter_mut().for_each(|b| b.solve(newton_first));
+            batches.par_iter_mut().for_each(|b| b.solve(newton_first, inexact));
         } else {
-            batches.iter_mut().for_each(|b| b.solve(newton_first));
+            batches.iter_mut().for_each(|b| b.solve(newton_first, inexact));
         }
         let nc = self.r.len();
         let mut info = None;

@@ -386,7 +386,7 @@ impl Core {
         b.islands_solved = b.islands.count();
         let assembled = Instant::now();
 
-        let info = match b.islands.solve(true) {
+        let info = match b.islands.solve(true, self.options.inexact_residual) {
             Ok(info) => info,
             Err(failure) => return Err(self.island_error(failure)),
         };
@@ -538,7 +538,7 @@ impl Core {
                 }
                 b.islands.split(b.nb, &b.detected, &b.groups);
                 b.islands.assemble(&b.detected, &b.groups, &b.work, &self.options.solver)?;
-                if b.islands.solve(true).is_err() {
+                if b.islands.solve(true, 0.0).is_err() {
                     if b.groups.len() > n_joints {
                         b.groups.truncate(n_joints);
                         b.directions();
@@ -573,7 +573,7 @@ impl Core {
             }
             b.islands.split(b.nb, &b.detected, &b.groups);
             b.islands.assemble(&b.detected, &b.groups, &b.work, &self.options.solver)?;
-            if b.islands.solve(false).is_err() {
+            if b.islands.solve(false, 0.0).is_err() {
                 break;
             }
             b.apply_impulses(&mut self.q);

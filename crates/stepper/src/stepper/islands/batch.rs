@@ -253,7 +253,9 @@ impl Batch {
 
     /// Solves the batch's islands in turn; the impulses go to `r`, the worst island's
     /// information to `info`, the first failure to `failure` (and the batch stops there).
-    pub(super) fn solve(&mut self, newton_first: bool) {
+    /// An island the solvers leave above their tolerance is taken when its natural residual
+    /// is at most `inexact` (its information then says so), else it is the batch's failure.
+    pub(super) fn solve(&mut self, newton_first: bool, inexact: f64) {
         self.info = None;
         self.failure = None;
         self.r.clear();
@@ -271,12 +273,14 @@ impl Batch {
                 }
             };
             let warm = &self.problems.warm[rows.clone()];
-            if let Err(e) = self.solver.solve(problem, warm, newton_first, &mut self.solution) {
+            if let Err(e) =
+                self.solver.solve(problem, warm, newton_first, inexact, &mut self.solution)
+            {
                 self.failure = Some(IslandFailure::Input(e));
                 return;
             }
             let out = &self.solution;
-            if out.status != Status::Solved {
+            if out.status != Status::Solved && !(out.residual.natural <= inexact) {
                 self.failure =
                     Some(IslandFailure::Status(out.status, Box::new(problem.to_owned())));
                 return;
@@ -285,7 +289,7 @@ impl Batch {
             let residual = lcp_residual(problem, &out.r, &mut self.sums);
             let info = LcpInfo {
                 method: out.method,
-                status: Status::Solved,
+                status: out.status,
                 iterations: out.iterations,
                 residual,
             };
@@ -299,8 +303,9 @@ fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// The worse of two islands' information: the largest iteration count, and the method and
-/// residual of the island of largest residual.
+/// The worse of two islands' information: the largest iteration count, the method and
+/// residual of the island of largest residual, and a status other than `Solved` if either has
+/// one (an island taken above the solvers' tolerance).
 pub(super) fn worse(a: Option<LcpInfo>, b: LcpInfo) -> LcpInfo {
     match a {
         None => b,
@@ -312,7 +317,7 @@ pub(super) fn worse(a: Option<LcpInfo>, b: LcpInfo) -> LcpInfo {
             };
             LcpInfo {
                 method: m,
-                status: Status::Solved,
+                status: if a.status == Status::Solved { b.status } else { a.status },
                 iterations: a.iterations.max(b.iterations),
                 residual: r,
             }

@@ -118,12 +118,15 @@ impl IslandSolver {
     }
 
     /// Solves `problem` from `warm`; with `newton_first`, the default choice starts an island
-    /// with joint groups by Newton.
+    /// with joint groups by Newton. An iterate whose natural residual is at most `inexact`
+    /// ends the default choice's chain early once Gauss-Seidel's budget is spent (pivoting is
+    /// not tried on it); 0 asks for the tolerance or nothing.
     pub(super) fn solve(
         &mut self,
         problem: Fc2dRef<'_>,
         warm: &[f64],
         newton_first: bool,
+        inexact: f64,
         out: &mut Fc2dSolution,
     ) -> Result<(), LcpError> {
         match self {
@@ -144,7 +147,8 @@ impl IslandSolver {
                 }
                 let k = usize::from(problem.n_groups() > SMALL_ISLAND);
                 auto[k].solve_into(problem, Some(warm), out)?;
-                if !out.is_solved() && k == 1 {
+                let acceptable = |out: &Fc2dSolution| out.residual.natural <= inexact;
+                if !out.is_solved() && k == 1 && !acceptable(out) {
                     // Dense packings make W singular and their reactions indeterminate, where
                     // Gauss-Seidel can crawl; Newton's regularised steps, started cold and
                     // each followed by a few sweeps, then usually solve the island. Where
@@ -162,7 +166,8 @@ impl IslandSolver {
                         let start = std::mem::take(&mut out.r);
                         auto[2].solve_into(problem, Some(&start), out)?;
                     }
-                    if !out.is_solved() && problem.n_groups() <= PIVOTING_ISLAND {
+                    if !out.is_solved() && !acceptable(out) && problem.n_groups() <= PIVOTING_ISLAND
+                    {
                         lcp.solve_into(problem, None, out)?;
                     }
                 }
