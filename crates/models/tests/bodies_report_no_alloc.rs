@@ -41,3 +41,47 @@ fn the_declared_slider_crank_steps_without_allocating() {
     assert!(closed > 100, "{closed} closed contacts");
     assert_eq!(n, 0, "{n} allocations in 3000 steps");
 }
+
+/// A pendulum (a 1 kg disk of radius 5 cm on a 1 m rod hinged at the origin) hanging against
+/// a wall that touches it, pressed onto it by gravity tilted towards the wall, with friction:
+/// one resting contact and one joint, the contact detected at every step.
+const PENDULUM_PRESSED_ON_A_WALL: &str = r#"
+dt = 0.0001
+t_end = 1.0
+gravity = [2.0, -9.81]
+contact_set = "detected"
+
+[[bodies]]
+name = "wall"
+type = "fixed"
+position = [0.0, 0.0]
+shapes = [{ type = "half_plane", point = [0.05, 0.0], normal = [-1.0, 0.0] }]
+
+[[bodies]]
+name = "bob"
+type = "dynamic"
+mass = 1.0
+inertia = 0.00125
+position = [0.0, -1.0]
+shapes = [{ type = "disk", center = [0.0, 0.0], radius = 0.05 }]
+
+[[joints]]
+type = "revolute"
+name = "hinge"
+body_a = "ground"
+anchor_a = [0.0, 0.0]
+body_b = "bob"
+anchor_b = [0.0, 1.0]
+
+[contacts_auto]
+eps_n = 0.0
+eps_t = 0.0
+mu = 0.3
+"#;
+
+#[test]
+fn a_pendulum_pressed_on_a_wall_with_detected_contacts_steps_without_allocating() {
+    let (n, closed) = allocations(PENDULUM_PRESSED_ON_A_WALL, 0.01, 0.04);
+    assert_eq!(closed, 300, "the contact stays closed at every step");
+    assert_eq!(n, 0, "{n} allocations in 300 steps");
+}
