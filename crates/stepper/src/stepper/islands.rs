@@ -121,6 +121,31 @@ pub(super) fn link<'a>(
     }
 }
 
+/// What the islands' problems are solved for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Purpose {
+    /// The step's impulses. An island that the solvers leave above their tolerance is taken
+    /// when its natural residual is at most `inexact` (see `StepperOptions::inexact_residual`).
+    Step {
+        /// The largest natural residual of an island taken inexact; 0 for none.
+        inexact: f64,
+    },
+    /// The joints' correction after the step, the contacts that carried an impulse held.
+    JointCorrection,
+    /// The contacts' projection out of penetration (normal rows, frictionless).
+    ContactProjection,
+}
+
+impl Purpose {
+    /// The residual up to which an island is taken inexact.
+    fn inexact(self) -> f64 {
+        match self {
+            Purpose::Step { inexact } => inexact,
+            _ => 0.0,
+        }
+    }
+}
+
 /// The islands of a step and the batches that solve them.
 #[derive(Default)]
 pub(super) struct Islands {
@@ -320,22 +345,15 @@ impl Islands {
         self.batches[..self.n_batches].iter().flat_map(Batch::problems)
     }
 
-    /// Solves every island (the batches in parallel), writes the impulses into `r` and
-    /// `r_joints` and returns the worst island's information (`None` when no island needed a
-    /// solve). With `newton_first`, the default choice starts the islands with joints by
-    /// Newton (a step's problem, warm-started, or the joints' correction, linear). An island
-    /// that the solvers leave above their tolerance is taken when its natural residual is at
-    /// most `inexact` (see `StepperOptions::inexact_residual`).
-    pub(super) fn solve(
-        &mut self,
-        newton_first: bool,
-        inexact: f64,
-    ) -> Result<Option<LcpInfo>, IslandFailure> {
+    /// Solves every island (the batches in parallel) for `purpose`, writes the impulses into
+    /// `r` and `r_joints` and returns the worst island's information (`None` when no island
+    /// needed a solve).
+    pub(super) fn solve(&mut self, purpose: Purpose) -> Result<Option<LcpInfo>, IslandFailure> {
         let batches = &mut self.batches[..self.n_batches];
         if batches.len() > 1 {
-            batches.par_iter_mut().for_each(|b| b.solve(newton_first, inexact));
+            batches.par_iter_mut().for_each(|b| b.solve(purpose));
         } else {
-            batches.iter_mut().for_each(|b| b.solve(newton_first, inexact));
+            batches.iter_mut().for_each(|b| b.solve(purpose));
         }
         let nc = self.r.len();
         let mut info = None;

@@ -12,7 +12,7 @@
 
 use std::time::Instant;
 
-use super::islands::{ContactWork, IslandFailure, Islands, JointGroup, group_rows, link};
+use super::islands::{ContactWork, IslandFailure, Islands, JointGroup, Purpose, group_rows, link};
 use super::joints::{PROJECTION_ITERATIONS, drift_tolerance};
 use super::*;
 use crate::bodies::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
@@ -386,7 +386,7 @@ impl Core {
         b.islands_solved = b.islands.count();
         let assembled = Instant::now();
 
-        let info = match b.islands.solve(true, self.options.inexact_residual) {
+        let info = match b.islands.solve(Purpose::Step { inexact: self.options.inexact_residual }) {
             Ok(info) => info,
             Err(failure) => return Err(self.island_error(failure)),
         };
@@ -538,7 +538,7 @@ impl Core {
                 }
                 b.islands.split(b.nb, &b.detected, &b.groups);
                 b.islands.assemble(&b.detected, &b.groups, &b.work, &self.options.solver)?;
-                if b.islands.solve(true, 0.0).is_err() {
+                if b.islands.solve(Purpose::JointCorrection).is_err() {
                     if b.groups.len() > n_joints {
                         b.groups.truncate(n_joints);
                         b.directions();
@@ -573,7 +573,7 @@ impl Core {
             }
             b.islands.split(b.nb, &b.detected, &b.groups);
             b.islands.assemble(&b.detected, &b.groups, &b.work, &self.options.solver)?;
-            if b.islands.solve(false, 0.0).is_err() {
+            if b.islands.solve(Purpose::ContactProjection).is_err() {
                 break;
             }
             b.apply_impulses(&mut self.q);

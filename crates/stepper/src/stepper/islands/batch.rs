@@ -8,7 +8,7 @@ use moreau_lcp::fc2d::{Fc2d, Fc2dParts, Fc2dRef, Fc2dSolution};
 use moreau_lcp::{LcpError, Status};
 
 use super::solver::IslandSolver;
-use super::{ContactWork, JointGroup, link};
+use super::{ContactWork, JointGroup, Purpose, link};
 use crate::LcpInfo;
 use crate::SolverChoice;
 use crate::bodies::{BodyContact, NO_BODY};
@@ -254,8 +254,10 @@ impl Batch {
     /// Solves the batch's islands in turn; the impulses go to `r`, the worst island's
     /// information to `info`, the first failure to `failure` (and the batch stops there).
     /// An island the solvers leave above their tolerance is taken when its natural residual
-    /// is at most `inexact` (its information then says so), else it is the batch's failure.
-    pub(super) fn solve(&mut self, newton_first: bool, inexact: f64) {
+    /// is at most the purpose's inexact residual (its information then says so), else it is
+    /// the batch's failure.
+    pub(super) fn solve(&mut self, purpose: Purpose) {
+        let inexact = purpose.inexact();
         self.info = None;
         self.failure = None;
         self.r.clear();
@@ -273,9 +275,7 @@ impl Batch {
                 }
             };
             let warm = &self.problems.warm[rows.clone()];
-            if let Err(e) =
-                self.solver.solve(problem, warm, newton_first, inexact, &mut self.solution)
-            {
+            if let Err(e) = self.solver.solve(problem, warm, purpose, &mut self.solution) {
                 self.failure = Some(IslandFailure::Input(e));
                 return;
             }

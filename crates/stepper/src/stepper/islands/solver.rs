@@ -6,6 +6,7 @@ use moreau_lcp::fc2d::{
     LcpRouteSolver, Newton, NewtonOptions, Nsgs, NsgsOptions, Proximal, ProximalOptions,
 };
 
+use super::Purpose;
 use crate::SolverChoice;
 use crate::stepper::FC2D_TOLERANCE;
 
@@ -46,7 +47,7 @@ pub(super) enum IslandSolver {
     /// for the large islands that Gauss-Seidel and its cluster solves leave unsolved,
     /// nonsmooth Newton, the proximal point method, Gauss-Seidel resumed with the full
     /// budget from the proximal iterate, and pivoting.
-    Auto(Box<([Fc2dAuto; 3], [Newton; 2], Proximal, LcpRoute)>),
+    Auto(Box<([Fc2dAuto; 3], [Newton; 3], Proximal, LcpRoute)>),
     Nsgs(Nsgs),
     Lcp(LcpRoute),
 }
@@ -81,7 +82,7 @@ impl IslandSolver {
                             ..NewtonOptions::default()
                         })
                     };
-                    [newton(FC2D_TOLERANCE)?, newton(SMALL_TOLERANCE)?]
+                    [newton(FC2D_TOLERANCE)?, newton(SMALL_TOLERANCE)?, newton(SMALL_TOLERANCE)?]
                 },
                 Proximal::new(ProximalOptions {
                     tolerance: FC2D_TOLERANCE,
@@ -117,22 +118,28 @@ impl IslandSolver {
         })
     }
 
-    /// Solves `problem` from `warm`; with `newton_first`, the default choice starts an island
-    /// with joint groups by Newton. An iterate whose natural residual is at most `inexact`
-    /// ends the default choice's chain early once Gauss-Seidel's budget is spent (pivoting is
-    /// not tried on it); 0 asks for the tolerance or nothing.
+    /// Solves `problem` from `warm` for `purpose`: the default choice starts an island with
+    /// joint groups by Newton for the step and the joints' correction (each with its own
+    /// Newton, whose factorisation pattern then carries over from one step to the next), and
+    /// an iterate whose natural residual is at most the step's inexact residual ends its chain
+    /// once Gauss-Seidel's budget is spent (pivoting is not tried on it).
     pub(super) fn solve(
         &mut self,
         problem: Fc2dRef<'_>,
         warm: &[f64],
-        newton_first: bool,
-        inexact: f64,
+        purpose: Purpose,
         out: &mut Fc2dSolution,
     ) -> Result<(), LcpError> {
         match self {
             Self::Auto(s) => {
-                let (auto, [newton, joints], proximal, lcp) = &mut **s;
-                if newton_first && problem.n_groups() > problem.n_contacts() {
+                let (auto, [newton, step_joints, correction], proximal, lcp) = &mut **s;
+                let joints = match purpose {
+                    Purpose::Step { .. } => Some(step_joints),
+                    Purpose::JointCorrection => Some(correction),
+                    Purpose::ContactProjection => None,
+                };
+                let inexact = purpose.inexact();
+                if let Some(joints) = joints.filter(|_| problem.n_groups() > problem.n_contacts()) {
                     // Joints couple their bodies stiffly (a chain's rows form a path whose W
                     // has a condition number growing as the square of its length), where
                     // Gauss-Seidel crawls; Newton solves the joints' rows exactly once it has
@@ -165,16 +172,16 @@ impl IslandSolver {
                         && problem.parts().mu.iter().all(|&mu| mu == 0.0);
                     if !frictionless_joints {
                         newton.solve_into(problem, None, out)?;
-                    }
-                    if !out.is_solved() && !frictionless_joints {
-                        proximal.solve_into(problem, None, out)?;
-                    }
-                    if !out.is_solved() && !frictionless_joints {
-                        // The proximal iterate is close (1e-6 on an island of 986 contacts of
-                        // the settling column, which Gauss-Seidel alone finishes in 37,800
-                        // sweeps): Gauss-Seidel with the full budget finishes from it.
-                        let start = std::mem::take(&mut out.r);
-                        auto[2].solve_into(problem, Some(&start), out)?;
+                        if !out.is_solved() {
+                            proximal.solve_into(problem, None, out)?;
+                        }
+                        if !out.is_solved() {
+                            // The proximal iterate is close (1e-6 on an island of 986 contacts
+                            // of the settling column, which Gauss-Seidel alone finishes in
+                            // 37,800 sweeps): Gauss-Seidel with the full budget finishes from it.
+                            let start = std::mem::take(&mut out.r);
+                            auto[2].solve_into(problem, Some(&start), out)?;
+                        }
                     }
                     if !out.is_solved() && !acceptable(out) && problem.n_groups() <= PIVOTING_ISLAND
                     {
