@@ -38,8 +38,10 @@ pub struct RunSpec {
     pub settle: f64,
     /// Steps in the measurement window.
     pub window: usize,
-    /// Worker threads for the islands.
-    pub threads: usize,
+    /// Worker threads for the islands: the scene settles on the first count, then the window
+    /// is measured once per count in turn (each window continuing from the one before, the
+    /// scene at rest), one result each.
+    pub threads: Vec<usize>,
     /// Whether the scene should rest at the end (column, pyramid): then the force balance and
     /// the largest displacement are meaningful.
     pub resting: bool,
@@ -56,8 +58,9 @@ impl RunSpec {
         for (k, v) in &self.set {
             label.push_str(&format!(" {k}={v}"));
         }
-        if self.threads > 1 {
-            label.push_str(&format!(" threads={}", self.threads));
+        if self.threads != [1] {
+            let counts: Vec<String> = self.threads.iter().map(usize::to_string).collect();
+            label.push_str(&format!(" threads={}", counts.join(",")));
         }
         label
     }
@@ -113,13 +116,13 @@ pub struct RunResult {
 
 /// The runs of the study; `quick` keeps those that take a few seconds.
 pub fn specs(quick: bool) -> Vec<RunSpec> {
-    let column = |n: usize, settle: f64, window: usize, threads: usize| RunSpec {
+    let column = |n: usize, settle: f64, window: usize, threads: &[usize]| RunSpec {
         scene: "disk-column",
         file: "scenes/scale/disk-column.toml",
         set: vec![("fill.grain.count".into(), n.to_string())],
         settle,
         window,
-        threads,
+        threads: threads.to_vec(),
         resting: true,
         reference: 0.0,
     };
@@ -129,7 +132,7 @@ pub fn specs(quick: bool) -> Vec<RunSpec> {
         set: vec![("fill.box.base".into(), b.to_string())],
         settle: time,
         window: 20,
-        threads: 1,
+        threads: vec![1],
         resting: true,
         reference: 0.5,
     };
@@ -139,20 +142,20 @@ pub fn specs(quick: bool) -> Vec<RunSpec> {
         set: Vec::new(),
         settle: time,
         window: 20,
-        threads: 1,
+        threads: vec![1],
         resting: false,
         reference: 0.0,
     };
     if quick {
-        vec![column(100, 1.0, 20, 1), pyramid(10, 1.0), flow(0.1)]
+        vec![column(100, 1.0, 20, &[1]), pyramid(10, 1.0), flow(0.1)]
     } else {
         vec![
-            column(100, 2.0, 100, 1),
-            column(300, 2.0, 100, 1),
-            column(1000, 2.0, 50, 1),
-            column(3000, 2.0, 50, 1),
-            column(10000, 2.0, 20, 1),
-            column(10000, 2.0, 20, 2),
+            column(100, 2.0, 100, &[1]),
+            column(300, 2.0, 100, &[1]),
+            column(1000, 2.0, 50, &[1]),
+            column(3000, 2.0, 50, &[1]),
+            // 625 rows, 15.6 m high: the top row falls for about 1.8 s.
+            column(10000, 3.0, 20, &[1, 2]),
             pyramid(10, 10.0),
             pyramid(20, 10.0),
             pyramid(50, 10.0),
@@ -208,13 +211,13 @@ fn model_gap_tolerance() -> f64 {
     0.0
 }
 
-/// Runs one spec. With `problems`, the largest island problem of the window's last step is
-/// written there in Siconos' FC2D format (one-thread runs only), as
+/// Runs one spec: one result per thread count. With `problems`, the largest island problem
+/// of the first window's last step is written there in Siconos' FC2D format, as
 /// `<scene>_<size>.dat`, for solving the same step problems with another solver.
 ///
 /// # Errors
 /// When the scene does not load or build, a step fails, or the problem cannot be written.
-pub fn run_one(spec: &RunSpec, problems: Option<&Path>) -> Result<RunResult> {
+pub fn run_one(spec: &RunSpec, problems: Option<&Path>) -> Result<Vec<RunResult>> {
     let start = Instant::now();
     let path = root().join(spec.file);
     let mut scene =
@@ -226,15 +229,63 @@ pub fn run_one(spec: &RunSpec, problems: Option<&Path>) -> Result<RunResult> {
     if stepper.mechanism().body_structure().is_none() {
         bail!("{} does not detect its contacts at each step", spec.scene);
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(spec.threads)
-        .build()
-        .context("starting the worker threads")?;
-    let result = pool.install(|| measure(spec, &mut stepper, start))?;
-    if let Some(dir) = problems.filter(|_| spec.threads == 1) {
-        write_problem(spec, &stepper, dir)?;
+    let pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .context("starting the worker threads")
+    };
+    let first = *spec.threads.first().context("a run needs a thread count")?;
+    let settled = pool(first)?.install(|| settle(spec, &mut stepper))?;
+    let mut results = Vec::new();
+    for &threads in &spec.threads {
+        let r = pool(threads)?.install(|| measure(spec, threads, &mut stepper, &settled, start))?;
+        if results.is_empty()
+            && let Some(dir) = problems
+        {
+            write_problem(spec, &stepper, dir)?;
+        }
+        results.push(r);
     }
-    Ok(result)
+    Ok(results)
+}
+
+/// What the settling phase of a run leaves for its windows.
+struct Settled {
+    /// The positions from which the largest displacement is measured.
+    q0: Vec<f64>,
+    /// Steps taken with an island above the solvers' tolerance, and their largest residual.
+    inexact_steps: u64,
+    inexact_residual: f64,
+}
+
+/// Counts a step taken with an island above the solvers' tolerance; returns 1 for such a step.
+fn count_inexact(info: Option<moreau_stepper::LcpInfo>, steps: &mut u64, largest: &mut f64) -> u64 {
+    match info {
+        Some(i) if i.status != moreau_lcp::Status::Solved => {
+            *steps += 1;
+            *largest = largest.max(i.residual);
+            1
+        }
+        _ => 0,
+    }
+}
+
+/// Steps the scene through its settling time.
+fn settle(spec: &RunSpec, stepper: &mut Stepper<AnyModel>) -> Result<Settled> {
+    let dt = stepper.options().dt;
+    let mut out = Settled { q0: stepper.q().to_vec(), inexact_steps: 0, inexact_residual: 0.0 };
+    let settle_steps = (spec.settle / dt).round() as u64;
+    let reference_step = (spec.reference / dt).round() as u64;
+    for k in 0..settle_steps {
+        if k == reference_step {
+            out.q0.copy_from_slice(stepper.q());
+        }
+        let t = stepper.t();
+        let report = stepper.step().with_context(|| format!("{} at t = {t}", spec.scene))?;
+        count_inexact(report.lcp, &mut out.inexact_steps, &mut out.inexact_residual);
+    }
+    Ok(out)
 }
 
 /// Writes the largest island problem of the stepper's last step into `dir`.
@@ -258,33 +309,23 @@ fn write_problem(spec: &RunSpec, stepper: &Stepper<AnyModel>, dir: &Path) -> Res
         .with_context(|| format!("writing {}", path.display()))
 }
 
-fn measure(spec: &RunSpec, stepper: &mut Stepper<AnyModel>, start: Instant) -> Result<RunResult> {
+/// Measures one window of steps on the current thread pool.
+fn measure(
+    spec: &RunSpec,
+    threads: usize,
+    stepper: &mut Stepper<AnyModel>,
+    settled: &Settled,
+    start: Instant,
+) -> Result<RunResult> {
     let dt = stepper.options().dt;
-    let mut q0 = stepper.q().to_vec();
+    let q0 = &settled.q0;
     let bodies = q0.len() / 3;
-    let settle_steps = (spec.settle / dt).round() as u64;
-    let reference_step = (spec.reference / dt).round() as u64;
-    let (mut inexact_steps, mut inexact_residual) = (0, 0.0f64);
-    let mut inexact = |info: Option<moreau_stepper::LcpInfo>| match info {
-        Some(i) if i.status != moreau_lcp::Status::Solved => {
-            inexact_steps += 1;
-            inexact_residual = inexact_residual.max(i.residual);
-            1
-        }
-        _ => 0,
-    };
-    for k in 0..settle_steps {
-        if k == reference_step {
-            q0.copy_from_slice(stepper.q());
-        }
-        let t = stepper.t();
-        let report = stepper.step().with_context(|| format!("{} at t = {t}", spec.scene))?;
-        inexact(report.lcp);
-    }
+    let (mut inexact_steps, mut inexact_residual) =
+        (settled.inexact_steps, settled.inexact_residual);
     let mut r = RunResult {
         scene: spec.scene.to_owned(),
         size: spec.set.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(" "),
-        threads: spec.threads,
+        threads,
         bodies,
         force_balance_rel: f64::NAN,
         ..RunResult::default()
@@ -303,7 +344,7 @@ fn measure(spec: &RunSpec, stepper: &mut Stepper<AnyModel>, start: Instant) -> R
         solution += phases.solution.as_secs_f64();
         r.contacts += report.contacts.iter().filter(|c| c.p_n > 0.0).count() as f64;
         r.detected += report.contacts.len() as f64;
-        r.inexact_in_window += inexact(report.lcp);
+        r.inexact_in_window += count_inexact(report.lcp, &mut inexact_steps, &mut inexact_residual);
         if let Some(info) = report.lcp {
             iterations += info.iterations;
             r.residual = r.residual.max(info.residual);
@@ -363,22 +404,24 @@ fn weight(model: &AnyModel, q: &[f64]) -> f64 {
 /// Runs every spec in order (one at a time, so that the timings do not share the cores),
 /// writing the step problems into `problems` when given (see [`run_one`]). A run that fails
 /// is reported with its error and the others go on.
-pub fn run_all(specs: &[RunSpec], problems: Option<&Path>) -> Vec<Result<RunResult, String>> {
+pub fn run_all(specs: &[RunSpec], problems: Option<&Path>) -> Vec<Result<Vec<RunResult>, String>> {
     specs
         .iter()
         .map(|s| {
             let r = run_one(s, problems).map_err(|e| format!("{e:#}"));
             match &r {
-                Ok(r) => eprintln!(
-                    "scale: {} {} ({} thread{}): {} bodies, {:.0} contacts, {:.3} ms/step",
-                    r.scene,
-                    r.size,
-                    r.threads,
-                    if r.threads == 1 { "" } else { "s" },
-                    r.bodies,
-                    r.contacts,
-                    r.ms_per_step
-                ),
+                Ok(rs) => rs.iter().for_each(|r| {
+                    eprintln!(
+                        "scale: {} {} ({} thread{}): {} bodies, {:.0} contacts, {:.3} ms/step",
+                        r.scene,
+                        r.size,
+                        r.threads,
+                        if r.threads == 1 { "" } else { "s" },
+                        r.bodies,
+                        r.contacts,
+                        r.ms_per_step
+                    )
+                }),
                 Err(e) => eprintln!("scale: {} failed: {e}", s.scene),
             }
             r
@@ -473,18 +516,18 @@ pub struct Written {
 /// # Errors
 /// When a file cannot be written.
 pub fn write(
-    results: &[Result<RunResult, String>],
+    results: &[Result<Vec<RunResult>, String>],
     specs: &[RunSpec],
     out: &Path,
 ) -> Result<Written> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    let ok: Vec<&RunResult> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
+    let ok: Vec<&RunResult> = results.iter().filter_map(|r| r.as_ref().ok()).flatten().collect();
     let entries: Vec<Value> = results
         .iter()
         .zip(specs)
-        .map(|(r, s)| match r {
-            Ok(r) => serde_json::to_value(r).unwrap_or(Value::Null),
-            Err(e) => serde_json::json!({"scene": s.scene, "error": e}),
+        .flat_map(|(r, s)| match r {
+            Ok(rs) => rs.iter().map(|r| serde_json::to_value(r).unwrap_or(Value::Null)).collect(),
+            Err(e) => vec![serde_json::json!({"scene": s.scene, "error": e})],
         })
         .collect();
     let json = Value::Array(entries);
