@@ -219,6 +219,7 @@ fn the_settling_scenes_name_their_inexact_residual_and_keep_it_through_set_and_t
     assert_eq!(again, s);
     // A value the stepper refuses surfaces when the run is built, naming the option.
     s.set("inexact_residual", "1.5").unwrap();
-    let e = s.stepper().err().expect("1.5 is not a residual to accept").to_string();
+    let Err(e) = s.stepper() else { panic!("1.5 is not a residual to accept") };
+    let e = e.to_string();
     assert!(e.contains("inexact residual"), "{e}");
 }
