@@ -261,13 +261,13 @@ struct Settled {
 
 /// Counts a step taken with an island above the solvers' tolerance; returns 1 for such a step.
 fn count_inexact(info: Option<moreau_stepper::LcpInfo>, steps: &mut u64, largest: &mut f64) -> u64 {
-    match info {
-        Some(i) if i.status != moreau_lcp::Status::Solved => {
+    match info.and_then(|i| i.inexact()) {
+        Some(residual) => {
             *steps += 1;
-            *largest = largest.max(i.residual);
+            *largest = largest.max(residual);
             1
         }
-        _ => 0,
+        None => 0,
     }
 }
 

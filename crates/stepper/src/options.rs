@@ -183,9 +183,11 @@ pub struct StepperOptions {
     /// Dense frictional packings arrested by impacts (a column of grains while it settles)
     /// give problems where Gauss-Seidel's residual falls only as the inverse of its sweeps
     /// (about 1e-4 after 5,000 sweeps on 500 contacts at μ = 0.3) and Newton's method cycles.
-    /// With a positive value, an island above it still goes through the whole chain, one at
-    /// or below it is taken after Gauss-Seidel's budget (5,000 sweeps, cluster solves
-    /// included) without pivoting; the step's [`LcpInfo`](crate::LcpInfo) then has status
+    /// With a positive value, a large island is taken as soon as Gauss-Seidel has it at or
+    /// below this residual and the reduction of its last 250 sweeps, kept up, would not reach
+    /// the tolerance within the budget of 5,000 (so after 500 sweeps where the residual falls
+    /// as the inverse of the sweeps), without Newton or pivoting; an island still above it
+    /// after the budget goes through the whole chain. The step's [`LcpInfo`](crate::LcpInfo) then has status
     /// `IterationLimit` and its residual, and [`RunSummary`](crate::RunSummary) counts such
     /// steps. The residual is in the units of velocity and impulse, relative to the free
     /// velocities above 1 (m/s): 1e-4 leaves velocity errors of about 0.1 mm/s.

@@ -70,6 +70,15 @@ pub struct LcpInfo {
     pub residual: f64,
 }
 
+impl LcpInfo {
+    /// The residual of a step taken with an island above the solvers' tolerance (status other
+    /// than `Solved`, as [`crate::StepperOptions::inexact_residual`] allows), `None` for a
+    /// solved step: what [`RunSummary::inexact_steps`] counts.
+    pub fn inexact(&self) -> Option<f64> {
+        (self.status != Status::Solved).then_some(self.residual)
+    }
+}
+
 /// The outcome of one step, borrowed from the stepper until the next step.
 #[derive(Clone, Copy, Debug)]
 pub struct StepReport<'a> {

@@ -558,11 +558,9 @@ impl<M: Mechanism, O: Observer<M>> RunSteps<'_, M, O> {
             advance(core)?;
             steps += 1;
             let r = report(core);
-            if let Some(info) = r.lcp
-                && info.status != Status::Solved
-            {
+            if let Some(residual) = r.lcp.and_then(|info| info.inexact()) {
                 inexact_steps += 1;
-                inexact_residual = inexact_residual.max(info.residual);
+                inexact_residual = inexact_residual.max(residual);
             }
             if observer.observe(mechanism, &r).is_break() {
                 stopped = true;

@@ -257,7 +257,6 @@ impl Batch {
     /// is at most the purpose's inexact residual (its information then says so), else it is
     /// the batch's failure.
     pub(super) fn solve(&mut self, purpose: Purpose) {
-        let inexact = purpose.inexact();
         self.info = None;
         self.failure = None;
         self.r.clear();
@@ -275,12 +274,15 @@ impl Batch {
                 }
             };
             let warm = &self.problems.warm[rows.clone()];
-            if let Err(e) = self.solver.solve(problem, warm, purpose, &mut self.solution) {
-                self.failure = Some(IslandFailure::Input(e));
-                return;
-            }
+            let taken = match self.solver.solve(problem, warm, purpose, &mut self.solution) {
+                Ok(taken) => taken,
+                Err(e) => {
+                    self.failure = Some(IslandFailure::Input(e));
+                    return;
+                }
+            };
             let out = &self.solution;
-            if out.status != Status::Solved && !(out.residual.natural <= inexact) {
+            if !taken {
                 self.failure =
                     Some(IslandFailure::Status(out.status, Box::new(problem.to_owned())));
                 return;
