@@ -51,15 +51,26 @@ const PIVOTING_ISLAND: usize = 300;
 /// The natural-map tolerance of small islands, where it costs a few sweeps more.
 const SMALL_TOLERANCE: f64 = 1e-13;
 
+/// The stages of the default choice (see [`IslandSolver::Auto`]).
+pub(super) struct AutoChain {
+    /// Small islands, large islands, Gauss-Seidel resumed, and the large islands' chunks.
+    auto: [Fc2dAuto; 4],
+    /// Large islands cold, islands with joints for the step, and for the joints' correction.
+    newton: [Newton; 3],
+    proximal: Proximal,
+    lcp: LcpRoute,
+    /// The iterate a later stage starts from.
+    start: Vec<f64>,
+}
+
 /// The solver of the islands' problems, from the stepper's [`SolverChoice`].
 pub(super) enum IslandSolver {
     /// The default choice: one `Fc2dAuto` for small islands and one for large ones, then,
     /// for the large islands that Gauss-Seidel and its cluster solves leave unsolved,
     /// nonsmooth Newton, the proximal point method, Gauss-Seidel resumed with the full
-    /// budget from the proximal iterate, and pivoting; the fourth `Fc2dAuto` runs the large
-    /// islands' chunks of sweeps when an inexact residual is set, and the vector holds the
-    /// iterate a later stage starts from.
-    Auto(Box<([Fc2dAuto; 4], [Newton; 3], Proximal, LcpRoute, Vec<f64>)>),
+    /// budget from the proximal iterate, and pivoting; with an inexact residual, a large
+    /// island's Gauss-Seidel runs in chunks.
+    Auto(Box<AutoChain>),
     Nsgs(Nsgs),
     Lcp(LcpRoute),
 }
@@ -67,8 +78,8 @@ pub(super) enum IslandSolver {
 impl IslandSolver {
     pub(super) fn new(choice: &SolverChoice) -> Result<Self, LcpError> {
         Ok(match *choice {
-            SolverChoice::Auto => Self::Auto(Box::new((
-                [
+            SolverChoice::Auto => Self::Auto(Box::new(AutoChain {
+                auto: [
                     Fc2dAuto::new(Fc2dAutoOptions {
                         tolerance: SMALL_TOLERANCE,
                         omega: 1.0,
@@ -89,7 +100,7 @@ impl IslandSolver {
                         ..Fc2dAutoOptions::default()
                     })?,
                 ],
-                {
+                newton: {
                     let newton = |tolerance| {
                         Newton::new(NewtonOptions {
                             tolerance,
@@ -101,18 +112,18 @@ impl IslandSolver {
                     };
                     [newton(FC2D_TOLERANCE)?, newton(SMALL_TOLERANCE)?, newton(SMALL_TOLERANCE)?]
                 },
-                Proximal::new(ProximalOptions {
+                proximal: Proximal::new(ProximalOptions {
                     tolerance: FC2D_TOLERANCE,
                     smoothing_sweeps: NEWTON_SMOOTHING_SWEEPS,
                     ..ProximalOptions::default()
                 })?,
-                LcpRoute::new(LcpRouteOptions {
+                lcp: LcpRoute::new(LcpRouteOptions {
                     tolerance: FC2D_TOLERANCE,
                     max_contacts: PIVOTING_ISLAND,
                     ..LcpRouteOptions::default()
                 })?,
-                Vec::new(),
-            ))),
+                start: Vec::new(),
+            })),
             SolverChoice::Pgs { tolerance, omega, max_iterations } => {
                 Self::Nsgs(Nsgs::new(NsgsOptions {
                     tolerance,
@@ -154,7 +165,13 @@ impl IslandSolver {
         let acceptable = |out: &Fc2dSolution| out.is_solved() || out.residual.natural <= inexact;
         match self {
             Self::Auto(s) => {
-                let (auto, [newton, step_joints, correction], proximal, lcp, start) = &mut **s;
+                let AutoChain {
+                    auto,
+                    newton: [newton, step_joints, correction],
+                    proximal,
+                    lcp,
+                    start,
+                } = &mut **s;
                 let joints = match purpose {
                     Purpose::Step { .. } => Some(step_joints),
                     Purpose::JointCorrection => Some(correction),
