@@ -102,10 +102,10 @@ fn islands(_: &mut Criterion) {
     );
 }
 
-/// A pile of 10,000 disks in 100 rows of 100 (one island of about 20,000 contacts): the time
+/// A pile of 10,000 disks in 50 rows of 200 (one island of about 20,000 contacts): the time
 /// per step and its phases on rayon pools of one and two threads, printed.
 fn large(_: &mut Criterion) {
-    let mut s = pile(10_000, 100);
+    let mut s = pile(10_000, 200);
     let steps = 50;
     let mut per_pool = [(PhaseTimes::default(), Duration::ZERO, 0); 2];
     for (threads, out) in [1, 2].into_iter().zip(&mut per_pool) {
