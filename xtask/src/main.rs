@@ -60,8 +60,8 @@ enum Command {
         /// Siconos' FC2D format (for `crates/lcp/siconos/compare_fc2d.sh`).
         #[arg(long)]
         problems: Option<PathBuf>,
-        /// Only the runs whose scene and size contain this text, e.g. `pyramid` or
-        /// `count=1000`.
+        /// Only the runs with this word in their label (scene, size overrides, thread
+        /// counts), e.g. `pyramid` or `fill.grain.count=1000` (not the 10,000-disk run).
         #[arg(long)]
         only: Option<String>,
     },
@@ -108,7 +108,7 @@ fn run(command: Command) -> Result<()> {
         Command::Scale { out, quick, problems, only } => {
             let mut specs = scale::specs(quick);
             if let Some(only) = &only {
-                specs.retain(|s| s.label().contains(only.as_str()));
+                specs.retain(|s| s.label().split_whitespace().any(|w| w == only));
                 if specs.is_empty() {
                     anyhow::bail!("no run of the scaling study matches {only:?}");
                 }

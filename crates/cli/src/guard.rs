@@ -34,7 +34,7 @@ use std::ops::ControlFlow;
 use moreau_kinematics::ContactKinematics;
 use moreau_models::bodies::{BodyType, ForceSpec, JointSpec};
 use moreau_models::{AnyModel, ModelError, ModelKind, Scene};
-use moreau_stepper::{Mechanism, Observer, RunSummary, StepError, StepReport};
+use moreau_stepper::{BodyStructure, Mechanism, Observer, RunSummary, StepError, StepReport};
 
 use crate::error::{CliError, Divergence};
 
@@ -150,28 +150,117 @@ fn energy_scale(model: &AnyModel, t0: f64, v0: f64) -> f64 {
 
 /// The largest natural angular frequency ω_max (rad/s) of the smooth dynamics at the
 /// model's initial state (see the module's documentation); 0 without stiffness.
+///
+/// A mechanism with a [`BodyStructure`] (maximal coordinates, M block-diagonal by body) never
+/// forms an f × f matrix: K's columns are kept as their nonzero entries, and the eigenvalue
+/// problem is solved on the coupled set S only, the bodies whose coordinates have a nonzero
+/// row or column of sym(K). Every other coordinate has a zero row and column of M⁻¹ sym(K)
+/// (M does not couple bodies), so that it adds only zero eigenvalues; ω_max = 0 when S is
+/// empty (gravity alone has no stiffness). Memory is O(f + nnz(K) + |S|²), time f calls of
+/// h plus the dense method's O(|S|³). Other models take the dense method on all of q.
 pub fn omega_max(model: &AnyModel) -> f64 {
     let (q0, u0) = model.initial_state();
     let f = q0.len();
+    if let Some(structure) = model.body_structure().filter(|s| 3 * s.num_bodies() == f) {
+        return omega_max_by_body(model, structure, &q0, &u0);
+    }
     let mut m = vec![0.0; f * f];
     model.mass_matrix(&q0, 0.0, &mut m);
-    // K = −∂h/∂q by central differences, column j from a shift of q_j.
     let mut k = vec![0.0; f * f];
+    stiffness_columns(model, &q0, &u0, |i, j, kij| k[i + f * j] = kij);
+    largest_frequency(&m, &k, f)
+}
+
+/// Calls `keep(i, j, K_ij)` for every nonzero entry of K = −∂h/∂q at (q₀, u₀, t = 0), by
+/// central differences, column j from a shift of q_j.
+fn stiffness_columns(
+    model: &AnyModel,
+    q0: &[f64],
+    u0: &[f64],
+    mut keep: impl FnMut(usize, usize, f64),
+) {
+    let f = q0.len();
     let (mut hp, mut hm) = (vec![0.0; f], vec![0.0; f]);
-    let mut q = q0.clone();
+    let mut q = q0.to_vec();
     for j in 0..f {
         let d = 1e-6 * (1.0 + q0[j].abs());
         q[j] = q0[j] + d;
-        model.forces(&q, &u0, 0.0, &mut hp);
+        model.forces(&q, u0, 0.0, &mut hp);
         q[j] = q0[j] - d;
-        model.forces(&q, &u0, 0.0, &mut hm);
+        model.forces(&q, u0, 0.0, &mut hm);
         q[j] = q0[j];
-        for i in 0..f {
-            k[i + f * j] = -(hp[i] - hm[i]) / (2.0 * d);
+        for (i, (p, m)) in hp.iter().zip(&hm).enumerate() {
+            // Forces that do not depend on q_j are computed alike at both shifts, so that
+            // their difference is exactly zero and the column keeps only real couplings.
+            if p != m {
+                keep(i, j, -(p - m) / (2.0 * d));
+            }
         }
     }
-    let Some(l) = cholesky(&m, f) else { return 0.0 };
-    // A = L⁻¹ sym(K) L⁻ᵀ has the eigenvalues of M⁻¹K for a symmetric K.
+}
+
+/// ω_max on the coupled set of a mechanism with a body structure (see [`omega_max`]).
+fn omega_max_by_body(
+    model: &AnyModel,
+    structure: &dyn BodyStructure,
+    q0: &[f64],
+    u0: &[f64],
+) -> f64 {
+    let mut entries = Vec::new();
+    stiffness_columns(model, q0, u0, |i, j, kij| entries.push((i, j, kij)));
+    // Sorted by (row, column), so that K_ji is found by a binary search for each K_ij.
+    entries.sort_by_key(|&(i, j, _)| (i, j));
+    let at = |i: usize, j: usize| {
+        entries.binary_search_by_key(&(i, j), |&(r, c, _)| (r, c)).map_or(0.0, |p| entries[p].2)
+    };
+    let nb = structure.num_bodies();
+    let mut coupled = vec![false; nb];
+    for &(i, j, kij) in &entries {
+        if kij + at(j, i) != 0.0 {
+            coupled[i / 3] = true;
+            coupled[j / 3] = true;
+        }
+    }
+    // Each coupled body's place in S, `NOT_COUPLED` for the others.
+    const NOT_COUPLED: usize = usize::MAX;
+    let mut place = vec![NOT_COUPLED; nb];
+    let mut s = 0;
+    for (p, &c) in place.iter_mut().zip(&coupled) {
+        if c {
+            *p = s;
+            s += 1;
+        }
+    }
+    if s == 0 {
+        return 0.0;
+    }
+    let n = 3 * s;
+    let mut blocks = vec![[0.0; 9]; nb];
+    structure.mass_blocks(q0, 0.0, &mut blocks);
+    let mut m = vec![0.0; n * n];
+    for (block, &p) in blocks.iter().zip(&place).filter(|(_, p)| **p != NOT_COUPLED) {
+        for c in 0..3 {
+            for r in 0..3 {
+                m[3 * p + r + n * (3 * p + c)] = block[r + 3 * c];
+            }
+        }
+    }
+    let mut k = vec![0.0; n * n];
+    let local = |i: usize| place[i / 3].checked_mul(3).map(|b| b + i % 3);
+    for &(i, j, kij) in &entries {
+        // An entry whose symmetric part vanishes may join S's body to one outside it.
+        if let (Some(a), Some(b)) = (local(i), local(j)) {
+            k[a + n * b] = kij;
+        }
+    }
+    largest_frequency(&m, &k, n)
+}
+
+/// The square root of the largest eigenvalue of M⁻¹ sym(K) (0 when none is positive or M is
+/// not SPD), for dense column-major n × n matrices M (SPD) and K: the eigenvalues of
+/// A = L⁻¹ sym(K) L⁻ᵀ with M = L Lᵀ, a symmetric matrix.
+fn largest_frequency(m: &[f64], k: &[f64], f: usize) -> f64 {
+    let Some(l) = cholesky(m, f) else { return 0.0 };
     let mut a = vec![0.0; f * f];
     for i in 0..f {
         for j in 0..f {
@@ -266,7 +355,7 @@ pub struct Guarded<'a, O> {
     inner: &'a mut O,
     energy_bound: Option<(f64, f64)>,
     magnitude: f64,
-    mass: Vec<f64>,
+    mass: Mass,
     /// The divergence seen, if any.
     pub diverged: Option<CliError>,
 }
@@ -275,9 +364,7 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
     /// The guard of `model` at its initial state, passing every step on to `inner`.
     pub fn new(model: &AnyModel, inner: &'a mut O) -> Self {
         let (q0, u0) = model.initial_state();
-        let f = q0.len();
-        let mut mass = vec![0.0; f * f];
-        model.mass_matrix(&q0, 0.0, &mut mass);
+        let mut mass = Mass::new(model, &q0);
         let energy_bound = energy_bound_applies(model)
             .then(|| {
                 let v0 = model.potential_energy(&q0, 0.0)?;
@@ -320,19 +407,55 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
     }
 }
 
-/// ½ uᵀ M u, with M evaluated into `mass` unless the model's M is constant (and already there).
-fn kinetic(model: &AnyModel, q: &[f64], u: &[f64], t: f64, mass: &mut [f64]) -> f64 {
-    let f = q.len();
-    if !model.constant_mass_matrix() {
-        model.mass_matrix(q, t, mass);
+/// The mass matrix of the energy test: one 3 × 3 block per body for a mechanism with a
+/// [`BodyStructure`], so that the test costs O(f) per step, the dense f × f M otherwise.
+enum Mass {
+    /// M, column-major f × f.
+    Dense(Vec<f64>),
+    /// M's 3 × 3 block of each body, column-major.
+    Blocks(Vec<[f64; 9]>),
+}
+
+impl Mass {
+    /// M at (q, 0).
+    fn new(model: &AnyModel, q: &[f64]) -> Self {
+        let f = q.len();
+        let mut mass = match model.body_structure().filter(|s| 3 * s.num_bodies() == f) {
+            Some(s) => Self::Blocks(vec![[0.0; 9]; s.num_bodies()]),
+            None => Self::Dense(vec![0.0; f * f]),
+        };
+        mass.evaluate(model, q, 0.0);
+        mass
     }
-    let mut s = 0.0;
-    for j in 0..f {
-        for i in 0..f {
-            s += u[i] * mass[i + f * j] * u[j];
+
+    fn evaluate(&mut self, model: &AnyModel, q: &[f64], t: f64) {
+        match (self, model.body_structure()) {
+            (Self::Blocks(blocks), Some(s)) => s.mass_blocks(q, t, blocks),
+            (Self::Dense(m), _) => model.mass_matrix(q, t, m),
+            (Self::Blocks(_), None) => unreachable!("blocks are kept for a body structure only"),
         }
     }
-    0.5 * s
+}
+
+/// ½ uᵀ M u, with M evaluated into `mass` unless the model's M is constant (and already there).
+fn kinetic(model: &AnyModel, q: &[f64], u: &[f64], t: f64, mass: &mut Mass) -> f64 {
+    if !model.constant_mass_matrix() {
+        mass.evaluate(model, q, t);
+    }
+    let half = |m: &[f64], u: &[f64]| {
+        let f = u.len();
+        let mut s = 0.0;
+        for j in 0..f {
+            for i in 0..f {
+                s += u[i] * m[i + f * j] * u[j];
+            }
+        }
+        0.5 * s
+    };
+    match mass {
+        Mass::Dense(m) => half(m, u),
+        Mass::Blocks(blocks) => blocks.iter().zip(u.chunks_exact(3)).map(|(m, u)| half(m, u)).sum(),
+    }
 }
 
 impl<O: Observer<AnyModel>> Observer<AnyModel> for Guarded<'_, O> {

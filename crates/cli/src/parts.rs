@@ -5,7 +5,7 @@
 //!
 //! ```text
 //! # moreau sweep 1; id 5c0f9a1e33b2d807; model ball; members 6; shard 2/4; moreau 0.1.0
-//! member,members,eps_n,dt,...,steps,lcp_solves,wall_seconds,status,error,check
+//! member,members,eps_n,dt,...,steps,lcp_solves,inexact_steps,wall_seconds,status,error,check
 //! 1,6,0.5,0.002,...,2000,1390,0.0123,ok,,3f2a19c0
 //! ```
 //!

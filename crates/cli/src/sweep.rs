@@ -66,13 +66,16 @@ impl SweepOptions {
 
 /// The CSV columns of a sweep: `member`, `members`, the swept keys as given (`eps_n`,
 /// `bodies.block.mass`, ...), the model's key numbers ([`keys::columns_of`]), `steps`,
-/// `lcp_solves`, `wall_seconds`, `status`, `error` and the row's `check`.
+/// `lcp_solves`, `inexact_steps` (steps taken with an island above the solvers' tolerance, as
+/// the scene's `inexact_residual` allows), `wall_seconds`, `status`, `error` and the row's
+/// `check`.
 pub fn header(model: &AnyModel, axes: &[Axis]) -> Vec<String> {
     let mut h = vec!["member".to_owned(), "members".to_owned()];
     h.extend(axes.iter().map(|a| a.key.clone()));
     h.extend(keys::columns_of(model));
     h.extend(
-        ["steps", "lcp_solves", "wall_seconds", "status", "error", "check"].map(str::to_owned),
+        ["steps", "lcp_solves", "inexact_steps", "wall_seconds", "status", "error", "check"]
+            .map(str::to_owned),
     );
     h
 }
@@ -153,6 +156,7 @@ fn member_row(
             row.extend(keys::row(&result).into_iter().map(cell));
             row.push(result.sim.steps.to_string());
             row.push(result.sim.lcp_solves.to_string());
+            row.push(result.sim.inexact_steps.to_string());
             row.push(format!("{:.6}", result.sim.wall_seconds));
             row.extend(["ok".to_owned(), String::new()]);
             "ok"
@@ -163,7 +167,7 @@ fn member_row(
                 _ => "failed",
             };
             empty(&mut row);
-            row.extend([String::new(), String::new()]);
+            row.extend([String::new(), String::new(), String::new()]);
             row.push(format!("{:.6}", start.elapsed().as_secs_f64()));
             row.extend([status.to_owned(), format!("{e:#}")]);
             status

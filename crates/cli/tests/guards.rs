@@ -222,3 +222,115 @@ fn initial_gaps_near_zero_or_negative_are_warned_about() -> Result<()> {
     ensure!(seen.len() == 1, "{seen:?}");
     Ok(())
 }
+
+/// Two bodies joined by a linear spring at its rest length along x (k = 400 N/m, m_a = 2 kg,
+/// m_b = 3 kg), a body held to the ground by a torsion spring (k_t N m/rad, I = 0.05 kg m²)
+/// and six free disks, all above a floor, with the contact set `contact_set`.
+fn springs_and_free_disks(contact_set: &str, k_t: f64) -> Result<moreau_models::AnyModel> {
+    let text = format!(
+        r#"
+dt = 0.001
+t_end = 0.01
+gravity = [0.0, -9.81]
+contact_set = "{contact_set}"
+
+[[bodies]]
+name = "ground"
+type = "fixed"
+position = [0.0, 0.0]
+shapes = [{{ type = "half_plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}]
+
+[[bodies]]
+name = "a"
+type = "dynamic"
+mass = 2.0
+inertia = 0.1
+position = [0.0, 1.0]
+shapes = [{{ type = "disk", center = [0.0, 0.0], radius = 0.1 }}]
+
+[[bodies]]
+name = "wheel"
+type = "dynamic"
+mass = 1.0
+inertia = 0.05
+position = [3.0, 1.0]
+angle = 0.2
+shapes = [{{ type = "disk", center = [0.0, 0.0], radius = 0.1 }}]
+
+[[fill]]
+name = "grain"
+pattern = "lattice"
+count = 6
+columns = 4
+origin = [5.0, 0.5]
+spacing = [0.3, 0.3]
+shape = {{ type = "disk", center = [0.0, 0.0], radius = 0.1 }}
+density = 100.0
+seed = 1
+
+[[bodies]]
+name = "b"
+type = "dynamic"
+mass = 3.0
+inertia = 0.2
+position = [1.5, 1.0]
+shapes = [{{ type = "disk", center = [0.0, 0.0], radius = 0.1 }}]
+
+[[forces]]
+type = "spring"
+body_a = "a"
+anchor_a = [0.0, 0.0]
+body_b = "b"
+anchor_b = [0.0, 0.0]
+stiffness = 400.0
+rest_length = 1.5
+
+[[forces]]
+type = "torsion"
+body_a = "ground"
+body_b = "wheel"
+stiffness = {k_t}
+rest_angle = 0.0
+
+[contacts_auto]
+eps_n = 0.0
+eps_t = 0.0
+mu = 0.3
+"#
+    );
+    Ok(moreau_models::Scene::from_toml_str(&text)?.build()?)
+}
+
+#[test]
+fn the_stability_limit_by_body_equals_the_dense_one() -> Result<()> {
+    use moreau_stepper::Mechanism;
+    // The spring's axial mode, ω² = k (1/m_a + 1/m_b), above the torsion's k_t/I = 100; then a
+    // stiffer torsion spring, k_t/I = 1e4, as the stiffest mode.
+    for (k_t, closed) in [(5.0, (400.0f64 * (1.0 / 2.0 + 1.0 / 3.0)).sqrt()), (500.0, 100.0)] {
+        let dense = springs_and_free_disks("fixed", k_t)?;
+        let by_body = springs_and_free_disks("detected", k_t)?;
+        ensure!(dense.body_structure().is_none() && by_body.body_structure().is_some());
+        let (w_dense, w_body) = (guard::omega_max(&dense), guard::omega_max(&by_body));
+        ensure!((w_dense - closed).abs() <= 1e-6 * closed, "dense {w_dense}, closed {closed}");
+        ensure!((w_body - w_dense).abs() <= 1e-9 * w_dense, "by body {w_body}, dense {w_dense}");
+    }
+    Ok(())
+}
+
+#[test]
+fn a_pile_under_gravity_alone_has_no_stiffness() -> Result<()> {
+    use moreau_stepper::Mechanism;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/scale");
+    for (file, set) in [("pyramid.toml", "fill.box.base=12"), ("disk-column.toml", "t_end=1")] {
+        let o = SimulateOptions {
+            scene: Some(path.join(file)),
+            sets: vec![set.to_owned()],
+            ..SimulateOptions::default()
+        };
+        let model = scene(&o)?.build()?;
+        ensure!(model.body_structure().is_some(), "{file}");
+        let w = guard::omega_max(&model);
+        ensure!(w == 0.0, "{file}: ω_max = {w}");
+    }
+    Ok(())
+}

@@ -213,7 +213,8 @@ fn hostile_sweeps_and_merges() {
                     let found = axes.iter().zip(&ran).rfind(|((k, _), _)| k == key);
                     found.map_or(default, |(_, v)| v.parse().unwrap_or(f64::NAN))
                 };
-                let steps: f64 = cells[header.len() - 6].parse().unwrap_or(f64::NAN);
+                let steps_at = header.iter().position(|c| *c == "steps").expect("a steps column");
+                let steps: f64 = cells[steps_at].parse().unwrap_or(f64::NAN);
                 let expected = (value("t_end", 10.0) / value("dt", 1e-3)).round();
                 assert_eq!(steps, expected, "{args:?}: {line}");
             } else {

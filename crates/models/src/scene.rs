@@ -63,7 +63,9 @@ pub struct StopRule {
 /// are followed by `gravity`, `contact_set` (`"fixed"` by default, or `"detected"`: see
 /// [`crate::bodies::ContactSet`]) and the arrays of tables `[[bodies]]`, `[[fill]]`
 /// (generated bodies, [`crate::bodies::FillSpec`]), `[[joints]]`, `[[forces]]`,
-/// `[[contacts]]` and the table `[contacts_auto]`; `projection` defaults to `true` there:
+/// `[[contacts]]` and the table `[contacts_auto]`; `projection` defaults to `true` there, and
+/// `inexact_residual` (0 by default) lets a scene of detected contacts take islands that the
+/// solvers leave above their tolerance ([`Scene::inexact_residual`]):
 ///
 /// ```toml
 /// dt = 0.001

@@ -204,3 +204,22 @@ fn a_fill_table_with_an_unknown_field_is_named() {
         other => panic!("expected a parse error, got {other:?}"),
     }
 }
+
+#[test]
+fn the_settling_scenes_name_their_inexact_residual_and_keep_it_through_set_and_toml() {
+    let column = scene("disk-column.toml");
+    assert_eq!(column.inexact_residual, 1e-3);
+    assert_eq!(column.stepper_options().inexact_residual, 1e-3);
+    assert_eq!(scene("pyramid.toml").stepper_options().inexact_residual, 1e-4);
+    assert_eq!(scene("granular-flow.toml").inexact_residual, 0.0);
+    let mut s = scene("disk-column.toml");
+    s.set("inexact_residual", "2e-4").unwrap();
+    assert_eq!(s.stepper_options().inexact_residual, 2e-4);
+    let again = Scene::from_toml_str(&s.to_toml_string()).unwrap();
+    assert_eq!(again, s);
+    // A value the stepper refuses surfaces when the run is built, naming the option.
+    s.set("inexact_residual", "1.5").unwrap();
+    let Err(e) = s.stepper() else { panic!("1.5 is not a residual to accept") };
+    let e = e.to_string();
+    assert!(e.contains("inexact residual"), "{e}");
+}
