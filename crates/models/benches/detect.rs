@@ -1,6 +1,7 @@
 //! The cost of one step's contact detection on the disk column (`scenes/scale/disk-column.toml`)
 //! of 10³ and 10⁴ grains: the broad phase over every shape, the narrow phase on its pairs and
-//! the contacts' force directions, as `BodyStructure::detect` gives them to the stepper.
+//! the contacts' force directions, as `BodyStructure::detect` gives them to the stepper, on
+//! rayon pools of one and two threads.
 //!
 //! The grains are at their places on the lattice, each 0.5 to 9 mm from its neighbours, and the
 //! margin is 6 mm, so that each grain has about as many contacts as in a settled column.
@@ -29,13 +30,24 @@ fn detect(c: &mut Criterion) {
         let mut out = Vec::new();
         structure.detect(&q0, 0.0, 0.006, &mut out);
         let contacts = out.len();
-        group.bench_function(format!("disk-column-{n} ({contacts} contacts)"), |bench| {
-            bench.iter(|| {
-                out.clear();
-                structure.detect(black_box(&q0), 0.0, 0.006, &mut out);
-                black_box(out.len())
-            })
-        });
+        // The narrow phase runs in chunks in parallel on the pool of the calling thread.
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let name = format!("disk-column-{n} ({contacts} contacts), {threads} thread(s)");
+            group.bench_function(name, |bench| {
+                bench.iter_custom(|iters| {
+                    pool.install(|| {
+                        let start = std::time::Instant::now();
+                        for _ in 0..iters {
+                            out.clear();
+                            structure.detect(black_box(&q0), 0.0, 0.006, &mut out);
+                            black_box(out.len());
+                        }
+                        start.elapsed()
+                    })
+                })
+            });
+        }
     }
     group.finish();
 }

@@ -5,7 +5,8 @@
 //! under gravity with friction: one island of about 2 N contacts, warm-started from the
 //! step before. Before the criterion groups it prints the time per step split into
 //! detection, assembly and solution over 200 steps, and the solver's sweeps; last, the time
-//! per step of twenty separate columns (twenty islands) on one and on two threads.
+//! per step of twenty separate columns (twenty islands) on one and on two threads, and that of
+//! a pile of 10,000 disks (one island) with its phases on one and on two threads.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -15,9 +16,9 @@ use moreau_setvalued::ContactLaw;
 use moreau_stepper::{PhaseTimes, Stepper, StepperOptions};
 use moreau_testsupport::Disks;
 
-/// A pile of `n` disks in rows of 20, resting, with the stepper warmed up.
-fn pile(n: usize) -> Stepper<Disks> {
-    let (r, width) = (0.1, 20);
+/// A pile of `n` disks in rows of `width`, resting, with the stepper warmed up.
+fn pile(n: usize, width: usize) -> Stepper<Disks> {
+    let r = 0.1;
     let law = ContactLaw::new(0.0, 0.0, 0.3).unwrap();
     let disks =
         Disks::new(vec![1.0; n], vec![r; n], law, true).with_walls(0.0, 2.0 * r * width as f64);
@@ -37,7 +38,7 @@ fn pile(n: usize) -> Stepper<Disks> {
 
 fn bodies(c: &mut Criterion) {
     for n in [100, 1000] {
-        let mut s = pile(n);
+        let mut s = pile(n, 20);
         let (mut sum, steps) = (PhaseTimes::default(), 200);
         let (mut contacts, mut sweeps, mut residual) = (0, 0, 0.0f64);
         for _ in 0..steps {
@@ -101,5 +102,44 @@ fn islands(_: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, bodies, islands);
+/// A pile of 10,000 disks in 50 rows of 200 (one island of about 20,000 contacts): the time
+/// per step and its phases on rayon pools of one and two threads, printed.
+fn large(_: &mut Criterion) {
+    let mut s = pile(10_000, 200);
+    let steps = 50;
+    let mut per_pool = [(PhaseTimes::default(), Duration::ZERO, 0); 2];
+    for (threads, out) in [1, 2].into_iter().zip(&mut per_pool) {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        *out = pool.install(|| {
+            let (mut sum, mut contacts) = (PhaseTimes::default(), 0);
+            let start = std::time::Instant::now();
+            for _ in 0..steps {
+                let r = s.step().unwrap_or_else(|e| panic!("{e}"));
+                sum.detection += r.times.detection;
+                sum.assembly += r.times.assembly;
+                sum.solution += r.times.solution;
+                contacts = r.contacts.len();
+            }
+            (sum, start.elapsed(), contacts)
+        });
+    }
+    let ms = |d: Duration| d.as_secs_f64() * 1e3 / steps as f64;
+    for (threads, (sum, total, contacts)) in [1, 2].into_iter().zip(per_pool) {
+        eprintln!(
+            "pile of 10000 disks, {contacts} contacts, {threads} thread(s): {:.3} ms per step = \
+             detection {:.3} ms, assembly {:.3} ms, solution {:.3} ms",
+            ms(total),
+            ms(sum.detection),
+            ms(sum.assembly),
+            ms(sum.solution)
+        );
+    }
+    let (one, two) = (per_pool[0].1, per_pool[1].1);
+    eprintln!(
+        "pile of 10000 disks: two threads {:.2} times one",
+        one.as_secs_f64() / two.as_secs_f64()
+    );
+}
+
+criterion_group!(benches, bodies, islands, large);
 criterion_main!(benches);

@@ -440,3 +440,39 @@ fn an_island_the_solver_does_not_finish_is_a_typed_error_with_its_problem() {
     assert!((q[0] + G * 1e-3).abs() < 1e-15, "{q:?}");
     assert!(q[1..].iter().all(|b| b.abs() < 1e-15), "{q:?}");
 }
+
+#[test]
+fn one_large_island_is_bit_identical_on_one_and_two_threads() {
+    // A square-packed pile of 1,500 disks in rows of 20 between walls: one island of about
+    // 3,000 contacts, whose per-contact work and block rows run in chunks on two threads.
+    let (n, r, width) = (1500, 0.1, 20);
+    let centres: Vec<_> = (0..n)
+        .map(|k| (r + 2.0 * r * (k % width) as f64, r + 2.0 * r * (k / width) as f64))
+        .collect();
+    let (q, u) = Disks::state_at(&centres);
+    let trajectory = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let disks = Disks::new(vec![1.0; n], vec![r; n], law(0.0, 0.3), true)
+                .with_walls(0.0, 2.0 * r * width as f64);
+            let opts = StepperOptions::new(1e-3).with_gap_tolerance(1e-9);
+            let mut s = Stepper::new(disks, &q, &u, 0.0, opts).unwrap();
+            let (mut contacts, mut islands, mut impulses) = (0, 0, Vec::new());
+            for _ in 0..3 {
+                let r = s.step().unwrap_or_else(|e| panic!("{e}"));
+                contacts = r.contacts.len();
+                islands = r.islands;
+                impulses = r.contacts.iter().map(|c| [c.p_n, c.p_t]).collect();
+            }
+            assert!(contacts > 2900 && islands == 1, "{contacts} contacts, {islands} islands");
+            assert!(impulses.iter().any(|p: &[f64; 2]| p[0] > 0.0), "no contact carries a load");
+            (s.q().to_vec(), s.u().to_vec(), impulses)
+        })
+    };
+    let (one, two) = (trajectory(1), trajectory(2));
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&one.0), bits(&two.0), "q differs");
+    assert_eq!(bits(&one.1), bits(&two.1), "u differs");
+    let flat = |v: &[[f64; 2]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(flat(&one.2), flat(&two.2), "the impulses differ");
+}

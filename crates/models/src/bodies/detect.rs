@@ -17,6 +17,7 @@ use std::cell::RefCell;
 use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Shape, collide, max_points};
 use moreau_setvalued::ContactLaw;
 use moreau_stepper::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
+use rayon::prelude::*;
 
 use super::body::{Body, Frame, Kind};
 use super::build::bad;
@@ -38,19 +39,37 @@ pub(crate) struct Detector {
     pub colliders: Vec<(usize, usize)>,
 }
 
-/// The buffers of one thread's detection, kept from call to call so that, once they have
-/// grown, a step allocates nothing.
+/// Broad-phase pairs per chunk of the narrow phase: enough work per rayon task that its
+/// overhead is small, few enough that two threads share the chunks evenly.
+const CHUNK_PAIRS: usize = 512;
+
+/// Broad-phase pairs above which the narrow phase runs in chunks on rayon's current pool: below
+/// it, the chunks' buffers and the tasks cost more than they save.
+const PARALLEL_PAIRS: usize = 4096;
+
+/// One chunk's narrow phase: its manifold points and its contacts, concatenated in chunk order.
+#[derive(Default)]
+struct Chunk {
+    points: Vec<ManifoldPoint>,
+    contacts: Vec<BodyContact>,
+}
+
+/// The buffers of one detection, kept from call to call so that, once they have grown, a step
+/// allocates nothing.
 #[derive(Default)]
 struct Scratch {
     broad: BroadPhase,
     frames: Vec<Frame>,
     boxes: Vec<Aabb>,
     pairs: Vec<(usize, usize)>,
-    points: Vec<ManifoldPoint>,
+    chunks: Vec<Chunk>,
 }
 
 thread_local! {
-    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+    /// The idle scratches of this thread. A detection takes one out and puts it back, so that a
+    /// detection that the thread runs while it waits for the chunks of its own (a rayon worker
+    /// steals other work, such as another simulation's step) gets a scratch of its own.
+    static SCRATCH: RefCell<Vec<Scratch>> = const { RefCell::new(Vec::new()) };
 }
 
 /// A contact's identity from its two colliders (i < j) and its feature.
@@ -162,6 +181,47 @@ fn split(w: [f64; 6]) -> [[f64; 3]; 2] {
 }
 
 impl Multibody {
+    /// The contacts of the broad-phase pair of colliders (i, j) at the bodies' `frames`,
+    /// appended to `out` in increasing order of feature; `points` is the narrow phase's
+    /// scratch.
+    fn narrow_phase(
+        &self,
+        detector: &Detector,
+        frames: &[Frame],
+        (i, j): (usize, usize),
+        margin: f64,
+        points: &mut Vec<ManifoldPoint>,
+        out: &mut Vec<BodyContact>,
+    ) {
+        let (x, y) = (detector.colliders[i], detector.colliders[j]);
+        let Some((law, flipped)) = detector.law(&self.bodies, x, y) else { return };
+        let ((a, sa), (b, sb)) = if flipped { (y, x) } else { (x, y) };
+        let (fa, fb) = (&frames[a], &frames[b]);
+        let (shape_a, shape_b) = (&self.bodies[a].shapes[sa], &self.bodies[b].shapes[sb]);
+        points.clear();
+        if collide(shape_a, &fa.pose(), shape_b, &fb.pose(), margin, points).is_err() {
+            // The pairs were checked at build time; a margin that is not a number gives a gap
+            // that is not one, and the stepper stops with a typed error.
+            let failed = ManifoldPoint {
+                feature: 0,
+                point_a: fa.p,
+                point_b: fb.p,
+                normal: [0.0; 2],
+                gap: f64::NAN,
+            };
+            out.push(Self::body_contact(contact_id(i, j, 0), &failed, fa, fb, law));
+            return;
+        }
+        points.sort_unstable_by_key(|p| p.feature);
+        let mut last = None;
+        for p in points.iter() {
+            if p.gap <= margin && last != Some(p.feature) {
+                last = Some(p.feature);
+                out.push(Self::body_contact(contact_id(i, j, p.feature), p, fa, fb, law));
+            }
+        }
+    }
+
     /// The contact of one narrow-phase point between the bodies at frames `fa` and `fb`.
     fn body_contact(
         id: u64,
@@ -208,53 +268,52 @@ impl BodyStructure for Multibody {
     /// The broad phase grows each shape's box by half the margin, so that it keeps every pair
     /// of boxes at most `margin` apart along each axis, a bound below their gap; the narrow
     /// phase then keeps the points whose gap is at most `margin`.
+    ///
+    /// Above a few thousand pairs, when rayon's current pool has several threads, the narrow
+    /// phase runs on chunks of consecutive pairs in parallel, each into buffers of its own,
+    /// concatenated in chunk order: the contacts and their order are those of the sequential
+    /// detection, bit for bit, for any number of threads.
     fn detect(&self, q: &[f64], t: f64, margin: f64, out: &mut Vec<BodyContact>) {
         let Some(detector) = &self.detector else { return };
-        SCRATCH.with(|cell| {
-            let scratch = &mut *cell.borrow_mut();
-            scratch.frames.clear();
-            scratch.frames.extend(self.bodies.iter().map(|b| b.frame(q, t)));
-            scratch.boxes.clear();
-            let frames = &scratch.frames;
-            scratch.boxes.extend(
-                detector
-                    .colliders
-                    .iter()
-                    .map(|&(b, s)| self.bodies[b].shapes[s].aabb(&frames[b].pose())),
-            );
-            scratch.broad.pairs(&scratch.boxes, 0.5 * margin, &mut scratch.pairs);
-            for &(i, j) in &scratch.pairs {
-                let (x, y) = (detector.colliders[i], detector.colliders[j]);
-                let Some((law, flipped)) = detector.law(&self.bodies, x, y) else { continue };
-                let ((a, sa), (b, sb)) = if flipped { (y, x) } else { (x, y) };
-                let (fa, fb) = (&scratch.frames[a], &scratch.frames[b]);
-                let (shape_a, shape_b) = (&self.bodies[a].shapes[sa], &self.bodies[b].shapes[sb]);
-                scratch.points.clear();
-                if collide(shape_a, &fa.pose(), shape_b, &fb.pose(), margin, &mut scratch.points)
-                    .is_err()
-                {
-                    // The pairs were checked at build time; a margin that is not a number gives
-                    // a gap that is not one, and the stepper stops with a typed error.
-                    let failed = ManifoldPoint {
-                        feature: 0,
-                        point_a: fa.p,
-                        point_b: fb.p,
-                        normal: [0.0; 2],
-                        gap: f64::NAN,
-                    };
-                    out.push(Self::body_contact(contact_id(i, j, 0), &failed, fa, fb, law));
-                    continue;
-                }
-                scratch.points.sort_unstable_by_key(|p| p.feature);
-                let mut last = None;
-                for p in &scratch.points {
-                    if p.gap <= margin && last != Some(p.feature) {
-                        last = Some(p.feature);
-                        out.push(Self::body_contact(contact_id(i, j, p.feature), p, fa, fb, law));
-                    }
-                }
+        let mut scratch = SCRATCH.with(|cell| cell.borrow_mut().pop()).unwrap_or_default();
+        let Scratch { broad, frames, boxes, pairs, chunks } = &mut scratch;
+        frames.clear();
+        frames.extend(self.bodies.iter().map(|b| b.frame(q, t)));
+        boxes.clear();
+        boxes.extend(
+            detector
+                .colliders
+                .iter()
+                .map(|&(b, s)| self.bodies[b].shapes[s].aabb(&frames[b].pose())),
+        );
+        broad.pairs(boxes, 0.5 * margin, pairs);
+        let narrow = |pairs: &[(usize, usize)], chunk: &mut Chunk, out: &mut Vec<BodyContact>| {
+            for &(i, j) in pairs {
+                self.narrow_phase(detector, frames, (i, j), margin, &mut chunk.points, out);
             }
-        });
+        };
+        if pairs.len() > PARALLEL_PAIRS && rayon::current_num_threads() > 1 {
+            let n = pairs.len().div_ceil(CHUNK_PAIRS);
+            if chunks.len() < n {
+                chunks.resize_with(n, Chunk::default);
+            }
+            chunks[..n].par_iter_mut().zip(pairs.par_chunks(CHUNK_PAIRS)).for_each(
+                |(chunk, pairs)| {
+                    let mut contacts = std::mem::take(&mut chunk.contacts);
+                    contacts.clear();
+                    narrow(pairs, chunk, &mut contacts);
+                    chunk.contacts = contacts;
+                },
+            );
+            for chunk in &chunks[..n] {
+                out.extend_from_slice(&chunk.contacts);
+            }
+        } else {
+            let mut chunk = chunks.pop().unwrap_or_default();
+            narrow(pairs, &mut chunk, out);
+            chunks.push(chunk);
+        }
+        SCRATCH.with(|cell| cell.borrow_mut().push(scratch));
     }
 
     /// The joints' rows of `Mechanism::bilaterals`, each written for the six coordinates of

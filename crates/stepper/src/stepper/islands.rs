@@ -28,6 +28,33 @@ use crate::{LcpInfo, SolverChoice};
 /// not dominate a scene of many one-contact islands.
 const BATCH_CONTACTS: usize = 256;
 
+/// Links per chunk of the per-link work of one large island (force directions, right-hand
+/// sides, block rows) run in parallel: enough work per rayon task that its overhead is small.
+pub(super) const CHUNK_LINKS: usize = 512;
+
+/// Links above which the per-link work runs in chunks on rayon's current pool: below it (and
+/// on a pool of one thread) the tasks cost more than they save.
+pub(super) const PARALLEL_LINKS: usize = 2048;
+
+/// Whether `n` links' per-link work runs in chunks in parallel.
+pub(super) fn in_parallel(n: usize) -> bool {
+    n > PARALLEL_LINKS && rayon::current_num_threads() > 1
+}
+
+/// Runs `op` on consecutive chunks of [`CHUNK_LINKS`] items, each with the index of its first
+/// item, in parallel when [`in_parallel`] says so, else on the whole slice at once. An item's
+/// result must depend on its own data only, so that it is the same, bit for bit, either way.
+pub(super) fn for_chunks<T: Send>(items: &mut [T], op: impl Fn(usize, &mut [T]) + Sync) {
+    if in_parallel(items.len()) {
+        items
+            .par_chunks_mut(CHUNK_LINKS)
+            .enumerate()
+            .for_each(|(k, chunk)| op(k * CHUNK_LINKS, chunk));
+    } else {
+        op(0, items);
+    }
+}
+
 /// What the step knows of a detected contact besides its force directions: M⁻¹ w of each
 /// side, the right-hand side b, γ_A, μ and the warm start.
 #[derive(Clone, Copy, Debug, Default)]

@@ -12,7 +12,12 @@
 
 use std::time::Instant;
 
-use super::islands::{ContactWork, IslandFailure, Islands, JointGroup, Purpose, group_rows, link};
+use rayon::prelude::*;
+
+use super::islands::{
+    CHUNK_LINKS, ContactWork, IslandFailure, Islands, JointGroup, Purpose, for_chunks, group_rows,
+    in_parallel, link,
+};
 use super::joints::{PROJECTION_ITERATIONS, drift_tolerance};
 use super::*;
 use crate::bodies::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
@@ -231,13 +236,11 @@ impl BodyPath {
     }
 
     /// M⁻¹ w_N and M⁻¹ w_T of each side of each detected contact, then M⁻¹ w_B of each side
-    /// of each joint group's rows.
+    /// of each joint group's rows; in parallel for a large problem.
     fn directions(&mut self) {
-        let inv = &self.inv;
-        self.work.clear();
-        let n = self.detected.len() + self.groups.len();
-        self.work.extend((0..n).map(|a| {
-            let (bodies, w_0, w_1) = link(&self.detected, &self.groups, a);
+        let (inv, detected, groups) = (&self.inv, &self.detected, &self.groups);
+        let of_link = |a: usize| {
+            let (bodies, w_0, w_1) = link(detected, groups, a);
             let mut w = ContactWork::default();
             for side in 0..2 {
                 let k = bodies[side];
@@ -248,7 +251,15 @@ impl BodyPath {
                 }
             }
             w
-        }));
+        };
+        self.work.clear();
+        let n = detected.len() + groups.len();
+        if in_parallel(n) {
+            // Written in place into the reserved capacity: nothing is allocated once warm.
+            self.work.par_extend((0..n).into_par_iter().with_min_len(CHUNK_LINKS).map(of_link));
+        } else {
+            self.work.extend((0..n).map(of_link));
+        }
     }
 
     /// Evaluates and groups the bilateral rows at (q, t); returns the largest |g_B|.
@@ -349,32 +360,37 @@ impl Core {
 
         // γ_A, b = wᵀũ + ŵ + ε γ_A (the formulas of the path of fixed contacts), μ, and the
         // warm start from the impulses under the same identity, by a merge walk over the
-        // two lists in increasing order of identity.
+        // two lists in increasing order of identity (each chunk's walk starts where its first
+        // identity would be).
         b.directions();
-        let mut j = 0;
-        b.ids.clear();
-        b.reports.clear();
-        for (c, w) in b.detected.iter().zip(b.work.iter_mut()) {
-            let law = c.law;
-            let p = c.point;
-            let gamma_n = side_dot(c.bodies, &c.w_n, &self.u) + p.w_n_hat;
-            let gamma_t = side_dot(c.bodies, &c.w_t, &self.u) + p.w_t_hat;
-            w.gamma_a = [gamma_n, gamma_t];
-            w.b = [
-                side_dot(c.bodies, &c.w_n, &b.u_free) + p.w_n_hat + law.eps_n() * gamma_n,
-                side_dot(c.bodies, &c.w_t, &b.u_free) + p.w_t_hat + law.eps_t() * gamma_t,
-            ];
-            w.mu = law.mu();
-            while j < b.prev.len() && b.prev[j].0 < c.id {
-                j += 1;
+        let nc = b.detected.len();
+        let (detected, prev, u_free, u) = (&b.detected, &b.prev, &b.u_free, &self.u);
+        for_chunks(&mut b.work[..nc], |start, work| {
+            let contacts = &detected[start..start + work.len()];
+            let mut j = contacts.first().map_or(0, |c| prev.partition_point(|p| p.0 < c.id));
+            for (c, w) in contacts.iter().zip(work) {
+                let law = c.law;
+                let p = c.point;
+                let gamma_n = side_dot(c.bodies, &c.w_n, u) + p.w_n_hat;
+                let gamma_t = side_dot(c.bodies, &c.w_t, u) + p.w_t_hat;
+                w.gamma_a = [gamma_n, gamma_t];
+                w.b = [
+                    side_dot(c.bodies, &c.w_n, u_free) + p.w_n_hat + law.eps_n() * gamma_n,
+                    side_dot(c.bodies, &c.w_t, u_free) + p.w_t_hat + law.eps_t() * gamma_t,
+                ];
+                w.mu = law.mu();
+                while j < prev.len() && prev[j].0 < c.id {
+                    j += 1;
+                }
+                w.warm = if j < prev.len() && prev[j].0 == c.id { prev[j].1 } else { [0.0; 2] };
             }
-            w.warm = if j < b.prev.len() && b.prev[j].0 == c.id { b.prev[j].1 } else { [0.0; 2] };
-            b.ids.push(c.id);
-        }
+        });
+        b.ids.clear();
+        b.ids.extend(b.detected.iter().map(|c| c.id));
+        b.reports.clear();
         // The joint groups ask γ_B,E = w_Bᵀ u_E + ŵ_B = 0: q_B = w_Bᵀ ũ + ŵ_B, warm-started
         // from the step before (the groups are the same at every step).
         let warm_joints = b.joint_prev.len() == b.groups.len();
-        let nc = b.detected.len();
         for (g, (group, w)) in b.groups.iter().zip(&mut b.work[nc..]).enumerate() {
             for row in 0..group.rows {
                 w.b[row] = side_dot(group.bodies, &group.w[row], &b.u_free) + group.w_hat[row];

@@ -8,7 +8,9 @@ use moreau_lcp::fc2d::{Fc2d, Fc2dParts, Fc2dRef, Fc2dSolution};
 use moreau_lcp::{LcpError, Status};
 
 use super::solver::IslandSolver;
-use super::{ContactWork, JointGroup, Purpose, link};
+use rayon::prelude::*;
+
+use super::{CHUNK_LINKS, ContactWork, JointGroup, Purpose, in_parallel, link};
 use crate::LcpInfo;
 use crate::SolverChoice;
 use crate::bodies::{BodyContact, NO_BODY};
@@ -89,6 +91,16 @@ pub(in crate::stepper) enum IslandFailure {
     Status(Status, Box<Fc2d>),
 }
 
+/// The block rows of one chunk of a large island's links: columns and blocks concatenated, the
+/// end of each row, and the scratch of one row.
+#[derive(Default)]
+struct RowChunk {
+    row: Vec<(u32, [f64; 4])>,
+    col: Vec<u32>,
+    blocks: Vec<[f64; 4]>,
+    ends: Vec<usize>,
+}
+
 /// A run of consecutive islands with its scratch and solver.
 pub(super) struct Batch {
     /// The islands of the batch.
@@ -99,6 +111,8 @@ pub(super) struct Batch {
     problems: Problems,
     /// The (column, block) entries of one block row before they are sorted and merged.
     row: Vec<(u32, [f64; 4])>,
+    /// The block rows of a large island, chunk by chunk.
+    chunks: Vec<RowChunk>,
     solver: IslandSolver,
     solution: Fc2dSolution,
     /// The impulses of the batch's rows, in the batch's order: (P_N, P_T) of each contact,
@@ -147,6 +161,7 @@ impl Batch {
             links: 0..0,
             problems: Problems::default(),
             row: Vec::new(),
+            chunks: Vec::new(),
             solver: IslandSolver::new(choice)?,
             solution: Fc2dSolution::new(),
             r: Vec::new(),
@@ -182,7 +197,7 @@ impl Batch {
             p.block_off.push(b0);
             p.row_ptr.push(0);
             p.group_start.push(0);
-            for k in range {
+            for k in range.clone() {
                 let a = s.order[k] as usize;
                 let w = &s.work[a];
                 let rows = s.rows(a);
@@ -192,56 +207,47 @@ impl Batch {
                     p.mu.push(w.mu);
                 }
                 slot.rows += rows;
-                if slot.solve {
-                    Self::block_row(&mut self.row, p, s, a);
-                } else {
-                    // An island without a solve needs no blocks: its impulses are zero.
-                    p.col.push((k - s.island_start[island]) as u32);
-                    p.blocks.push([0.0; 4]);
-                }
-                p.row_ptr.push(p.blocks.len() - b0);
                 p.group_start.push(slot.rows);
             }
-            p.slots.push(slot);
-        }
-    }
-
-    /// Appends the block row of link `a`: its blocks with every link sharing a body, by
-    /// increasing local column, the contributions of two shared bodies added up. A joint
-    /// group of one row has a zero second row and zero M⁻¹ of it, so its blocks' padding is
-    /// zero as the problem's layout asks.
-    fn block_row(row: &mut Vec<(u32, [f64; 4])>, p: &mut Problems, s: &Shared<'_>, a: usize) {
-        let (bodies, w_0, w_1) = s.link(a);
-        row.clear();
-        for side in 0..2 {
-            let k = bodies[side];
-            if k == NO_BODY {
-                continue;
-            }
-            let (wn, wt) = (&w_0[side], &w_1[side]);
-            let k = k as usize;
-            for &(c, sc) in &s.body_list[s.body_start[k]..s.body_start[k + 1]] {
-                let wc = &s.work[c as usize];
-                let (yn, yt) = (&wc.mw_n[sc as usize], &wc.mw_t[sc as usize]);
-                row.push((
-                    s.local[c as usize],
-                    [dot3(wn, yn), dot3(wn, yt), dot3(wt, yn), dot3(wt, yt)],
-                ));
-            }
-        }
-        row.sort_unstable_by_key(|e| e.0);
-        let mut last = u32::MAX;
-        for &(c, b) in row.iter() {
-            if c == last {
-                let dst = p.blocks.last_mut().expect("a block of this column was pushed");
-                for (d, v) in dst.iter_mut().zip(b) {
-                    *d += v;
+            if !slot.solve {
+                // An island without a solve needs no blocks: its impulses are zero.
+                for k in range.clone() {
+                    p.col.push((k - range.start) as u32);
+                    p.blocks.push([0.0; 4]);
+                    p.row_ptr.push(p.blocks.len() - b0);
+                }
+            } else if in_parallel(range.len()) {
+                // The block rows of a large island, chunk by chunk in parallel into the
+                // chunks' buffers, then concatenated in order.
+                let n = range.len().div_ceil(CHUNK_LINKS);
+                if self.chunks.len() < n {
+                    self.chunks.resize_with(n, RowChunk::default);
+                }
+                self.chunks[..n].par_iter_mut().enumerate().for_each(|(c, chunk)| {
+                    chunk.col.clear();
+                    chunk.blocks.clear();
+                    chunk.ends.clear();
+                    let first = range.start + c * CHUNK_LINKS;
+                    for k in first..range.end.min(first + CHUNK_LINKS) {
+                        let a = s.order[k] as usize;
+                        block_row(&mut chunk.row, &mut chunk.col, &mut chunk.blocks, s, a);
+                        chunk.ends.push(chunk.blocks.len());
+                    }
+                });
+                for chunk in &self.chunks[..n] {
+                    let base = p.blocks.len() - b0;
+                    p.col.extend_from_slice(&chunk.col);
+                    p.blocks.extend_from_slice(&chunk.blocks);
+                    p.row_ptr.extend(chunk.ends.iter().map(|e| base + e));
                 }
             } else {
-                p.col.push(c);
-                p.blocks.push(b);
-                last = c;
+                for k in range {
+                    let a = s.order[k] as usize;
+                    block_row(&mut self.row, &mut p.col, &mut p.blocks, s, a);
+                    p.row_ptr.push(p.blocks.len() - b0);
+                }
             }
+            p.slots.push(slot);
         }
     }
 
@@ -296,6 +302,51 @@ impl Batch {
                 residual,
             };
             self.info = Some(worse(self.info, info));
+        }
+    }
+}
+
+/// Appends the block row of link `a` to `col` and `blocks`: its blocks with every link sharing
+/// a body, by increasing local column, the contributions of two shared bodies added up; `row`
+/// is scratch. A joint group of one row has a zero second row and zero M⁻¹ of it, so its
+/// blocks' padding is zero as the problem's layout asks.
+fn block_row(
+    row: &mut Vec<(u32, [f64; 4])>,
+    col: &mut Vec<u32>,
+    blocks: &mut Vec<[f64; 4]>,
+    s: &Shared<'_>,
+    a: usize,
+) {
+    let (bodies, w_0, w_1) = s.link(a);
+    row.clear();
+    for side in 0..2 {
+        let k = bodies[side];
+        if k == NO_BODY {
+            continue;
+        }
+        let (wn, wt) = (&w_0[side], &w_1[side]);
+        let k = k as usize;
+        for &(c, sc) in &s.body_list[s.body_start[k]..s.body_start[k + 1]] {
+            let wc = &s.work[c as usize];
+            let (yn, yt) = (&wc.mw_n[sc as usize], &wc.mw_t[sc as usize]);
+            row.push((
+                s.local[c as usize],
+                [dot3(wn, yn), dot3(wn, yt), dot3(wt, yn), dot3(wt, yt)],
+            ));
+        }
+    }
+    row.sort_unstable_by_key(|e| e.0);
+    let mut last = u32::MAX;
+    for &(c, b) in row.iter() {
+        if c == last {
+            let dst = blocks.last_mut().expect("a block of this column was pushed");
+            for (d, v) in dst.iter_mut().zip(b) {
+                *d += v;
+            }
+        } else {
+            col.push(c);
+            blocks.push(b);
+            last = c;
         }
     }
 }
