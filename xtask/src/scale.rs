@@ -271,13 +271,25 @@ fn count_inexact(info: Option<moreau_stepper::LcpInfo>, steps: &mut u64, largest
     }
 }
 
-/// Steps the scene through its settling time.
+/// Steps the scene through its settling time; a settling that lasts more than 10 s of wall
+/// time tells its progress on standard error at each tenth of it.
 fn settle(spec: &RunSpec, stepper: &mut Stepper<AnyModel>) -> Result<Settled> {
     let dt = stepper.options().dt;
     let mut out = Settled { q0: stepper.q().to_vec(), inexact_steps: 0, inexact_residual: 0.0 };
     let settle_steps = (spec.settle / dt).round() as u64;
     let reference_step = (spec.reference / dt).round() as u64;
+    let start = Instant::now();
     for k in 0..settle_steps {
+        if k > 0 && k % (settle_steps / 10).max(1) == 0 && start.elapsed().as_secs() >= 10 {
+            eprintln!(
+                "scale: {}: settling, t = {:.3} of {} s after {:.0} s ({} inexact steps)",
+                spec.label(),
+                stepper.t(),
+                spec.settle,
+                start.elapsed().as_secs_f64(),
+                out.inexact_steps
+            );
+        }
         if k == reference_step {
             out.q0.copy_from_slice(stepper.q());
         }
