@@ -228,3 +228,20 @@ fn the_declared_cam_first_hits_when_the_hand_model_does() {
     // impact (8 m/s over half a step).
     assert!(d.drift < 1e-12 && d.penetration < 5e-4, "{} {}", d.drift, d.penetration);
 }
+
+#[test]
+fn the_declared_ball_is_the_hand_model_over_the_reports_ten_seconds() {
+    // Declared as the report's scheme (the scene turns the projection off), the ball on its
+    // half-plane is the hand model to the bit: the same 58 impacts in 10 s, the same heights.
+    let hand = Scene::report(ModelKind::Ball);
+    let ball = declared(BALL);
+    assert!(!ball.projection);
+    assert_eq!(ball.t_end, hand.t_end);
+    let (h, d) = (run(&hand, &[]), run(&ball, &[]));
+    assert_eq!(h.t.len(), 10_000);
+    assert_eq!(onsets(&h).len(), 58);
+    assert_eq!(onsets(&d), onsets(&h));
+    for k in 0..h.t.len() {
+        assert_eq!((d.q[k][1], d.u[k][1]), (h.q[k][0], h.u[k][0]), "step {k}");
+    }
+}
