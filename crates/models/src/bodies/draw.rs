@@ -20,17 +20,21 @@ impl Multibody {
             Kind::Fixed => Role::Ground,
             Kind::Driven(_) => Role::Cam,
         };
-        for (i, body) in self.bodies.iter().enumerate() {
-            self.draw_shapes(i, &frames[i], &mut d);
-            // A body is drawn as links from its origin to the points where it is joined.
-            let origin = frames[i].p;
-            for j in &self.joints {
-                for (side, r) in joint_anchors(&j.kind) {
-                    let (b, anchor) = if side { (j.b, r) } else { (j.a, r) };
-                    if b == i && body.is_dynamic() {
-                        d.line(role(i), vec![origin, frames[i].point(anchor)]);
-                    }
+        // A dynamic body is drawn as links from its origin to the points where it is joined,
+        // in the order of the joints: each body's anchors, gathered in one pass over them.
+        let mut anchors: Vec<Vec<[f64; 2]>> = vec![Vec::new(); self.bodies.len()];
+        for j in &self.joints {
+            for (side, anchor) in joint_anchors(&j.kind) {
+                let b = if side { j.b } else { j.a };
+                if self.bodies[b].is_dynamic() {
+                    anchors[b].push(anchor);
                 }
+            }
+        }
+        for (i, anchors) in anchors.iter().enumerate() {
+            self.draw_shapes(i, &frames[i], &mut d);
+            for &anchor in anchors {
+                d.line(role(i), vec![frames[i].p, frames[i].point(anchor)]);
             }
         }
         for j in &self.joints {
