@@ -155,7 +155,7 @@ pub fn specs(quick: bool) -> Vec<RunSpec> {
             column(1000, 2.0, 50, &[1]),
             column(3000, 2.0, 50, &[1]),
             // About 10⁴ contacts: 313 rows, 7.8 m high.
-            column(5000, 2.5, 20, &[1]),
+            column(5000, 2.5, 100, &[1]),
             // 625 rows, 15.6 m high: the top row falls for about 1.8 s.
             column(10000, 3.0, 20, &[1, 2]),
             pyramid(10, 10.0),

@@ -53,8 +53,9 @@ const SMALL_TOLERANCE: f64 = 1e-13;
 
 /// The stages of the default choice (see [`IslandSolver::Auto`]).
 pub(super) struct AutoChain {
-    /// Small islands, large islands, Gauss-Seidel resumed, and the large islands' chunks.
-    auto: [Fc2dAuto; 4],
+    /// Small islands, large islands, Gauss-Seidel resumed, and the large islands' first chunk
+    /// and later chunks (these without the pivoting that the first has tried).
+    auto: [Fc2dAuto; 5],
     /// Large islands cold, islands with joints for the step, and for the joints' correction.
     newton: [Newton; 3],
     proximal: Proximal,
@@ -97,6 +98,12 @@ impl IslandSolver {
                     Fc2dAuto::new(Fc2dAutoOptions {
                         tolerance: FC2D_TOLERANCE,
                         max_sweeps: INEXACT_CHUNK_SWEEPS,
+                        ..Fc2dAutoOptions::default()
+                    })?,
+                    Fc2dAuto::new(Fc2dAutoOptions {
+                        tolerance: FC2D_TOLERANCE,
+                        max_sweeps: INEXACT_CHUNK_SWEEPS,
+                        lcp_max_contacts: 0,
                         ..Fc2dAutoOptions::default()
                     })?,
                 ],
@@ -196,7 +203,8 @@ impl IslandSolver {
                     start.extend_from_slice(warm);
                     let (mut sweeps, mut before) = (0, f64::INFINITY);
                     while sweeps < LARGE_ISLAND_SWEEPS {
-                        auto[3].solve_into(problem, Some(start), out)?;
+                        let chunk = if sweeps == 0 { &mut auto[3] } else { &mut auto[4] };
+                        chunk.solve_into(problem, Some(start), out)?;
                         sweeps += out.iterations.max(1);
                         let now = out.residual.natural;
                         let chunks_left = (LARGE_ISLAND_SWEEPS - sweeps.min(LARGE_ISLAND_SWEEPS))
