@@ -158,7 +158,7 @@ fn energy_scale(model: &AnyModel, t0: f64, v0: f64) -> f64 {
 /// (M does not couple bodies), so that it adds only zero eigenvalues; ω_max = 0 when S is
 /// empty (gravity alone has no stiffness). K's columns are differenced only for the bodies on
 /// which h depends (found by shifting ranges of bodies at once, see
-/// [`stiffness_columns_by_body`]). Memory is O(f + nnz(K) + |S|²), time O(|S| log n_b) calls
+/// `stiffness_columns_by_body`). Memory is O(f + nnz(K) + |S|²), time O(|S| log n_b) calls
 /// of h plus the dense method's O(|S|³). Other models take the dense method on all of q.
 pub fn omega_max(model: &AnyModel) -> f64 {
     let (q0, u0) = model.initial_state();
