@@ -163,14 +163,48 @@ fn energy_scale(model: &AnyModel, t0: f64, v0: f64) -> f64 {
 pub fn omega_max(model: &AnyModel) -> f64 {
     let (q0, u0) = model.initial_state();
     let f = q0.len();
-    if let Some(structure) = model.body_structure().filter(|s| 3 * s.num_bodies() == f) {
+    if let Some(structure) = by_body(model, f) {
         return omega_max_by_body(model, structure, &q0, &u0);
     }
     let mut m = vec![0.0; f * f];
     model.mass_matrix(&q0, 0.0, &mut m);
     let mut k = vec![0.0; f * f];
-    stiffness_columns(model, &q0, &u0, 0..f, &mut |i, j, kij| k[i + f * j] = kij);
+    let mut diff = Differences::new(&q0);
+    stiffness_columns(model, &q0, &u0, 0..f, &mut diff, &mut |i, j, kij| k[i + f * j] = kij);
     largest_frequency(&m, &k, f)
+}
+
+/// The buffers of K's central differences: the shifted q and h at both shifts.
+struct Differences {
+    q: Vec<f64>,
+    hp: Vec<f64>,
+    hm: Vec<f64>,
+}
+
+impl Differences {
+    fn new(q0: &[f64]) -> Self {
+        let f = q0.len();
+        Self { q: q0.to_vec(), hp: vec![0.0; f], hm: vec![0.0; f] }
+    }
+
+    /// h at (q₀ ± δ, u₀, t = 0) into `hp` and `hm`, where δ shifts each coordinate j of
+    /// `columns` by [`shift`]`(q₀_j) · weight(j)`; q is left at q₀.
+    fn evaluate(
+        &mut self,
+        model: &AnyModel,
+        q0: &[f64],
+        u0: &[f64],
+        columns: std::ops::Range<usize>,
+        weight: impl Fn(usize) -> f64,
+    ) {
+        for (sign, h) in [(1.0, &mut self.hp), (-1.0, &mut self.hm)] {
+            for j in columns.clone() {
+                self.q[j] = q0[j] + sign * shift(q0[j]) * weight(j);
+            }
+            model.forces(&self.q, u0, 0.0, h);
+        }
+        self.q[columns.clone()].copy_from_slice(&q0[columns]);
+    }
 }
 
 /// Calls `keep(i, j, K_ij)` for every nonzero entry of K = −∂h/∂q at (q₀, u₀, t = 0) in the
@@ -180,19 +214,13 @@ fn stiffness_columns(
     q0: &[f64],
     u0: &[f64],
     columns: std::ops::Range<usize>,
+    diff: &mut Differences,
     keep: &mut impl FnMut(usize, usize, f64),
 ) {
-    let f = q0.len();
-    let (mut hp, mut hm) = (vec![0.0; f], vec![0.0; f]);
-    let mut q = q0.to_vec();
     for j in columns {
         let d = shift(q0[j]);
-        q[j] = q0[j] + d;
-        model.forces(&q, u0, 0.0, &mut hp);
-        q[j] = q0[j] - d;
-        model.forces(&q, u0, 0.0, &mut hm);
-        q[j] = q0[j];
-        for (i, (p, m)) in hp.iter().zip(&hm).enumerate() {
+        diff.evaluate(model, q0, u0, j..j + 1, |_| 1.0);
+        for (i, (p, m)) in diff.hp.iter().zip(&diff.hm).enumerate() {
             // Forces that do not depend on q_j are computed alike at both shifts, so that
             // their difference is exactly zero and the column keeps only real couplings.
             if p != m {
@@ -220,30 +248,27 @@ fn stiffness_columns_by_body(
     q0: &[f64],
     u0: &[f64],
     bodies: std::ops::Range<usize>,
+    diff: &mut Differences,
     keep: &mut impl FnMut(usize, usize, f64),
 ) {
-    if bodies.is_empty() {
-        return;
-    }
-    if bodies.len() == 1 {
-        return stiffness_columns(model, q0, u0, 3 * bodies.start..3 * bodies.end, keep);
-    }
-    let f = q0.len();
-    let (mut hp, mut hm) = (vec![0.0; f], vec![0.0; f]);
-    let mut q = q0.to_vec();
     let columns = 3 * bodies.start..3 * bodies.end;
-    for sign in [1.0, -1.0] {
-        for j in columns.clone() {
-            q[j] = q0[j] + sign * shift(q0[j]) * (1.0 + j as f64 / f as f64);
-        }
-        model.forces(&q, u0, 0.0, if sign > 0.0 { &mut hp } else { &mut hm });
+    if bodies.len() <= 1 {
+        return stiffness_columns(model, q0, u0, columns, diff, keep);
     }
-    if hp == hm {
+    let f = q0.len() as f64;
+    diff.evaluate(model, q0, u0, columns, |j| 1.0 + j as f64 / f);
+    if diff.hp == diff.hm {
         return;
     }
     let mid = bodies.start + bodies.len() / 2;
-    stiffness_columns_by_body(model, q0, u0, bodies.start..mid, keep);
-    stiffness_columns_by_body(model, q0, u0, mid..bodies.end, keep);
+    stiffness_columns_by_body(model, q0, u0, bodies.start..mid, diff, keep);
+    stiffness_columns_by_body(model, q0, u0, mid..bodies.end, diff, keep);
+}
+
+/// The body structure of `model` when its f coordinates are its bodies' (x, y, θ), so that M
+/// is block-diagonal by body.
+fn by_body(model: &AnyModel, f: usize) -> Option<&dyn BodyStructure> {
+    model.body_structure().filter(|s| 3 * s.num_bodies() == f)
 }
 
 /// ω_max on the coupled set of a mechanism with a body structure (see [`omega_max`]).
@@ -255,7 +280,9 @@ fn omega_max_by_body(
 ) -> f64 {
     let mut entries = Vec::new();
     let nb = structure.num_bodies();
-    stiffness_columns_by_body(model, q0, u0, 0..nb, &mut |i, j, kij| entries.push((i, j, kij)));
+    let mut diff = Differences::new(q0);
+    let mut keep = |i, j, kij| entries.push((i, j, kij));
+    stiffness_columns_by_body(model, q0, u0, 0..nb, &mut diff, &mut keep);
     // Sorted by (row, column), so that K_ji is found by a binary search for each K_ij.
     entries.sort_by_key(|&(i, j, _)| (i, j));
     let at = |i: usize, j: usize| {
@@ -467,7 +494,7 @@ impl Mass {
     /// M at (q, 0).
     fn new(model: &AnyModel, q: &[f64]) -> Self {
         let f = q.len();
-        let mut mass = match model.body_structure().filter(|s| 3 * s.num_bodies() == f) {
+        let mut mass = match by_body(model, f) {
             Some(s) => Self::Blocks(vec![[0.0; 9]; s.num_bodies()]),
             None => Self::Dense(vec![0.0; f * f]),
         };
