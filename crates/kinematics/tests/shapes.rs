@@ -521,6 +521,13 @@ fn broad_phase_matches_brute_force() {
         }
         assert!(brute.len() > n / 2, "too few pairs to test: {}", brute.len());
         assert_eq!(out, brute, "round {round}");
+        // The searches of consecutive ranges of boxes, the walls' among them, give the list
+        // in consecutive runs.
+        let mut runs = Vec::new();
+        for start in (0..n).step_by(37) {
+            broad.pairs_of(&boxes, start..n.min(start + 37), &mut runs);
+        }
+        assert_eq!(runs, brute, "round {round}, by ranges");
     }
     // The same boxes moved a little: the refitted tree still finds every pair.
     let mut boxes: Vec<Aabb> = (0..500)

@@ -360,8 +360,9 @@ fn the_contact_set_is_a_scene_field() {
 #[test]
 fn detection_is_the_same_on_one_and_two_threads() {
     // The disk column of 4,000 grains at its lattice places with a 6 mm margin: more than 5,000
-    // contacts, each from its own pair of disks, so more broad-phase pairs than the detection
-    // takes in one piece; their narrow phase runs in chunks on two threads.
+    // contacts, each from its own pair of disks, and more colliders than the detection takes in
+    // one piece: the frames, the boxes and the broad and narrow phases of chunks of colliders
+    // run on two threads.
     let path = moreau_testsupport::scene_path("scale/disk-column.toml");
     let mut scene = Scene::from_path(&path).unwrap();
     scene.set("fill.grain.count", "4000").unwrap();

@@ -29,6 +29,8 @@
 //! side, long walls) are tested against every box directly. Every buffer is kept, so that once
 //! warm a call allocates nothing.
 
+use std::ops::Range;
+
 use super::Aabb;
 
 /// The cells are this fraction larger than the largest ordinary box, so that round-off can
@@ -57,6 +59,15 @@ pub struct BroadPhase {
     /// The ordinary boxes sorted by cell: cell c holds `items[start[c]..start[c + 1]]`.
     items: Vec<Item>,
     start: Vec<u32>,
+    /// The grid's columns and rows, and the margin of the last build.
+    nx: usize,
+    ny: usize,
+    margin: f64,
+}
+
+/// Whether a box has a NaN coordinate.
+fn nan(b: &Aabb) -> bool {
+    b.min.iter().chain(&b.max).any(|v| v.is_nan())
 }
 
 impl BroadPhase {
@@ -67,11 +78,18 @@ impl BroadPhase {
 
     /// Writes into `out` (cleared first) the pairs (i, j), i < j, of `boxes` that overlap when
     /// each is grown by `margin` (m) on every side, touching included, in increasing (i, j)
-    /// order. A box with a NaN coordinate overlaps nothing.
+    /// order. A box with a NaN coordinate overlaps nothing. It is [`Self::build`] then
+    /// [`Self::pairs_of`] over all boxes.
     pub fn pairs(&mut self, boxes: &[Aabb], margin: f64, out: &mut Vec<(usize, usize)>) {
         out.clear();
+        self.build(boxes, margin);
+        self.pairs_of(boxes, 0..boxes.len(), out);
+    }
+
+    /// Sorts `boxes`, grown by `margin` (m) on every side, into the grid that
+    /// [`Self::pairs_of`] reads.
+    pub fn build(&mut self, boxes: &[Aabb], margin: f64) {
         let n = boxes.len();
-        let nan = |b: &Aabb| b.min.iter().chain(&b.max).any(|v| v.is_nan());
         let extent = |b: &Aabb| (b.max[0] - b.min[0]).max(b.max[1] - b.min[1]) + 2.0 * margin;
         let (mut sum, mut finite) = (0.0, 0usize);
         for b in boxes.iter().filter(|b| b.is_finite()) {
@@ -82,6 +100,7 @@ impl BroadPhase {
         self.direct.clear();
         self.ordinary.clear();
         let (mut h, mut lo, mut hi) = (0.0f64, [f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        let mut nans = 0;
         for (i, b) in boxes.iter().enumerate() {
             let ordinary = !nan(b) && b.is_finite() && extent(b) <= LARGE * mean;
             self.ordinary.push(ordinary);
@@ -93,17 +112,36 @@ impl BroadPhase {
                 }
             } else if !nan(b) {
                 self.direct.push(i);
+            } else {
+                nans += 1;
             }
         }
-        let ordinary_count = n - self.direct.len() - boxes.iter().filter(|b| nan(b)).count();
-        let (nx, ny) = if ordinary_count > 0 {
+        let ordinary_count = n - self.direct.len() - nans;
+        (self.nx, self.ny) = if ordinary_count > 0 {
             self.grid(boxes, margin, h, lo, hi, ordinary_count)
         } else {
             (0, 0)
         };
+        self.margin = margin;
+    }
+
+    /// Appends to `out` the pairs (i, j), i < j, i in `range`, of the boxes that the last
+    /// [`Self::build`] sorted, in increasing (i, j) order: consecutive ranges give
+    /// consecutive runs of [`Self::pairs`]' list, so that ranges can be searched in parallel.
+    ///
+    /// # Panics
+    /// When `boxes` is not the slice of the last [`Self::build`] (a different length), or
+    /// `range` ends past it.
+    pub fn pairs_of(&self, boxes: &[Aabb], range: Range<usize>, out: &mut Vec<(usize, usize)>) {
+        assert_eq!(
+            boxes.len(),
+            self.ordinary.len(),
+            "the boxes of a search are those of the last build"
+        );
+        let (nx, ny, margin) = (self.nx, self.ny, self.margin);
         // Box by box in index order, so that the pairs come out sorted by i; each box's few
         // partners j > i are then sorted in place.
-        for i in 0..n {
+        for i in range {
             let first = out.len();
             if self.ordinary[i] {
                 let c = self.cell[i] as usize;

@@ -39,17 +39,20 @@ pub(crate) struct Detector {
     pub colliders: Vec<(usize, usize)>,
 }
 
-/// Broad-phase pairs per chunk of the narrow phase: enough work per rayon task that its
-/// overhead is small, few enough that two threads share the chunks evenly.
-const CHUNK_PAIRS: usize = 512;
+/// Colliders per chunk of a parallel detection: enough work per rayon task (the broad phase's
+/// search and the narrow phase of the pairs of a few hundred colliders) that its overhead is
+/// small, few enough that two threads share the chunks evenly.
+const CHUNK_COLLIDERS: usize = 256;
 
-/// Broad-phase pairs above which the narrow phase runs in chunks on rayon's current pool: below
-/// it, the chunks' buffers and the tasks cost more than they save.
-const PARALLEL_PAIRS: usize = 4096;
+/// Colliders above which the detection runs in chunks on rayon's current pool: below it, the
+/// chunks' buffers and the tasks cost more than they save.
+const PARALLEL_COLLIDERS: usize = 2048;
 
-/// One chunk's narrow phase: its manifold points and its contacts, concatenated in chunk order.
+/// One chunk of colliders' detection: the broad phase's pairs of its colliders, the narrow
+/// phase's manifold points and the chunk's contacts, concatenated in chunk order.
 #[derive(Default)]
 struct Chunk {
+    pairs: Vec<(usize, usize)>,
     points: Vec<ManifoldPoint>,
     contacts: Vec<BodyContact>,
 }
@@ -61,7 +64,6 @@ struct Scratch {
     broad: BroadPhase,
     frames: Vec<Frame>,
     boxes: Vec<Aabb>,
-    pairs: Vec<(usize, usize)>,
     chunks: Vec<Chunk>,
 }
 
@@ -269,48 +271,61 @@ impl BodyStructure for Multibody {
     /// of boxes at most `margin` apart along each axis, a bound below their gap; the narrow
     /// phase then keeps the points whose gap is at most `margin`.
     ///
-    /// Above a few thousand pairs, when rayon's current pool has several threads, the narrow
-    /// phase runs on chunks of consecutive pairs in parallel, each into buffers of its own,
-    /// concatenated in chunk order: the contacts and their order are those of the sequential
-    /// detection, bit for bit, for any number of threads.
+    /// Above a few thousand colliders, when rayon's current pool has several threads, the
+    /// frames, the boxes and then the broad and narrow phases of chunks of consecutive
+    /// colliders run in parallel, each chunk into buffers of its own, concatenated in chunk
+    /// order: the contacts and their order are those of the sequential detection, bit for bit,
+    /// for any number of threads.
     fn detect(&self, q: &[f64], t: f64, margin: f64, out: &mut Vec<BodyContact>) {
         let Some(detector) = &self.detector else { return };
         let mut scratch = SCRATCH.with(|cell| cell.borrow_mut().pop()).unwrap_or_default();
-        let Scratch { broad, frames, boxes, pairs, chunks } = &mut scratch;
+        let Scratch { broad, frames, boxes, chunks } = &mut scratch;
+        let n = detector.colliders.len();
+        let parallel = n > PARALLEL_COLLIDERS && rayon::current_num_threads() > 1;
+        let frame = |b: &Body| b.frame(q, t);
+        // Written in place into the kept capacity: nothing is allocated once warm.
         frames.clear();
-        frames.extend(self.bodies.iter().map(|b| b.frame(q, t)));
+        if parallel {
+            frames.par_extend(self.bodies.par_iter().with_min_len(CHUNK_COLLIDERS).map(frame));
+        } else {
+            frames.extend(self.bodies.iter().map(frame));
+        }
+        let frames = &*frames;
+        let aabb = |&(b, s): &(usize, usize)| self.bodies[b].shapes[s].aabb(&frames[b].pose());
         boxes.clear();
-        boxes.extend(
-            detector
-                .colliders
-                .iter()
-                .map(|&(b, s)| self.bodies[b].shapes[s].aabb(&frames[b].pose())),
-        );
-        broad.pairs(boxes, 0.5 * margin, pairs);
-        let narrow = |pairs: &[(usize, usize)], chunk: &mut Chunk, out: &mut Vec<BodyContact>| {
-            for &(i, j) in pairs {
+        if parallel {
+            boxes.par_extend(detector.colliders.par_iter().with_min_len(CHUNK_COLLIDERS).map(aabb));
+        } else {
+            boxes.extend(detector.colliders.iter().map(aabb));
+        }
+        broad.build(boxes, 0.5 * margin);
+        let (broad, boxes) = (&*broad, &*boxes);
+        // The pairs of the colliders of `range`, then their contacts, appended to `out`.
+        let search = |range: std::ops::Range<usize>, chunk: &mut Chunk, out: &mut Vec<_>| {
+            chunk.pairs.clear();
+            broad.pairs_of(boxes, range, &mut chunk.pairs);
+            for &(i, j) in &chunk.pairs {
                 self.narrow_phase(detector, frames, (i, j), margin, &mut chunk.points, out);
             }
         };
-        if pairs.len() > PARALLEL_PAIRS && rayon::current_num_threads() > 1 {
-            let n = pairs.len().div_ceil(CHUNK_PAIRS);
-            if chunks.len() < n {
-                chunks.resize_with(n, Chunk::default);
+        if parallel {
+            let k = n.div_ceil(CHUNK_COLLIDERS);
+            if chunks.len() < k {
+                chunks.resize_with(k, Chunk::default);
             }
-            chunks[..n].par_iter_mut().zip(pairs.par_chunks(CHUNK_PAIRS)).for_each(
-                |(chunk, pairs)| {
-                    let mut contacts = std::mem::take(&mut chunk.contacts);
-                    contacts.clear();
-                    narrow(pairs, chunk, &mut contacts);
-                    chunk.contacts = contacts;
-                },
-            );
-            for chunk in &chunks[..n] {
+            chunks[..k].par_iter_mut().enumerate().for_each(|(c, chunk)| {
+                let range = c * CHUNK_COLLIDERS..n.min((c + 1) * CHUNK_COLLIDERS);
+                let mut contacts = std::mem::take(&mut chunk.contacts);
+                contacts.clear();
+                search(range, chunk, &mut contacts);
+                chunk.contacts = contacts;
+            });
+            for chunk in &chunks[..k] {
                 out.extend_from_slice(&chunk.contacts);
             }
         } else {
             let mut chunk = chunks.pop().unwrap_or_default();
-            narrow(pairs, &mut chunk, out);
+            search(0..n, &mut chunk, out);
             chunks.push(chunk);
         }
         SCRATCH.with(|cell| cell.borrow_mut().push(scratch));
