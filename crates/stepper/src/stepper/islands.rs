@@ -315,6 +315,11 @@ impl Islands {
         self.joint_rows.extend(joints.iter().map(|g| g.rows));
     }
 
+    /// The links acting on body `k` in the last split, as (link, side), in link order.
+    pub(super) fn links_of(&self, k: usize) -> &[(u32, u8)] {
+        &self.body_list[self.body_start[k]..self.body_start[k + 1]]
+    }
+
     /// The number of islands of the last split.
     pub(super) fn count(&self) -> usize {
         self.island_start.len().saturating_sub(1)

@@ -278,24 +278,28 @@ impl BodyPath {
     }
 
     /// v += M⁻¹ (W_N P_N + W_T P_T + W_B Λ_B) with the impulses of the contacts and the joint
-    /// groups of the last solve.
+    /// groups of the last solve, body by body from the links of each body in link order (the
+    /// sums of a scatter over the links, bit for bit), in chunks of bodies in parallel for a
+    /// large problem.
     fn apply_impulses(&self, v: &mut [f64]) {
-        let r = self.islands.r.iter().chain(&self.islands.r_joints);
-        for (a, (w, r)) in self.work.iter().zip(r).enumerate() {
-            if r[0] == 0.0 && r[1] == 0.0 {
-                continue;
-            }
-            let bodies = link(&self.detected, &self.groups, a).0;
-            for side in 0..2 {
-                let k = bodies[side];
-                if k != NO_BODY {
-                    let v = &mut v[3 * k as usize..][..3];
+        let (islands, work) = (&self.islands, &self.work);
+        let nc = islands.r.len();
+        let (bodies, _) = v.as_chunks_mut::<3>();
+        for_chunks(bodies, |first, chunk| {
+            for (k, v) in chunk.iter_mut().enumerate() {
+                for &(a, side) in islands.links_of(first + k) {
+                    let a = a as usize;
+                    let r = if a < nc { islands.r[a] } else { islands.r_joints[a - nc] };
+                    if r[0] == 0.0 && r[1] == 0.0 {
+                        continue;
+                    }
+                    let (w, side) = (&work[a], side as usize);
                     for j in 0..3 {
                         v[j] += w.mw_n[side][j] * r[0] + w.mw_t[side][j] * r[1];
                     }
                 }
             }
-        }
+        });
     }
 }
 
@@ -387,7 +391,6 @@ impl Core {
         });
         b.ids.clear();
         b.ids.extend(b.detected.iter().map(|c| c.id));
-        b.reports.clear();
         // The joint groups ask γ_B,E = w_Bᵀ u_E + ŵ_B = 0: q_B = w_Bᵀ ũ + ŵ_B, warm-started
         // from the step before (the groups are the same at every step).
         let warm_joints = b.joint_prev.len() == b.groups.len();
@@ -431,39 +434,45 @@ impl Core {
             self.ws.lcp_solves += 1;
         }
 
-        // The reports, from the end velocities; then the impulses by identity for the next
-        // step (the walk above has read the old ones).
-        let mut j = 0;
-        for ((c, w), r) in b.detected.iter().zip(&b.work).zip(&b.islands.r) {
-            let [p_n, p_t] = *r;
-            while j < b.prev.len() && b.prev[j].0 < c.id {
-                j += 1;
-            }
-            let closed_before = j < b.prev.len() && b.prev[j].0 == c.id && b.prev[j].1[0] > 0.0;
-            let gamma_n = side_dot(c.bodies, &c.w_n, &b.u_e) + c.point.w_n_hat;
-            let gamma_t = side_dot(c.bodies, &c.w_t, &b.u_e) + c.point.w_t_hat;
-            let [gamma_n_a, gamma_t_a] = w.gamma_a;
-            let mut scale = 0.0;
-            for side in 0..2 {
-                let k = c.bodies[side];
-                if k != NO_BODY {
-                    let u = &b.u_e[3 * k as usize..][..3];
-                    scale += (0..3).map(|i| (c.w_t[side][i] * u[i]).abs()).sum::<f64>();
+        // The reports, from the end velocities, each contact's closing found by the same merge
+        // walk as its warm start (in chunks in parallel for a large problem); then the
+        // impulses by identity for the next step.
+        b.reports.clear();
+        b.reports.resize(nc, ContactReport::default());
+        let (detected, work, r, prev, u_e) = (&b.detected, &b.work, &b.islands.r, &b.prev, &b.u_e);
+        for_chunks(&mut b.reports, |start, reports| {
+            let contacts = &detected[start..start + reports.len()];
+            let mut j = contacts.first().map_or(0, |c| prev.partition_point(|p| p.0 < c.id));
+            for (k, (c, report)) in contacts.iter().zip(reports).enumerate() {
+                let [p_n, p_t] = r[start + k];
+                while j < prev.len() && prev[j].0 < c.id {
+                    j += 1;
                 }
+                let closed_before = j < prev.len() && prev[j].0 == c.id && prev[j].1[0] > 0.0;
+                let gamma_n = side_dot(c.bodies, &c.w_n, u_e) + c.point.w_n_hat;
+                let gamma_t = side_dot(c.bodies, &c.w_t, u_e) + c.point.w_t_hat;
+                let [gamma_n_a, gamma_t_a] = work[start + k].gamma_a;
+                let mut scale = 0.0;
+                for side in 0..2 {
+                    let k = c.bodies[side];
+                    if k != NO_BODY {
+                        let u = &u_e[3 * k as usize..][..3];
+                        scale += (0..3).map(|i| (c.w_t[side][i] * u[i]).abs()).sum::<f64>();
+                    }
+                }
+                *report = ContactReport {
+                    active: true,
+                    p_n,
+                    p_t,
+                    gamma_n,
+                    gamma_t,
+                    gamma_n_a,
+                    gamma_t_a,
+                    impact: p_n > 0.0 && gamma_n_a < 0.0 && !closed_before,
+                    state: contact_state(p_n, gamma_t, scale),
+                };
             }
-            let state = contact_state(p_n, gamma_t, scale);
-            b.reports.push(ContactReport {
-                active: true,
-                p_n,
-                p_t,
-                gamma_n,
-                gamma_t,
-                gamma_n_a,
-                gamma_t_a,
-                impact: p_n > 0.0 && gamma_n_a < 0.0 && !closed_before,
-                state,
-            });
-        }
+        });
         b.prev.clear();
         b.prev.extend(b.ids.iter().zip(&b.islands.r).map(|(&id, &r)| (id, r)));
         b.joint_prev.clear();

@@ -10,7 +10,7 @@ use moreau_lcp::{LcpError, Status};
 use super::solver::IslandSolver;
 use rayon::prelude::*;
 
-use super::{CHUNK_LINKS, ContactWork, JointGroup, Purpose, in_parallel, link};
+use super::{CHUNK_LINKS, ContactWork, JointGroup, Purpose, for_chunks, in_parallel, link};
 use crate::LcpInfo;
 use crate::SolverChoice;
 use crate::bodies::{BodyContact, NO_BODY};
@@ -393,34 +393,40 @@ fn lcp_residual(problem: Fc2dRef<'_>, r: &[f64], sums: &mut Vec<[f64; 4]>) -> f6
     let groups = gs.len() - 1;
     // Rows N and R without ξ_L: the column of P_N,j carries W_·N − μ_j W_·T, that of
     // P_R,j = P_T,j + μ_j P_N,j carries W_·T, that of a bilateral group its rows' W_·B.
+    // Each group's sums from its own block row: in chunks on rayon's pool for a large island,
+    // the same bits either way.
     sums.clear();
-    for i in 0..groups {
-        let (mut abs_0, mut abs_1) = (0.0, 0.0);
-        let (mut sum_0, mut sum_1) =
-            (q[gs[i]], if gs[i + 1] - gs[i] == 2 { q[gs[i] + 1] } else { 0.0 });
-        let blocks = parts.row_ptr[i]..parts.row_ptr[i + 1];
-        for (b, &j) in parts.blocks[blocks.clone()].iter().zip(&parts.col[blocks]) {
-            let j = j as usize;
-            let terms = if j < n {
-                let (p_n, m) = (r[2 * j], mu[j]);
-                let p_r = r[2 * j + 1] + m * p_n;
-                [(b[0] - m * b[1]) * p_n, b[1] * p_r, (b[2] - m * b[3]) * p_n, b[3] * p_r]
-            } else {
-                let r_0 = r[gs[j]];
-                let r_1 = if gs[j + 1] - gs[j] == 2 { r[gs[j] + 1] } else { 0.0 };
-                [b[0] * r_0, b[1] * r_1, b[2] * r_0, b[3] * r_1]
-            };
-            for t in &terms[..2] {
-                sum_0 += t;
-                abs_0 += t.abs();
+    sums.resize(groups, [0.0; 4]);
+    for_chunks(sums, |first, chunk| {
+        for (k, out) in chunk.iter_mut().enumerate() {
+            let i = first + k;
+            let (mut abs_0, mut abs_1) = (0.0, 0.0);
+            let (mut sum_0, mut sum_1) =
+                (q[gs[i]], if gs[i + 1] - gs[i] == 2 { q[gs[i] + 1] } else { 0.0 });
+            let blocks = parts.row_ptr[i]..parts.row_ptr[i + 1];
+            for (b, &j) in parts.blocks[blocks.clone()].iter().zip(&parts.col[blocks]) {
+                let j = j as usize;
+                let terms = if j < n {
+                    let (p_n, m) = (r[2 * j], mu[j]);
+                    let p_r = r[2 * j + 1] + m * p_n;
+                    [(b[0] - m * b[1]) * p_n, b[1] * p_r, (b[2] - m * b[3]) * p_n, b[3] * p_r]
+                } else {
+                    let r_0 = r[gs[j]];
+                    let r_1 = if gs[j + 1] - gs[j] == 2 { r[gs[j] + 1] } else { 0.0 };
+                    [b[0] * r_0, b[1] * r_1, b[2] * r_0, b[3] * r_1]
+                };
+                for t in &terms[..2] {
+                    sum_0 += t;
+                    abs_0 += t.abs();
+                }
+                for t in &terms[2..] {
+                    sum_1 += t;
+                    abs_1 += t.abs();
+                }
             }
-            for t in &terms[2..] {
-                sum_1 += t;
-                abs_1 += t.abs();
-            }
+            *out = [sum_0, abs_0, sum_1, abs_1];
         }
-        sums.push([sum_0, abs_0, sum_1, abs_1]);
-    }
+    });
     let z = |i: usize| {
         let p_n = r[2 * i];
         [p_n, r[2 * i + 1] + mu[i] * p_n, (-sums[i][2]).max(0.0)]
