@@ -358,7 +358,7 @@ fn the_contact_set_is_a_scene_field() {
 }
 
 #[test]
-fn detection_is_the_same_on_one_and_two_threads() {
+fn detection_and_forces_are_the_same_on_one_and_two_threads() {
     // The disk column of 4,000 grains at its lattice places with a 6 mm margin: more than 5,000
     // contacts, each from its own pair of disks, and more colliders than the detection takes in
     // one piece: the frames, the boxes and the broad and narrow phases of chunks of colliders
@@ -370,17 +370,24 @@ fn detection_is_the_same_on_one_and_two_threads() {
     let column = spec.build().unwrap();
     let structure = column.body_structure().unwrap();
     let (q0, _) = column.initial_state();
+    // The grains turned and spinning, so that h has its centrifugal and gravity terms.
+    let q: Vec<f64> = q0.iter().enumerate().map(|(i, v)| v + 0.01 * (i % 3) as f64).collect();
+    let u: Vec<f64> = (0..q.len()).map(|i| 0.1 * (i % 7) as f64).collect();
     let detect = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
             let mut out = Vec::new();
             structure.detect(&q0, 0.0, 0.006, &mut out);
-            out
+            let mut h = vec![0.0; q.len()];
+            column.forces(&q, &u, 0.0, &mut h);
+            (out, h)
         })
     };
-    let (one, two) = (detect(1), detect(2));
+    let ((one, h_one), (two, h_two)) = (detect(1), detect(2));
     assert!(one.len() > 5000, "{} contacts", one.len());
     assert!(one.windows(2).all(|w| w[0].id < w[1].id), "identities not increasing");
     // Debug prints each number's shortest round-trip form: equal texts are equal bits.
     assert_eq!(format!("{one:?}"), format!("{two:?}"));
+    assert!(h_one.iter().any(|&v| v != 0.0), "h is zero");
+    assert_eq!(format!("{h_one:?}"), format!("{h_two:?}"), "the forces, body by body");
 }

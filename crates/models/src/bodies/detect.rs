@@ -39,14 +39,17 @@ pub(crate) struct Detector {
     pub colliders: Vec<(usize, usize)>,
 }
 
-/// Colliders per chunk of a parallel detection: enough work per rayon task (the broad phase's
-/// search and the narrow phase of the pairs of a few hundred colliders) that its overhead is
-/// small, few enough that two threads share the chunks evenly.
-const CHUNK_COLLIDERS: usize = 256;
+/// Items (colliders, bodies) per chunk of parallel work: enough work per rayon task (the broad
+/// phase's search and the narrow phase of the pairs of a few hundred colliders) that its
+/// overhead is small, few enough that two threads share the chunks evenly.
+pub(crate) const CHUNK_ITEMS: usize = 256;
 
-/// Colliders above which the detection runs in chunks on rayon's current pool: below it, the
-/// chunks' buffers and the tasks cost more than they save.
-const PARALLEL_COLLIDERS: usize = 2048;
+/// Whether `n` items (colliders, bodies) are worked on in chunks on rayon's current pool: above
+/// 2,048 on a pool of several threads; below, the chunks' buffers and the tasks cost more than
+/// they save.
+pub(crate) fn in_parallel(n: usize) -> bool {
+    n > 2048 && rayon::current_num_threads() > 1
+}
 
 /// One chunk of colliders' detection: the broad phase's pairs of its colliders, the narrow
 /// phase's manifold points and the chunk's contacts, concatenated in chunk order.
@@ -281,12 +284,12 @@ impl BodyStructure for Multibody {
         let mut scratch = SCRATCH.with(|cell| cell.borrow_mut().pop()).unwrap_or_default();
         let Scratch { broad, frames, boxes, chunks } = &mut scratch;
         let n = detector.colliders.len();
-        let parallel = n > PARALLEL_COLLIDERS && rayon::current_num_threads() > 1;
+        let parallel = in_parallel(n);
         let frame = |b: &Body| b.frame(q, t);
         // Written in place into the kept capacity: nothing is allocated once warm.
         frames.clear();
         if parallel {
-            frames.par_extend(self.bodies.par_iter().with_min_len(CHUNK_COLLIDERS).map(frame));
+            frames.par_extend(self.bodies.par_iter().with_min_len(CHUNK_ITEMS).map(frame));
         } else {
             frames.extend(self.bodies.iter().map(frame));
         }
@@ -294,7 +297,7 @@ impl BodyStructure for Multibody {
         let aabb = |&(b, s): &(usize, usize)| self.bodies[b].shapes[s].aabb(&frames[b].pose());
         boxes.clear();
         if parallel {
-            boxes.par_extend(detector.colliders.par_iter().with_min_len(CHUNK_COLLIDERS).map(aabb));
+            boxes.par_extend(detector.colliders.par_iter().with_min_len(CHUNK_ITEMS).map(aabb));
         } else {
             boxes.extend(detector.colliders.iter().map(aabb));
         }
@@ -309,12 +312,12 @@ impl BodyStructure for Multibody {
             }
         };
         if parallel {
-            let k = n.div_ceil(CHUNK_COLLIDERS);
+            let k = n.div_ceil(CHUNK_ITEMS);
             if chunks.len() < k {
                 chunks.resize_with(k, Chunk::default);
             }
             chunks[..k].par_iter_mut().enumerate().for_each(|(c, chunk)| {
-                let range = c * CHUNK_COLLIDERS..n.min((c + 1) * CHUNK_COLLIDERS);
+                let range = c * CHUNK_ITEMS..n.min((c + 1) * CHUNK_ITEMS);
                 let mut contacts = std::mem::take(&mut chunk.contacts);
                 contacts.clear();
                 search(range, chunk, &mut contacts);

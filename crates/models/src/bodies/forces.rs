@@ -34,14 +34,19 @@ fn apply_torque(h: &mut [f64], frame: &Frame, torque: f64) {
 /// mass' offset from the origin, m g + m ω² s on (x, y) (the centrifugal term of an origin
 /// that is not the centre of mass) and s × m g on θ.
 #[inline]
-pub(crate) fn body_forces(body: &Body, frame: &Frame, u: &[f64], gravity: [f64; 2], h: &mut [f64]) {
-    if let Kind::Dynamic { dof, mass, com, .. } = body.kind {
-        let s = frame.rotate(com);
-        let omega = u[dof + 2];
-        let weight = scale(gravity, mass);
-        h[dof] += weight[0] + mass * omega * omega * s[0];
-        h[dof + 1] += weight[1] + mass * omega * omega * s[1];
-        h[dof + 2] += cross(s, weight);
+pub(crate) fn body_forces(body: &Body, frame: &Frame, u: &[f64], gravity: [f64; 2]) -> [f64; 3] {
+    match body.kind {
+        Kind::Dynamic { dof, mass, com, .. } => {
+            let s = frame.rotate(com);
+            let omega = u[dof + 2];
+            let weight = scale(gravity, mass);
+            [
+                weight[0] + mass * omega * omega * s[0],
+                weight[1] + mass * omega * omega * s[1],
+                cross(s, weight),
+            ]
+        }
+        _ => [0.0; 3],
     }
 }
 

@@ -5,10 +5,11 @@ use std::cell::Cell;
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
 use moreau_stepper::{BilateralPoint, BodyStructure, Mechanism, SharedWork};
+use rayon::prelude::*;
 
 use super::body::{Body, Frame, Kind};
 use super::contacts::Pair;
-use super::detect::Detector;
+use super::detect::{CHUNK_ITEMS, Detector, in_parallel};
 use super::forces::{Force, body_forces, gravity_potential, mass_block};
 use super::joints::{Joint, SlotGeometry};
 use super::spec::SystemSpec;
@@ -165,7 +166,13 @@ impl Multibody {
         // its own instead of a conflict.
         let mut frames = FRAMES.take();
         frames.clear();
-        frames.extend(self.bodies.iter().map(|b| b.frame(q, t)));
+        if in_parallel(self.bodies.len()) {
+            // Written in place into the kept capacity: nothing is allocated once warm.
+            let frame = |b: &Body| b.frame(q, t);
+            frames.par_extend(self.bodies.par_iter().with_min_len(CHUNK_ITEMS).map(frame));
+        } else {
+            frames.extend(self.bodies.iter().map(|b| b.frame(q, t)));
+        }
         let out = op(&frames);
         FRAMES.set(frames);
         out
@@ -203,9 +210,20 @@ impl Multibody {
 
     /// h at the bodies' `frames` into `h`.
     fn forces_at(&self, frames: &[Frame], u: &[f64], t: f64, h: &mut [f64]) {
+        // Body by body, in chunks in parallel for many bodies; each body's three entries are
+        // its own, so the bits are the same either way.
         h.fill(0.0);
-        for &i in &self.dynamic {
-            body_forces(&self.bodies[i], &frames[i], u, self.gravity, h);
+        let (blocks, _) = h.as_chunks_mut::<3>();
+        let body = |(h, &i): (&mut [f64; 3], &usize)| {
+            let f = body_forces(&self.bodies[i], &frames[i], u, self.gravity);
+            for k in 0..3 {
+                h[k] += f[k];
+            }
+        };
+        if in_parallel(self.dynamic.len()) {
+            blocks.par_iter_mut().zip(&self.dynamic).with_min_len(CHUNK_ITEMS).for_each(body);
+        } else {
+            blocks.iter_mut().zip(&self.dynamic).for_each(body);
         }
         for force in &self.forces {
             force.add_to(&self.bodies, |b| frames[b], u, t, h);
