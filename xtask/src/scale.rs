@@ -38,9 +38,9 @@ pub struct RunSpec {
     pub settle: f64,
     /// Steps in the measurement window.
     pub window: usize,
-    /// Worker threads for the islands: the scene settles on the first count, then the window
-    /// is measured once per count in turn (each window continuing from the one before, the
-    /// scene at rest), one result each.
+    /// Worker threads of rayon's pool (detection, assembly, islands): the scene settles on the
+    /// first count, then the window is measured once per count in turn (each window continuing
+    /// from the one before, the scene at rest), one result each.
     pub threads: Vec<usize>,
     /// Whether the scene should rest at the end (column, pyramid): then the force balance and
     /// the largest displacement are meaningful.

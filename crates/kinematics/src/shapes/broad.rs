@@ -27,7 +27,9 @@
 //! box's few partners. A grid that would need more than about four cells per box (bodies
 //! scattered far apart) is made coarser. The few other boxes (half-planes with an infinite
 //! side, long walls) are tested against every box directly. Every buffer is kept, so that once
-//! warm a call allocates nothing.
+//! warm a call allocates nothing. The grid is built once ([`BroadPhase::build`]) and searched
+//! by ranges of boxes ([`BroadPhase::pairs_of`]), whose lists follow each other in the order
+//! of the whole: ranges can be searched on several threads and their lists concatenated.
 
 use std::ops::Range;
 
