@@ -594,17 +594,37 @@ impl<M: Mechanism, O: Observer<M>> RunSteps<'_, M, O> {
     }
 }
 
-/// The state of a contact after a step: open without a normal impulse, sticking when its
-/// tangential velocity γ_T is zero up to round-off relative to `scale` (the sum of the
-/// |w_T,i u_i| that γ_T is made of), slipping otherwise.
+/// The report of a contact of the step's problem from its impulses (P_N, P_T), its end
+/// velocities γ = (γ_N, γ_T), its velocities γ_A at the step's start and whether it carried a
+/// normal impulse at the step before. It is an impact when it carries a normal impulse,
+/// approached (γ_N,A < 0) and was not closed before; it is open without a normal impulse,
+/// sticking when γ_T is zero up to round-off relative to `scale` (the sum of the |w_T,i u_i|
+/// that γ_T is made of), slipping otherwise.
 #[inline(always)]
-fn contact_state(p_n: f64, gamma_t: f64, scale: f64) -> ContactState {
-    if p_n <= 0.0 {
+fn active_report(
+    [p_n, p_t]: [f64; 2],
+    [gamma_n, gamma_t]: [f64; 2],
+    [gamma_n_a, gamma_t_a]: [f64; 2],
+    closed_before: bool,
+    scale: f64,
+) -> ContactReport {
+    let state = if p_n <= 0.0 {
         ContactState::Open
     } else if gamma_t.abs() <= 1e-9 * (1.0 + scale) {
         ContactState::Stick
     } else {
         ContactState::Slip
+    };
+    ContactReport {
+        active: true,
+        p_n,
+        p_t,
+        gamma_n,
+        gamma_t,
+        gamma_n_a,
+        gamma_t_a,
+        impact: p_n > 0.0 && gamma_n_a < 0.0 && !closed_before,
+        state,
     }
 }
 

@@ -285,14 +285,7 @@ impl BodyStructure for Multibody {
         let Scratch { broad, frames, boxes, chunks } = &mut scratch;
         let n = detector.colliders.len();
         let parallel = in_parallel(n);
-        let frame = |b: &Body| b.frame(q, t);
-        // Written in place into the kept capacity: nothing is allocated once warm.
-        frames.clear();
-        if parallel {
-            frames.par_extend(self.bodies.par_iter().with_min_len(CHUNK_ITEMS).map(frame));
-        } else {
-            frames.extend(self.bodies.iter().map(frame));
-        }
+        self.frames_into(q, t, frames);
         let frames = &*frames;
         let aabb = |&(b, s): &(usize, usize)| self.bodies[b].shapes[s].aabb(&frames[b].pose());
         boxes.clear();

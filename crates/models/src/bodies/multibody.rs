@@ -165,17 +165,23 @@ impl Multibody {
         // Taken out of the cell rather than borrowed, so that a nested call gets a buffer of
         // its own instead of a conflict.
         let mut frames = FRAMES.take();
-        frames.clear();
-        if in_parallel(self.bodies.len()) {
-            // Written in place into the kept capacity: nothing is allocated once warm.
-            let frame = |b: &Body| b.frame(q, t);
-            frames.par_extend(self.bodies.par_iter().with_min_len(CHUNK_ITEMS).map(frame));
-        } else {
-            frames.extend(self.bodies.iter().map(|b| b.frame(q, t)));
-        }
+        self.frames_into(q, t, &mut frames);
         let out = op(&frames);
         FRAMES.set(frames);
         out
+    }
+
+    /// The frames of all bodies at (q, t) into `frames` (cleared first), in chunks in parallel
+    /// for many bodies; written in place into its capacity, so that nothing is allocated once
+    /// warm.
+    pub(crate) fn frames_into(&self, q: &[f64], t: f64, frames: &mut Vec<Frame>) {
+        let frame = |b: &Body| b.frame(q, t);
+        frames.clear();
+        if in_parallel(self.bodies.len()) {
+            frames.par_extend(self.bodies.par_iter().with_min_len(CHUNK_ITEMS).map(frame));
+        } else {
+            frames.extend(self.bodies.iter().map(frame));
+        }
     }
 
     /// The normal gaps of all slots at the bodies' `frames`, and each slot's geometry to

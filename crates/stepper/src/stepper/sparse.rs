@@ -444,33 +444,27 @@ impl Core {
             let contacts = &detected[start..start + reports.len()];
             let mut j = contacts.first().map_or(0, |c| prev.partition_point(|p| p.0 < c.id));
             for (k, (c, report)) in contacts.iter().zip(reports).enumerate() {
-                let [p_n, p_t] = r[start + k];
                 while j < prev.len() && prev[j].0 < c.id {
                     j += 1;
                 }
                 let closed_before = j < prev.len() && prev[j].0 == c.id && prev[j].1[0] > 0.0;
                 let gamma_n = side_dot(c.bodies, &c.w_n, u_e) + c.point.w_n_hat;
                 let gamma_t = side_dot(c.bodies, &c.w_t, u_e) + c.point.w_t_hat;
-                let [gamma_n_a, gamma_t_a] = work[start + k].gamma_a;
                 let mut scale = 0.0;
                 for side in 0..2 {
-                    let k = c.bodies[side];
-                    if k != NO_BODY {
-                        let u = &u_e[3 * k as usize..][..3];
+                    let body = c.bodies[side];
+                    if body != NO_BODY {
+                        let u = &u_e[3 * body as usize..][..3];
                         scale += (0..3).map(|i| (c.w_t[side][i] * u[i]).abs()).sum::<f64>();
                     }
                 }
-                *report = ContactReport {
-                    active: true,
-                    p_n,
-                    p_t,
-                    gamma_n,
-                    gamma_t,
-                    gamma_n_a,
-                    gamma_t_a,
-                    impact: p_n > 0.0 && gamma_n_a < 0.0 && !closed_before,
-                    state: contact_state(p_n, gamma_t, scale),
-                };
+                *report = active_report(
+                    r[start + k],
+                    [gamma_n, gamma_t],
+                    work[start + k].gamma_a,
+                    closed_before,
+                    scale,
+                );
             }
         });
         b.prev.clear();

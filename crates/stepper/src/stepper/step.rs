@@ -204,25 +204,18 @@ impl Core {
             let w_t = &ws.w_t[a * f..][..f];
             let gamma_n = dot(w_n, u) + ws.w_n_hat[a];
             let gamma_t = dot(w_t, u) + ws.w_t_hat[a];
-            let (gamma_n_a, gamma_t_a) = (ws.gamma_na[a], ws.gamma_ta[a]);
             let [p_n, p_r, _] = ws.prev[i];
-            let impact = p_n > 0.0 && gamma_n_a < 0.0 && !ws.closed_before[a];
             let mu = laws[i].mu();
             // P_T = P_R − μ P_N (section 5); P_R is zero for a contact without friction rows.
             let p_t = p_r - mu * p_n;
             let scale: f64 = w_t.iter().zip(u).map(|(w, u)| (w * u).abs()).sum();
-            let state = contact_state(p_n, gamma_t, scale);
-            self.contacts[i] = ContactReport {
-                active: true,
-                p_n,
-                p_t,
-                gamma_n,
-                gamma_t,
-                gamma_n_a,
-                gamma_t_a,
-                impact,
-                state,
-            };
+            self.contacts[i] = active_report(
+                [p_n, p_t],
+                [gamma_n, gamma_t],
+                [ws.gamma_na[a], ws.gamma_ta[a]],
+                ws.closed_before[a],
+                scale,
+            );
             ws.reported.push(i);
         }
         for (i, c) in self.contacts.iter().enumerate() {
