@@ -32,6 +32,12 @@
 //! error (`siconos`) for comparisons. A solver reports [`Status::Solved`](crate::Status)
 //! only when `natural <= tolerance`.
 //!
+//! **Large problems on rayon's pool.** A problem of more than 1,024 groups is checked
+//! ([`Fc2dRef::from_parts`]), multiplied ([`Fc2dRef::velocity`]) and measured
+//! ([`Fc2dResidual`]) in chunks of 1,024 groups on rayon's current pool. The chunks and the
+//! order in which their sums are combined depend on the number of groups only, so every
+//! result is the same, bit for bit, on a pool of any size (one thread included).
+//!
 //! # The solvers
 //!
 //! | solver | for |
@@ -121,6 +127,7 @@
 //! - C. Glocker, Set-Valued Force Laws: Dynamics of Non-Smooth Systems, Springer, 2001.
 
 mod auto;
+mod chunks;
 mod lcp_route;
 mod local;
 mod newton;

@@ -2,6 +2,7 @@
 
 use faer::MatRef;
 
+use super::chunks;
 use crate::LcpError;
 
 /// Relative tolerance of the symmetry and semidefiniteness test of the diagonal blocks.
@@ -158,50 +159,58 @@ impl<'a> Fc2dRef<'a> {
                 blocks.len()
             )));
         }
-        let mut poison = 0.0;
-        for g in 0..groups {
-            let (start, end) = (row_ptr[g], row_ptr[g + 1]);
-            if start > end {
-                return Err(structure(format!("row pointers decrease at group {g}")));
-            }
-            let mut diagonal = None;
-            let mut previous: Option<u32> = None;
-            let row_size = group_start[g + 1] - group_start[g];
-            for k in start..end {
-                let j = col[k];
-                if previous.is_some_and(|p| j <= p) || j as usize >= groups {
-                    return Err(structure(format!(
-                        "block columns of group {g} must increase and stay below {groups}, found {j}"
-                    )));
-                }
-                previous = Some(j);
-                let b = &blocks[k];
-                for v in b {
-                    poison += v * 0.0;
-                }
-                let j = j as usize;
-                let col_size = group_start[j + 1] - group_start[j];
-                let padding = (row_size == 1 && (b[2] != 0.0 || b[3] != 0.0))
-                    || (col_size == 1 && (b[1] != 0.0 || b[3] != 0.0));
-                if padding {
-                    return Err(structure(format!(
-                        "block ({g}, {j}) has an entry outside its {row_size} x {col_size} size"
-                    )));
-                }
-                if j == g {
-                    diagonal = Some(k);
-                }
-            }
-            let Some(d) = diagonal else {
-                return Err(structure(format!("group {g} has no diagonal block")));
-            };
-            if poison != 0.0 {
-                return Err(first_non_finite_block(row_ptr, col, blocks, group_start));
-            }
-            let (what, index) =
-                if g < n_contacts { ("contact", g) } else { ("bilateral group", g - n_contacts) };
-            check_diagonal(&blocks[d], row_size, what, index)?;
+        if let Some(g) = (0..groups).find(|&g| row_ptr[g] > row_ptr[g + 1]) {
+            return Err(structure(format!("row pointers decrease at group {g}")));
         }
+        // The block rows, in chunks of groups on rayon's pool for a large problem; the first
+        // error in group order is the one returned, as a plain loop would.
+        let block_rows = |range: std::ops::Range<usize>| -> Result<(), LcpError> {
+            let mut poison = 0.0;
+            for g in range {
+                let mut diagonal = None;
+                let mut previous: Option<u32> = None;
+                let row_size = group_start[g + 1] - group_start[g];
+                for k in row_ptr[g]..row_ptr[g + 1] {
+                    let j = col[k];
+                    if previous.is_some_and(|p| j <= p) || j as usize >= groups {
+                        return Err(structure(format!(
+                            "block columns of group {g} must increase and stay below {groups}, found {j}"
+                        )));
+                    }
+                    previous = Some(j);
+                    let b = &blocks[k];
+                    for v in b {
+                        poison += v * 0.0;
+                    }
+                    let j = j as usize;
+                    let col_size = group_start[j + 1] - group_start[j];
+                    let padding = (row_size == 1 && (b[2] != 0.0 || b[3] != 0.0))
+                        || (col_size == 1 && (b[1] != 0.0 || b[3] != 0.0));
+                    if padding {
+                        return Err(structure(format!(
+                            "block ({g}, {j}) has an entry outside its {row_size} x {col_size} size"
+                        )));
+                    }
+                    if j == g {
+                        diagonal = Some(k);
+                    }
+                }
+                let Some(d) = diagonal else {
+                    return Err(structure(format!("group {g} has no diagonal block")));
+                };
+                if poison != 0.0 {
+                    return Err(first_non_finite_block(row_ptr, col, blocks, group_start));
+                }
+                let (what, index) = if g < n_contacts {
+                    ("contact", g)
+                } else {
+                    ("bilateral group", g - n_contacts)
+                };
+                check_diagonal(&blocks[d], row_size, what, index)?;
+            }
+            Ok(())
+        };
+        chunks::reduce(0..groups, &block_rows, &|a, b| a.and(b))?;
         if q.len() != rows {
             return Err(LcpError::DimensionMismatch { what: "q", expected: rows, found: q.len() });
         }
@@ -280,22 +289,28 @@ impl<'a> Fc2dRef<'a> {
         let n = self.n_rows();
         assert!(r.len() == n && u.len() == n, "r and u must have {n} entries");
         let gs = p.group_start;
-        for g in 0..self.n_groups() {
-            let (mut u0, mut u1) = (0.0, 0.0);
-            for k in p.row_ptr[g]..p.row_ptr[g + 1] {
-                let j = p.col[k] as usize;
-                let b = &p.blocks[k];
-                let r0 = r[gs[j]];
-                // A one-row column group has zeros in its second block column.
-                let r1 = if gs[j + 1] - gs[j] == 2 { r[gs[j] + 1] } else { 0.0 };
-                u0 += b[0] * r0 + b[1] * r1;
-                u1 += b[2] * r0 + b[3] * r1;
+        // Each group's rows from its own block row: in chunks of groups on rayon's pool for a
+        // large problem, the same bits either way.
+        let rows = |groups: std::ops::Range<usize>, u: &mut [f64]| {
+            let base = gs[groups.start];
+            for g in groups {
+                let (mut u0, mut u1) = (0.0, 0.0);
+                for k in p.row_ptr[g]..p.row_ptr[g + 1] {
+                    let j = p.col[k] as usize;
+                    let b = &p.blocks[k];
+                    let r0 = r[gs[j]];
+                    // A one-row column group has zeros in its second block column.
+                    let r1 = if gs[j + 1] - gs[j] == 2 { r[gs[j] + 1] } else { 0.0 };
+                    u0 += b[0] * r0 + b[1] * r1;
+                    u1 += b[2] * r0 + b[3] * r1;
+                }
+                u[gs[g] - base] = u0 + p.q[gs[g]];
+                if gs[g + 1] - gs[g] == 2 {
+                    u[gs[g] + 1 - base] = u1 + p.q[gs[g] + 1];
+                }
             }
-            u[gs[g]] = u0 + p.q[gs[g]];
-            if gs[g + 1] - gs[g] == 2 {
-                u[gs[g] + 1] = u1 + p.q[gs[g] + 1];
-            }
-        }
+        };
+        chunks::for_rows(gs, 0..self.n_groups(), u, &rows);
     }
 
     /// W as a dense `n_rows x n_rows` column-major array (for small problems and tests).

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::Fc2dRef;
+use super::{Fc2dRef, chunks};
 
 /// The projection of `(x_N, x_T)` onto the planar Coulomb cone `K = {|x_T| <= μ x_N}`.
 #[inline]
@@ -78,32 +78,43 @@ impl Fc2dResidual {
         let n_c = problem.n_contacts();
         let mu = problem.mu();
         let q = problem.q();
-        let mut absolute = 0.0f64;
-        let mut worst = 0;
-        let mut sum = 0.0;
-        let mut finite = true;
-        for i in 0..n_c {
-            let (f_n, f_t) = natural_map(r[2 * i], r[2 * i + 1], u[2 * i], u[2 * i + 1], mu[i]);
-            let e2 = f_n * f_n + f_t * f_t;
-            finite &= e2.is_finite();
-            sum += e2;
-            let e = e2.sqrt();
-            if e > absolute {
-                absolute = e;
-                worst = i;
-            }
-        }
         let gs = problem.parts().group_start;
-        for g in n_c..problem.n_groups() {
-            for &v in &u[gs[g]..gs[g + 1]] {
-                finite &= v.is_finite();
-                sum += v * v;
-                if v.abs() > absolute {
-                    absolute = v.abs();
-                    worst = g;
+        // (largest ‖F_i‖ or |u_b|, where, Σ of squares, all finite) over a range of groups: in
+        // chunks of groups on rayon's pool for a large problem, merged in group order, so that
+        // the result does not depend on the pool.
+        let of_groups = |groups: std::ops::Range<usize>| {
+            let (mut absolute, mut worst, mut sum, mut finite) = (0.0f64, 0, 0.0, true);
+            for g in groups {
+                if g < n_c {
+                    let (i, m) = (2 * g, mu[g]);
+                    let (f_n, f_t) = natural_map(r[i], r[i + 1], u[i], u[i + 1], m);
+                    let e2 = f_n * f_n + f_t * f_t;
+                    finite &= e2.is_finite();
+                    sum += e2;
+                    let e = e2.sqrt();
+                    if e > absolute {
+                        absolute = e;
+                        worst = g;
+                    }
+                } else {
+                    for &v in &u[gs[g]..gs[g + 1]] {
+                        finite &= v.is_finite();
+                        sum += v * v;
+                        if v.abs() > absolute {
+                            absolute = v.abs();
+                            worst = g;
+                        }
+                    }
                 }
             }
-        }
+            (absolute, worst, sum, finite)
+        };
+        let merge = |a: (f64, usize, f64, bool), b: (f64, usize, f64, bool)| {
+            let (absolute, worst) = if b.0 > a.0 { (b.0, b.1) } else { (a.0, a.1) };
+            (absolute, worst, a.2 + b.2, a.3 && b.3)
+        };
+        let (absolute, worst, sum, mut finite) =
+            chunks::reduce(0..problem.n_groups(), &of_groups, &merge);
         let norm2 = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
         finite &= r.iter().all(|v| v.is_finite()) && u.iter().all(|v| v.is_finite());
         if !finite {
