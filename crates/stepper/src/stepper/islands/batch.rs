@@ -91,16 +91,6 @@ pub(in crate::stepper) enum IslandFailure {
     Status(Status, Box<Fc2d>),
 }
 
-/// The block rows of one chunk of a large island's links: columns and blocks concatenated, the
-/// end of each row, and the scratch of one row.
-#[derive(Default)]
-struct RowChunk {
-    row: Vec<(u32, [f64; 4])>,
-    col: Vec<u32>,
-    blocks: Vec<[f64; 4]>,
-    ends: Vec<usize>,
-}
-
 /// A run of consecutive islands with its scratch and solver.
 pub(super) struct Batch {
     /// The islands of the batch.
@@ -109,10 +99,6 @@ pub(super) struct Batch {
     pub(super) links: Range<usize>,
     /// The islands' problems.
     problems: Problems,
-    /// The (column, block) entries of one block row before they are sorted and merged.
-    row: Vec<(u32, [f64; 4])>,
-    /// The block rows of a large island, chunk by chunk.
-    chunks: Vec<RowChunk>,
     solver: IslandSolver,
     solution: Fc2dSolution,
     /// The impulses of the batch's rows, in the batch's order: (P_N, P_T) of each contact,
@@ -160,8 +146,6 @@ impl Batch {
             islands: 0..0,
             links: 0..0,
             problems: Problems::default(),
-            row: Vec::new(),
-            chunks: Vec::new(),
             solver: IslandSolver::new(choice)?,
             solution: Fc2dSolution::new(),
             r: Vec::new(),
@@ -217,33 +201,30 @@ impl Batch {
                     p.row_ptr.push(p.blocks.len() - b0);
                 }
             } else if in_parallel(range.len()) {
-                // The block rows of a large island, chunk by chunk in parallel into the
-                // chunks' buffers, then concatenated in order.
-                let n = range.len().div_ceil(CHUNK_LINKS);
-                if self.chunks.len() < n {
-                    self.chunks.resize_with(n, RowChunk::default);
+                // A large island: each block row's length first (the links of its bodies
+                // counted once), then the rows written in parallel straight into their places.
+                let first_row = p.row_ptr.len();
+                let order = &s.order[range];
+                p.row_ptr.par_extend(
+                    order.par_iter().with_min_len(CHUNK_LINKS).map(|&a| row_len(s, a as usize)),
+                );
+                let start = p.blocks.len() - b0;
+                let mut end = start;
+                for e in &mut p.row_ptr[first_row..] {
+                    end += *e;
+                    *e = end;
                 }
-                self.chunks[..n].par_iter_mut().enumerate().for_each(|(c, chunk)| {
-                    chunk.col.clear();
-                    chunk.blocks.clear();
-                    chunk.ends.clear();
-                    let first = range.start + c * CHUNK_LINKS;
-                    for k in first..range.end.min(first + CHUNK_LINKS) {
-                        let a = s.order[k] as usize;
-                        block_row(&mut chunk.row, &mut chunk.col, &mut chunk.blocks, s, a);
-                        chunk.ends.push(chunk.blocks.len());
-                    }
-                });
-                for chunk in &self.chunks[..n] {
-                    let base = p.blocks.len() - b0;
-                    p.col.extend_from_slice(&chunk.col);
-                    p.blocks.extend_from_slice(&chunk.blocks);
-                    p.row_ptr.extend(chunk.ends.iter().map(|e| base + e));
-                }
+                let first = p.blocks.len();
+                p.col.par_extend(rayon::iter::repeat_n(0, end - start));
+                p.blocks.par_extend(rayon::iter::repeat_n([0.0; 4], end - start));
+                let ends = &p.row_ptr[first_row..];
+                write_rows(s, order, ends, start, &mut p.col[first..], &mut p.blocks[first..]);
             } else {
                 for k in range {
-                    let a = s.order[k] as usize;
-                    block_row(&mut self.row, &mut p.col, &mut p.blocks, s, a);
+                    block_row(s, s.order[k] as usize, |c, b| {
+                        p.col.push(c);
+                        p.blocks.push(b);
+                    });
                     p.row_ptr.push(p.blocks.len() - b0);
                 }
             }
@@ -306,47 +287,94 @@ impl Batch {
     }
 }
 
-/// Appends the block row of link `a` to `col` and `blocks`: its blocks with every link sharing
-/// a body, by increasing local column, the contributions of two shared bodies added up; `row`
-/// is scratch. A joint group of one row has a zero second row and zero M⁻¹ of it, so its
-/// blocks' padding is zero as the problem's layout asks.
-fn block_row(
-    row: &mut Vec<(u32, [f64; 4])>,
-    col: &mut Vec<u32>,
-    blocks: &mut Vec<[f64; 4]>,
+/// Writes the block rows of `links` into `col` and `blocks`, which hold exactly those rows;
+/// `ends` are the rows' ends and `start` the first row's start (relative to the island's
+/// first block). The halves of more than [`CHUNK_LINKS`] links go through `rayon::join`.
+fn write_rows(
     s: &Shared<'_>,
-    a: usize,
+    links: &[u32],
+    ends: &[usize],
+    start: usize,
+    col: &mut [u32],
+    blocks: &mut [[f64; 4]],
 ) {
-    let (bodies, w_0, w_1) = s.link(a);
-    row.clear();
-    for side in 0..2 {
-        let k = bodies[side];
-        if k == NO_BODY {
-            continue;
+    if links.len() <= CHUNK_LINKS {
+        let mut k = 0;
+        for &a in links {
+            block_row(s, a as usize, |c, b| {
+                col[k] = c;
+                blocks[k] = b;
+                k += 1;
+            });
         }
-        let (wn, wt) = (&w_0[side], &w_1[side]);
-        let k = k as usize;
-        for &(c, sc) in &s.body_list[s.body_start[k]..s.body_start[k + 1]] {
-            let wc = &s.work[c as usize];
-            let (yn, yt) = (&wc.mw_n[sc as usize], &wc.mw_t[sc as usize]);
-            row.push((
-                s.local[c as usize],
-                [dot3(wn, yn), dot3(wn, yt), dot3(wt, yn), dot3(wt, yt)],
-            ));
-        }
+        debug_assert_eq!(k, col.len(), "the rows' lengths were counted");
+        return;
     }
-    row.sort_unstable_by_key(|e| e.0);
-    let mut last = u32::MAX;
-    for &(c, b) in row.iter() {
-        if c == last {
-            let dst = blocks.last_mut().expect("a block of this column was pushed");
-            for (d, v) in dst.iter_mut().zip(b) {
-                *d += v;
-            }
+    let mid = links.len() / 2;
+    let split = ends[mid - 1] - start;
+    let (col_a, col_b) = col.split_at_mut(split);
+    let (blocks_a, blocks_b) = blocks.split_at_mut(split);
+    rayon::join(
+        || write_rows(s, &links[..mid], &ends[..mid], start, col_a, blocks_a),
+        || write_rows(s, &links[mid..], &ends[mid..], ends[mid - 1], col_b, blocks_b),
+    );
+}
+
+/// The links acting on side `side` of link `a`, as (link, side), in link order (hence in
+/// the order of their local columns: an island lists its links in link order).
+#[inline(always)]
+fn side_links<'a>(s: &Shared<'a>, bodies: [u32; 2], side: usize) -> &'a [(u32, u8)] {
+    match bodies[side] {
+        NO_BODY => &[],
+        k => &s.body_list[s.body_start[k as usize]..s.body_start[k as usize + 1]],
+    }
+}
+
+/// The number of blocks of the block row of link `a`: the links of its two bodies, a link on
+/// both (a contact between the same two bodies, `a` itself among them) counted once.
+fn row_len(s: &Shared<'_>, a: usize) -> usize {
+    let bodies = s.link(a).0;
+    let (l0, l1) = (side_links(s, bodies, 0), side_links(s, bodies, 1));
+    let (mut i, mut j, mut shared) = (0, 0, 0);
+    while i < l0.len() && j < l1.len() {
+        let (x, y) = (l0[i].0, l1[j].0);
+        shared += usize::from(x == y);
+        i += usize::from(x <= y);
+        j += usize::from(y <= x);
+    }
+    l0.len() + l1.len() - shared
+}
+
+/// Gives the block row of link `a` to `emit(column, block)` by increasing local column: its
+/// blocks with every link sharing a body, the lists of its two bodies merged, and a link on
+/// both bodies given once with the two bodies' contributions added up. A joint group of one
+/// row has a zero second row and zero M⁻¹ of it, so its blocks' padding is zero as the
+/// problem's layout asks.
+#[inline(always)]
+fn block_row(s: &Shared<'_>, a: usize, mut emit: impl FnMut(u32, [f64; 4])) {
+    let (bodies, w_0, w_1) = s.link(a);
+    let (l0, l1) = (side_links(s, bodies, 0), side_links(s, bodies, 1));
+    let block = |side: usize, &(c, sc): &(u32, u8)| {
+        let wc = &s.work[c as usize];
+        let (yn, yt) = (&wc.mw_n[sc as usize], &wc.mw_t[sc as usize]);
+        let (wn, wt) = (&w_0[side], &w_1[side]);
+        [dot3(wn, yn), dot3(wn, yt), dot3(wt, yn), dot3(wt, yt)]
+    };
+    let (mut i, mut j) = (0, 0);
+    while i < l0.len() || j < l1.len() {
+        let x = l0.get(i).map_or(u32::MAX, |e| e.0);
+        let y = l1.get(j).map_or(u32::MAX, |e| e.0);
+        if x < y {
+            emit(s.local[x as usize], block(0, &l0[i]));
+            i += 1;
+        } else if y < x {
+            emit(s.local[y as usize], block(1, &l1[j]));
+            j += 1;
         } else {
-            col.push(c);
-            blocks.push(b);
-            last = c;
+            let (b0, b1) = (block(0, &l0[i]), block(1, &l1[j]));
+            emit(s.local[x as usize], [b0[0] + b1[0], b0[1] + b1[1], b0[2] + b1[2], b0[3] + b1[3]]);
+            i += 1;
+            j += 1;
         }
     }
 }
