@@ -168,6 +168,7 @@ fn fmax(a: f64, b: f64) -> f64 {
 }
 
 /// Running maxima for a residual; shared by the generic and the row-major kernels.
+#[derive(Clone, Debug)]
 struct Acc {
     q_max: f64,
     z_max: f64,
@@ -250,6 +251,12 @@ impl Acc {
 /// problem reformulated as an LCP): each row gives q_i, z_i, w_i, `Σ_j |M_ij z_j|` and
 /// `(M z + q)_i`, and [`ResidualRows::finish`] gives the residual [`Residual::compute`] would
 /// give for the same rows.
+///
+/// Every quantity it keeps is a maximum, so rows may be given in any order and split among
+/// several accumulators started alike (clones of one fresh accumulator), then combined by
+/// [`ResidualRows::merge`]: the result is the same, bit for bit, as one accumulator given
+/// every row.
+#[derive(Clone, Debug)]
 pub struct ResidualRows {
     acc: Acc,
 }
@@ -268,6 +275,20 @@ impl ResidualRows {
     #[inline]
     pub fn row(&mut self, q: f64, z: f64, w: f64, mz_abs: f64, mzq: f64) {
         self.acc.row(q, z, w, mz_abs, mzq);
+    }
+
+    /// Takes in the rows given to `other`, an accumulator started with the same z.
+    pub fn merge(&mut self, other: &ResidualRows) {
+        let (a, b) = (&mut self.acc, &other.acc);
+        debug_assert_eq!(a.z_max.to_bits(), b.z_max.to_bits(), "accumulators started alike");
+        a.q_max = fmax(a.q_max, b.q_max);
+        a.natural = fmax(a.natural, b.natural);
+        a.complementarity = fmax(a.complementarity, b.complementarity);
+        a.z_violation = fmax(a.z_violation, b.z_violation);
+        a.w_violation = fmax(a.w_violation, b.w_violation);
+        a.equation = fmax(a.equation, b.equation);
+        a.relative = fmax(a.relative, b.relative);
+        a.finite &= b.finite;
     }
 
     /// The residual of the rows given.

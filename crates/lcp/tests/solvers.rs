@@ -641,7 +641,12 @@ fn the_residual_accumulated_by_rows_is_the_residual_of_the_dense_problem() {
         let z: Vec<f64> = z_star.iter().map(|v| v + spread * rng.uniform(-1.0, 1.0)).collect();
         let (m, q) = (lcp.view().m(), lcp.view().q());
         let mut w = vec![0.0; n];
-        let mut rows = moreau_lcp::ResidualRows::new(z.iter().copied());
+        let fresh = moreau_lcp::ResidualRows::new(z.iter().copied());
+        let mut rows = fresh.clone();
+        // The same rows split between two accumulators, the later rows first, then merged.
+        let (mut early, mut late) = (fresh.clone(), fresh);
+        let cut = rng.below(n as u64 + 1) as usize;
+        let mut given = Vec::new();
         for i in 0..n {
             let (mut sum, mut abs) = (q[i], 0.0);
             for j in 0..n {
@@ -652,8 +657,17 @@ fn the_residual_accumulated_by_rows_is_the_residual_of_the_dense_problem() {
             // w as a solver would report it: the product plus a rounding-sized error.
             w[i] = sum + 1e-15 * rng.uniform(-1.0, 1.0);
             rows.row(q[i], z[i], w[i], abs, sum);
+            given.push((q[i], z[i], w[i], abs, sum));
         }
+        for &(q, z, w, abs, sum) in given[cut..].iter().rev() {
+            late.row(q, z, w, abs, sum);
+        }
+        for &(q, z, w, abs, sum) in &given[..cut] {
+            early.row(q, z, w, abs, sum);
+        }
+        late.merge(&early);
         let dense = Residual::compute(lcp.view(), &z, &w);
+        assert_eq!(late.finish(), dense, "trial {trial}, split at {cut}");
         assert_eq!(rows.finish(), dense, "trial {trial}");
     }
 }
