@@ -55,6 +55,17 @@ pub(super) fn for_chunks<T: Send>(items: &mut [T], op: impl Fn(usize, &mut [T]) 
     }
 }
 
+/// Sets `v` to `n` copies of `value`, written in chunks in parallel when [`in_parallel`] says
+/// so.
+pub(super) fn fill<T: Clone + Send + Sync>(v: &mut Vec<T>, n: usize, value: T) {
+    v.clear();
+    if in_parallel(n) {
+        v.par_extend(rayon::iter::repeat_n(value, n).with_min_len(CHUNK_LINKS));
+    } else {
+        v.resize(n, value);
+    }
+}
+
 /// What the step knows of a detected contact besides its force directions: M⁻¹ w of each
 /// side, the right-hand side b, γ_A, μ and the warm start.
 #[derive(Clone, Copy, Debug, Default)]

@@ -15,8 +15,8 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::islands::{
-    CHUNK_LINKS, ContactWork, IslandFailure, Islands, JointGroup, Purpose, for_chunks, group_rows,
-    in_parallel, link,
+    CHUNK_LINKS, ContactWork, IslandFailure, Islands, JointGroup, Purpose, fill, for_chunks,
+    group_rows, in_parallel, link,
 };
 use super::joints::{PROJECTION_ITERATIONS, drift_tolerance};
 use super::*;
@@ -137,15 +137,18 @@ fn side_dot(bodies: [u32; 2], w: &[[f64; 3]; 2], v: &[f64]) -> f64 {
 }
 
 /// Checks the detected contacts: finite, on existing bodies, in increasing order of identity;
-/// then keeps those with g_N at most `margin` and returns the largest penetration.
+/// then keeps those with g_N at most `margin` and returns the largest penetration. A large
+/// list is checked in chunks on rayon's pool; the error is that of the first bad contact
+/// either way.
 fn check_contacts(
     contacts: &mut Vec<BodyContact>,
     nb: usize,
     margin: f64,
     t: f64,
 ) -> Result<f64, StepError> {
-    let mut last = None;
-    for (index, c) in contacts.iter().enumerate() {
+    let list = &contacts[..];
+    let check = |index: usize| -> Result<(), StepError> {
+        let c = &list[index];
         let p = c.point;
         let numbers = [p.g_n, p.g_t, p.w_n_hat, p.w_t_hat];
         if let Some(k) = numbers.iter().position(|v| !v.is_finite()) {
@@ -162,17 +165,42 @@ fn check_contacts(
                 reason: format!("body {k} of {nb}"),
             });
         }
-        if last.is_some_and(|l| c.id <= l) {
+        if index > 0 && c.id <= list[index - 1].id {
             return Err(StepError::InvalidContact {
                 index,
                 id: c.id,
                 reason: "identities must increase".into(),
             });
         }
-        last = Some(c.id);
+        Ok(())
+    };
+    // The largest penetration of the contacts kept, and whether any is dropped.
+    let measure = |(depth, drop): (f64, bool), c: &BodyContact| {
+        let g_n = c.point.g_n;
+        if g_n <= margin { (depth.max(-g_n), drop) } else { (depth, true) }
+    };
+    let (depth, drop) = if in_parallel(list.len()) {
+        let bad = (0..list.len())
+            .into_par_iter()
+            .with_min_len(CHUNK_LINKS)
+            .find_first(|&i| check(i).is_err());
+        if let Some(index) = bad {
+            check(index)?;
+        }
+        list.par_iter()
+            .with_min_len(CHUNK_LINKS)
+            .fold(|| (0.0f64, false), measure)
+            .reduce(|| (0.0, false), |a, b| (a.0.max(b.0), a.1 || b.1))
+    } else {
+        for index in 0..list.len() {
+            check(index)?;
+        }
+        list.iter().fold((0.0f64, false), measure)
+    };
+    if drop {
+        contacts.retain(|c| c.point.g_n <= margin);
     }
-    contacts.retain(|c| c.point.g_n <= margin);
-    Ok(contacts.iter().fold(0.0f64, |p, c| p.max(-c.point.g_n)))
+    Ok(depth)
 }
 
 impl BodyPath {
@@ -437,8 +465,7 @@ impl Core {
         // The reports, from the end velocities, each contact's closing found by the same merge
         // walk as its warm start (in chunks in parallel for a large problem); then the
         // impulses by identity for the next step.
-        b.reports.clear();
-        b.reports.resize(nc, ContactReport::default());
+        fill(&mut b.reports, nc, ContactReport::default());
         let (detected, work, r, prev, u_e) = (&b.detected, &b.work, &b.islands.r, &b.prev, &b.u_e);
         for_chunks(&mut b.reports, |start, reports| {
             let contacts = &detected[start..start + reports.len()];

@@ -5,12 +5,12 @@
 use std::ops::Range;
 
 use moreau_lcp::fc2d::{Fc2d, Fc2dParts, Fc2dRef, Fc2dSolution};
-use moreau_lcp::{LcpError, Status};
+use moreau_lcp::{LcpError, ResidualRows, Status};
 
 use super::solver::IslandSolver;
 use rayon::prelude::*;
 
-use super::{CHUNK_LINKS, ContactWork, JointGroup, Purpose, for_chunks, in_parallel, link};
+use super::{CHUNK_LINKS, ContactWork, JointGroup, Purpose, fill, for_chunks, in_parallel, link};
 use crate::LcpInfo;
 use crate::SolverChoice;
 use crate::bodies::{BodyContact, NO_BODY};
@@ -246,8 +246,7 @@ impl Batch {
     pub(super) fn solve(&mut self, purpose: Purpose) {
         self.info = None;
         self.failure = None;
-        self.r.clear();
-        self.r.resize(self.problems.q.len(), 0.0);
+        fill(&mut self.r, self.problems.q.len(), 0.0);
         for (j, slot) in self.problems.slots.iter().enumerate() {
             if !slot.solve {
                 continue;
@@ -423,8 +422,7 @@ fn lcp_residual(problem: Fc2dRef<'_>, r: &[f64], sums: &mut Vec<[f64; 4]>) -> f6
     // P_R,j = P_T,j + μ_j P_N,j carries W_·T, that of a bilateral group its rows' W_·B.
     // Each group's sums from its own block row: in chunks on rayon's pool for a large island,
     // the same bits either way.
-    sums.clear();
-    sums.resize(groups, [0.0; 4]);
+    fill(sums, groups, [0.0; 4]);
     for_chunks(sums, |first, chunk| {
         for (k, out) in chunk.iter_mut().enumerate() {
             let i = first + k;
@@ -455,26 +453,52 @@ fn lcp_residual(problem: Fc2dRef<'_>, r: &[f64], sums: &mut Vec<[f64; 4]>) -> f6
             *out = [sum_0, abs_0, sum_1, abs_1];
         }
     });
+    let sums = &*sums;
     let z = |i: usize| {
         let p_n = r[2 * i];
         [p_n, r[2 * i + 1] + mu[i] * p_n, (-sums[i][2]).max(0.0)]
     };
-    let mut rows = moreau_lcp::ResidualRows::new((0..n).flat_map(z));
-    for i in 0..n {
-        let [p_n, p_r, xi_l] = z(i);
-        let [sum_n, abs_n, sum_r, abs_r] = sums[i];
-        rows.row(q[2 * i], p_n, sum_n, abs_n, sum_n);
-        let w_r = sum_r + xi_l;
-        rows.row(q[2 * i + 1], p_r, w_r, abs_r + xi_l, w_r);
-        let (a, b) = (2.0 * mu[i] * p_n, -p_r);
-        rows.row(0.0, xi_l, a + b, a.abs() + b.abs(), a + b);
-    }
-    for g in n..groups {
-        let [sum_0, abs_0, sum_1, abs_1] = sums[g];
-        rows.row(q[gs[g]], 0.0, 0.0, abs_0, sum_0);
-        if gs[g + 1] - gs[g] == 2 {
-            rows.row(q[gs[g] + 1], 0.0, 0.0, abs_1, sum_1);
+    // The rows of group g: N, R and L of a contact, the rows of a bilateral group.
+    let group_rows = |mut rows: ResidualRows, g: usize| {
+        if g < n {
+            let [p_n, p_r, xi_l] = z(g);
+            let [sum_n, abs_n, sum_r, abs_r] = sums[g];
+            rows.row(q[2 * g], p_n, sum_n, abs_n, sum_n);
+            let w_r = sum_r + xi_l;
+            rows.row(q[2 * g + 1], p_r, w_r, abs_r + xi_l, w_r);
+            let (a, b) = (2.0 * mu[g] * p_n, -p_r);
+            rows.row(0.0, xi_l, a + b, a.abs() + b.abs(), a + b);
+        } else {
+            let [sum_0, abs_0, sum_1, abs_1] = sums[g];
+            rows.row(q[gs[g]], 0.0, 0.0, abs_0, sum_0);
+            if gs[g + 1] - gs[g] == 2 {
+                rows.row(q[gs[g] + 1], 0.0, 0.0, abs_1, sum_1);
+            }
         }
-    }
+        rows
+    };
+    // Every quantity of the residual is a maximum: in chunks on rayon's pool for a large
+    // island, the same bits either way.
+    let rows = if in_parallel(groups) {
+        let z_max = (0..n)
+            .into_par_iter()
+            .with_min_len(CHUNK_LINKS)
+            .map(|i| z(i).iter().fold(0.0f64, |m, v| m.max(v.abs())))
+            .reduce(|| 0.0, f64::max);
+        let fresh = ResidualRows::new([z_max]);
+        (0..groups)
+            .into_par_iter()
+            .with_min_len(CHUNK_LINKS)
+            .fold(|| fresh.clone(), group_rows)
+            .reduce(
+                || fresh.clone(),
+                |mut a, b| {
+                    a.merge(&b);
+                    a
+                },
+            )
+    } else {
+        (0..groups).fold(ResidualRows::new((0..n).flat_map(z)), group_rows)
+    };
     rows.finish().relative
 }
