@@ -68,6 +68,8 @@ struct Scratch {
     frames: Vec<Frame>,
     boxes: Vec<Aabb>,
     chunks: Vec<Chunk>,
+    /// The first place of each chunk's contacts in the whole list.
+    starts: Vec<usize>,
 }
 
 thread_local! {
@@ -282,7 +284,7 @@ impl BodyStructure for Multibody {
     fn detect(&self, q: &[f64], t: f64, margin: f64, out: &mut Vec<BodyContact>) {
         let Some(detector) = &self.detector else { return };
         let mut scratch = SCRATCH.with(|cell| cell.borrow_mut().pop()).unwrap_or_default();
-        let Scratch { broad, frames, boxes, chunks } = &mut scratch;
+        let Scratch { broad, frames, boxes, chunks, starts } = &mut scratch;
         let n = detector.colliders.len();
         let parallel = in_parallel(n);
         self.frames_into(q, t, frames);
@@ -316,9 +318,25 @@ impl BodyStructure for Multibody {
                 search(range, chunk, &mut contacts);
                 chunk.contacts = contacts;
             });
-            for chunk in &chunks[..k] {
-                out.extend_from_slice(&chunk.contacts);
-            }
+            // The chunks' contacts concatenated in chunk order, written in parallel straight
+            // into their places: contact `i` of the whole list belongs to the last chunk
+            // that starts at or before it.
+            let chunks = &chunks[..k];
+            starts.clear();
+            starts.extend(chunks.iter().scan(out.len(), |next, chunk| {
+                let start = *next;
+                *next += chunk.contacts.len();
+                Some(start)
+            }));
+            let (first, total) =
+                (out.len(), chunks.iter().map(|c| c.contacts.len()).sum::<usize>());
+            let starts = &*starts;
+            out.par_extend((first..first + total).into_par_iter().with_min_len(CHUNK_ITEMS).map(
+                |i| {
+                    let c = starts.partition_point(|&s| s <= i) - 1;
+                    chunks[c].contacts[i - starts[c]]
+                },
+            ));
         } else {
             let mut chunk = chunks.pop().unwrap_or_default();
             search(0..n, &mut chunk, out);
