@@ -452,20 +452,11 @@ fn update_velocity(problem: Fc2dRef<'_>, groups: &[usize], r: &[f64], u: &mut [f
     let p = problem.parts();
     let gs = p.group_start;
     for &g in groups {
-        let (mut u0, mut u1) = (p.q[gs[g]], 0.0);
-        if gs[g + 1] - gs[g] == 2 {
-            u1 = p.q[gs[g] + 1];
-        }
-        for k in p.row_ptr[g]..p.row_ptr[g + 1] {
-            let j = p.col[k] as usize;
-            let b = &p.blocks[k];
-            let r0 = r[gs[j]];
-            let r1 = if gs[j + 1] - gs[j] == 2 { r[gs[j] + 1] } else { 0.0 };
-            u0 += b[0] * r0 + b[1] * r1;
-            u1 += b[2] * r0 + b[3] * r1;
-        }
+        let two = gs[g + 1] - gs[g] == 2;
+        let [u0, u1] =
+            problem.row_product(g, r, [p.q[gs[g]], if two { p.q[gs[g] + 1] } else { 0.0 }]);
         u[gs[g]] = u0;
-        if gs[g + 1] - gs[g] == 2 {
+        if two {
             u[gs[g] + 1] = u1;
         }
     }

@@ -280,6 +280,26 @@ impl<'a> Fc2dRef<'a> {
         self.parts.q.iter().fold(0.0f64, |m, v| m.max(v.abs()))
     }
 
+    /// `start + Σ_j W_gj r_j`, the two rows of group g's block row applied to r (in the
+    /// problem's row layout) and added to `start` block by block; the second entry is
+    /// meaningless for a one-row group.
+    #[inline]
+    pub(crate) fn row_product(&self, g: usize, r: &[f64], start: [f64; 2]) -> [f64; 2] {
+        let p = &self.parts;
+        let gs = p.group_start;
+        let [mut u0, mut u1] = start;
+        for k in p.row_ptr[g]..p.row_ptr[g + 1] {
+            let j = p.col[k] as usize;
+            let b = &p.blocks[k];
+            let r0 = r[gs[j]];
+            // A one-row column group has zeros in its second block column.
+            let r1 = if gs[j + 1] - gs[j] == 2 { r[gs[j] + 1] } else { 0.0 };
+            u0 += b[0] * r0 + b[1] * r1;
+            u1 += b[2] * r0 + b[3] * r1;
+        }
+        [u0, u1]
+    }
+
     /// Computes `u = W r + q` (both of length `n_rows`).
     ///
     /// # Panics
@@ -294,16 +314,7 @@ impl<'a> Fc2dRef<'a> {
         let rows = |groups: std::ops::Range<usize>, u: &mut [f64]| {
             let base = gs[groups.start];
             for g in groups {
-                let (mut u0, mut u1) = (0.0, 0.0);
-                for k in p.row_ptr[g]..p.row_ptr[g + 1] {
-                    let j = p.col[k] as usize;
-                    let b = &p.blocks[k];
-                    let r0 = r[gs[j]];
-                    // A one-row column group has zeros in its second block column.
-                    let r1 = if gs[j + 1] - gs[j] == 2 { r[gs[j] + 1] } else { 0.0 };
-                    u0 += b[0] * r0 + b[1] * r1;
-                    u1 += b[2] * r0 + b[3] * r1;
-                }
+                let [u0, u1] = self.row_product(g, r, [0.0; 2]);
                 u[gs[g] - base] = u0 + p.q[gs[g]];
                 if gs[g + 1] - gs[g] == 2 {
                     u[gs[g] + 1 - base] = u1 + p.q[gs[g] + 1];
