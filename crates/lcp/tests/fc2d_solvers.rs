@@ -173,6 +173,43 @@ fn bilateral_rows_hold_and_both_solvers_agree() {
 }
 
 #[test]
+fn redundant_bilateral_rows_end_the_lcp_route_as_a_numerical_failure() {
+    // A two-row joint whose rows repeat each other: W_bb is singular, its multipliers are
+    // undetermined, and the route says so instead of returning one of them.
+    let mut rng = Rng::new(29);
+    let mut h = Mat::from_fn(6, 6, |_, _| rng.uniform(-1.0, 1.0));
+    for k in 0..6 {
+        h[(5, k)] = h[(4, k)];
+    }
+    let mut w = &h * h.transpose();
+    for i in 0..4 {
+        w[(i, i)] += 0.1;
+    }
+    let mut b = Fc2dBuilder::new(2);
+    b.bilateral_group(2);
+    for i in 0..6 {
+        for j in 0..6 {
+            b.add_entry(i, j, w[(i, j)]);
+        }
+    }
+    let q: Vec<f64> = (0..6).map(|_| rng.uniform(-1.0, 1.0)).collect();
+    let problem = b.build(&q, &[0.3, 0.6]).unwrap();
+    let s = LcpRoute::default().solve(&problem).unwrap();
+    assert_eq!(s.status, Status::NumericalFailure);
+    // With the repeated row dropped the same problem is regular and solved.
+    w[(5, 5)] += 0.1;
+    let mut b = Fc2dBuilder::new(2);
+    b.bilateral_group(2);
+    for i in 0..6 {
+        for j in 0..6 {
+            b.add_entry(i, j, w[(i, j)]);
+        }
+    }
+    let s = LcpRoute::default().solve(&b.build(&q, &[0.3, 0.6]).unwrap()).unwrap();
+    assert_eq!(s.status, Status::Solved);
+}
+
+#[test]
 fn warm_start_from_a_solution_takes_one_sweep_and_history_is_kept() {
     let mut rng = Rng::new(3);
     let p = planted_fc2d(8, 0.4, false, &mut rng);

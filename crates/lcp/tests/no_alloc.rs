@@ -144,3 +144,56 @@ fn newton_and_auto_with_the_same_sparsity_do_not_allocate() {
     });
     assert_eq!(count, 0, "{count} allocations in {} Auto solves", problems.len());
 }
+
+#[test]
+fn lcp_route_with_bilateral_rows_does_not_allocate() {
+    // Planted problems of 6 contacts and a two-row joint: the elimination of the joint's rows,
+    // the LCP of 18 rows and its pivoting solve run on the route's kept buffers.
+    use moreau_lcp::fc2d::{Fc2dSolution, Fc2dSolver, LcpRoute};
+    let mut rng = Rng::new(36);
+    let planted: Vec<_> = (0..10).map(|_| common::planted_fc2d(6, 0.5, true, &mut rng)).collect();
+    let mut route = LcpRoute::default();
+    let mut out = Fc2dSolution::new();
+    route.solve_into(planted[0].problem.view(), None, &mut out).unwrap();
+    assert!(out.is_solved());
+    let mut worst = 0.0f64;
+    let count = allocations_in(|| {
+        for p in &planted {
+            route.solve_into(p.problem.view(), None, &mut out).unwrap();
+            assert!(out.is_solved());
+            let error = out.r.iter().zip(&p.r).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            worst = worst.max(error);
+        }
+    });
+    assert_eq!(count, 0, "{count} allocations in {} LcpRoute solves", planted.len());
+    // The planted reactions are found (W is positive definite, so they are the solution).
+    assert!(worst < 1e-8, "{worst:e}");
+}
+
+#[test]
+fn newton_alternating_between_block_structures_does_not_allocate() {
+    // A time-stepper's island whose contact opens and closes from one step to the next gives
+    // Newton two block structures in turn; each keeps its pattern and LU analysis.
+    use moreau_lcp::fc2d::{Fc2dSolution, Fc2dSolver, Newton, NewtonOptions};
+    let (_, chains) = fc2d_chains(37);
+    let mut rng = Rng::new(38);
+    let jointed: Vec<_> = (0..10).map(|_| common::planted_fc2d(6, 0.5, true, &mut rng)).collect();
+    let mut newton = Newton::new(NewtonOptions { tolerance: 1e-10, ..Default::default() }).unwrap();
+    let mut out = Fc2dSolution::new();
+    // Warm-up: faer's numeric LU storage of each structure grows to its largest fill.
+    for (chain, jointed) in chains.iter().zip(&jointed) {
+        newton.solve_into(chain.view(), None, &mut out).unwrap();
+        newton.solve_into(jointed.problem.view(), None, &mut out).unwrap();
+    }
+    let mut solved = 0;
+    let count = allocations_in(|| {
+        for (chain, jointed) in chains.iter().zip(&jointed) {
+            newton.solve_into(chain.view(), None, &mut out).unwrap();
+            solved += usize::from(out.is_solved());
+            newton.solve_into(jointed.problem.view(), None, &mut out).unwrap();
+            solved += usize::from(out.is_solved());
+        }
+    });
+    assert_eq!(count, 0, "{count} allocations in {} alternating Newton solves", 2 * chains.len());
+    assert_eq!(solved, 2 * chains.len());
+}

@@ -1,14 +1,13 @@
 //! The exact LCP reformulation of the planar frictional-contact problem.
 #![allow(non_snake_case)]
 
-use faer::Mat;
-use faer::linalg::solvers::{DenseSolveCore, Solve};
 use serde::{Deserialize, Serialize};
 
 use super::solution::check_warm_start;
 use super::{Fc2dRef, Fc2dSolution, Fc2dSolver};
+use crate::dense::Lu;
 use crate::error::rules;
-use crate::{Auto, Enumeration, Lcp, LcpError, Lemke, Method, Solution, Solver, Status};
+use crate::{Auto, Enumeration, LcpError, LcpRef, Lemke, Method, Solution, Solver, Status};
 
 /// Which LCP solver the [`LcpRoute`] hands the reformulated problem to.
 #[non_exhaustive]
@@ -63,16 +62,30 @@ impl Default for LcpRouteOptions {
 /// (μ the diagonal matrix of the friction coefficients). Bilateral rows are eliminated
 /// first by their Schur complement: with `W_bb λ = -(W_bc r_c + q_b)`, the contacts see
 /// `W_cc - W_cb W_bb⁻¹ W_bc` and `q_c - W_cb W_bb⁻¹ q_b`; a singular W_bb (redundant
-/// constraints) ends the solve with [`Status::NumericalFailure`].
+/// constraints, a pivot of W_bb's LU below 1e-13 of its column) ends the solve with
+/// [`Status::NumericalFailure`].
 ///
 /// The LCP's solution is mapped back to `r_T = r_R - μ r_N`, λ and u = W r + q, and
 /// judged by the FC2D residual. [`Status::NoSolution`] is reported only when the LCP
 /// solver's enumeration proved that the LCP has none; problems above `max_contacts`
-/// return [`Status::TooLarge`] without a solve. Warm starts are not used.
-#[derive(Default)]
+/// return [`Status::TooLarge`] without a solve. Warm starts are not used. The
+/// elimination, the LCP and its solver work on buffers kept from one solve to the next:
+/// once the sizes have been seen, a solve does not allocate.
 pub struct LcpRoute {
     options: LcpRouteOptions,
     solution: Solution,
+    reduced: Reduced,
+    /// The LCP's M (column-major, 3 n_c × 3 n_c) and q.
+    a: Vec<f64>,
+    b: Vec<f64>,
+    /// The LCP solver, kept with its workspace.
+    pivoting: Box<dyn Solver + Send + Sync>,
+}
+
+impl Default for LcpRoute {
+    fn default() -> Self {
+        LcpRoute::new(LcpRouteOptions::default()).expect("the default options are valid")
+    }
 }
 
 impl LcpRoute {
@@ -82,7 +95,19 @@ impl LcpRoute {
     /// [`LcpError::InvalidOption`] unless `tolerance` is finite and > 0.
     pub fn new(options: LcpRouteOptions) -> Result<LcpRoute, LcpError> {
         rules::tolerance(options.tolerance)?;
-        Ok(LcpRoute { options, solution: Solution::new() })
+        let pivoting: Box<dyn Solver + Send + Sync> = match options.solver {
+            LcpRouteSolver::Auto => Box::new(Auto::default()),
+            LcpRouteSolver::Lemke => Box::new(Lemke::default()),
+            LcpRouteSolver::Enumeration => Box::new(Enumeration::default()),
+        };
+        Ok(LcpRoute {
+            options,
+            solution: Solution::new(),
+            reduced: Reduced::default(),
+            a: Vec::new(),
+            b: Vec::new(),
+            pivoting,
+        })
     }
 
     /// The options.
@@ -92,46 +117,76 @@ impl LcpRoute {
 }
 
 /// The contacts' W and q after the elimination of the bilateral rows, and the map from
-/// contact reactions to multipliers: `λ = G r_c + g`.
+/// contact reactions to multipliers: `λ = G r_c + g`; all column-major, with the dense W
+/// and the LU of W_bb they come from.
+#[derive(Default)]
 struct Reduced {
-    w: Mat<f64>,
+    /// The problem's W (n × n).
+    dense: Vec<f64>,
+    /// `W_cc - W_cb W_bb⁻¹ W_bc` (2 n_c × 2 n_c).
+    w: Vec<f64>,
+    /// `q_c - W_cb W_bb⁻¹ q_b`.
     q: Vec<f64>,
-    g_mat: Mat<f64>,
+    /// `G = -W_bb⁻¹ W_bc` (n_b × 2 n_c) and `g = -W_bb⁻¹ q_b`.
+    g_mat: Vec<f64>,
     g_vec: Vec<f64>,
+    lu: Lu,
 }
 
-fn eliminate_bilateral(problem: Fc2dRef<'_>) -> Option<Reduced> {
-    let n = problem.n_rows();
-    let nc2 = 2 * problem.n_contacts();
-    let nb = n - nc2;
-    let dense = problem.to_dense();
-    let W = Mat::from_fn(n, n, |i, j| dense[i + j * n]);
-    let q = problem.q();
-    if nb == 0 {
-        return Some(Reduced { w: W, q: q.to_vec(), g_mat: Mat::zeros(0, nc2), g_vec: Vec::new() });
+impl Reduced {
+    /// Eliminates `problem`'s bilateral rows; false when W_bb is numerically singular or
+    /// the result is not finite.
+    fn eliminate(&mut self, problem: Fc2dRef<'_>) -> bool {
+        let n = problem.n_rows();
+        let nc2 = 2 * problem.n_contacts();
+        let nb = n - nc2;
+        let dense = &mut self.dense;
+        dense.clear();
+        dense.resize(n * n, 0.0);
+        problem.for_each_entry(|i, j, v| dense[i + j * n] += v);
+        let q = problem.q();
+        self.g_mat.clear();
+        self.g_mat.resize(nb * nc2, 0.0);
+        self.g_vec.clear();
+        self.g_vec.resize(nb, 0.0);
+        if nb > 0 {
+            if !self.lu.factor_with(nb, |i, j| dense[nc2 + i + (nc2 + j) * n]) {
+                return false;
+            }
+            for j in 0..nc2 {
+                let column = &mut self.g_mat[j * nb..][..nb];
+                for (i, x) in column.iter_mut().enumerate() {
+                    *x = -dense[nc2 + i + j * n];
+                }
+                self.lu.solve(column);
+            }
+            for (i, x) in self.g_vec.iter_mut().enumerate() {
+                *x = -q[nc2 + i];
+            }
+            self.lu.solve(&mut self.g_vec);
+            let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+            if !finite(&self.g_mat) || !finite(&self.g_vec) {
+                return false;
+            }
+        }
+        self.w.clear();
+        self.w.resize(nc2 * nc2, 0.0);
+        for j in 0..nc2 {
+            let g = &self.g_mat[j * nb..][..nb];
+            for i in 0..nc2 {
+                let coupled: f64 =
+                    g.iter().enumerate().map(|(k, x)| dense[i + (nc2 + k) * n] * x).sum();
+                self.w[i + j * nc2] = dense[i + j * n] + coupled;
+            }
+        }
+        self.q.clear();
+        self.q.extend((0..nc2).map(|i| {
+            let coupled: f64 =
+                self.g_vec.iter().enumerate().map(|(k, x)| dense[i + (nc2 + k) * n] * x).sum();
+            q[i] + coupled
+        }));
+        true
     }
-    let W_bb = W.as_ref().submatrix(nc2, nc2, nb, nb);
-    let W_bc = W.as_ref().submatrix(nc2, 0, nb, nc2);
-    let W_cb = W.as_ref().submatrix(0, nc2, nc2, nb);
-    let lu = W_bb.full_piv_lu();
-    let inverse = lu.inverse();
-    // A rank-deficient W_bb leaves λ undetermined: recognised by the inverse failing to
-    // reproduce the identity.
-    let check = &inverse * W_bb;
-    let defect = (0..nb)
-        .flat_map(|i| (0..nb).map(move |j| (i, j)))
-        .map(|(i, j)| (check[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs())
-        .fold(0.0f64, f64::max);
-    if !(defect <= 1e-8) {
-        return None;
-    }
-    let g_mat = -(&inverse * W_bc);
-    let q_b = Mat::from_fn(nb, 1, |i, _| q[nc2 + i]);
-    let g_col = -lu.solve(&q_b);
-    let w = W.as_ref().submatrix(0, 0, nc2, nc2) + W_cb * &g_mat;
-    let w_g = W_cb * &g_col;
-    let reduced_q = (0..nc2).map(|i| q[i] + w_g[(i, 0)]).collect();
-    Some(Reduced { w, q: reduced_q, g_mat, g_vec: (0..nb).map(|i| g_col[(i, 0)]).collect() })
 }
 
 impl Fc2dSolver for LcpRoute {
@@ -153,33 +208,38 @@ impl Fc2dSolver for LcpRoute {
             out.status = Status::TooLarge;
             return Ok(());
         }
-        let Some(reduced) = eliminate_bilateral(problem) else {
+        if !self.reduced.eliminate(problem) {
             out.certify(problem, tolerance, Status::NumericalFailure);
             out.status = Status::NumericalFailure;
             return Ok(());
-        };
+        }
+        let reduced = &self.reduced;
         let mu = problem.mu();
+        let nc2 = 2 * n_c;
         let lcp_status = if n_c == 0 {
             out.lcp_method = Some(Method::Trivial);
             Status::Solved
         } else {
-            let W = &reduced.w;
+            let W = |i: usize, j: usize| reduced.w[i + j * nc2];
             let m = 3 * n_c;
-            let mut A = Mat::<f64>::zeros(m, m);
+            let A = &mut self.a;
+            A.clear();
+            A.resize(m * m, 0.0);
             for i in 0..n_c {
                 for k in 0..n_c {
-                    let (nn, nt) = (W[(2 * i, 2 * k)], W[(2 * i, 2 * k + 1)]);
-                    let (tn, tt) = (W[(2 * i + 1, 2 * k)], W[(2 * i + 1, 2 * k + 1)]);
-                    A[(i, k)] = nn - nt * mu[k];
-                    A[(i, n_c + k)] = nt;
-                    A[(n_c + i, k)] = tn - tt * mu[k];
-                    A[(n_c + i, n_c + k)] = tt;
+                    let (nn, nt) = (W(2 * i, 2 * k), W(2 * i, 2 * k + 1));
+                    let (tn, tt) = (W(2 * i + 1, 2 * k), W(2 * i + 1, 2 * k + 1));
+                    A[i + k * m] = nn - nt * mu[k];
+                    A[i + (n_c + k) * m] = nt;
+                    A[n_c + i + k * m] = tn - tt * mu[k];
+                    A[n_c + i + (n_c + k) * m] = tt;
                 }
-                A[(n_c + i, 2 * n_c + i)] = 1.0;
-                A[(2 * n_c + i, i)] = 2.0 * mu[i];
-                A[(2 * n_c + i, n_c + i)] = -1.0;
+                A[n_c + i + (2 * n_c + i) * m] = 1.0;
+                A[2 * n_c + i + i * m] = 2.0 * mu[i];
+                A[2 * n_c + i + (n_c + i) * m] = -1.0;
             }
-            let b = faer::Col::from_fn(m, |k| {
+            self.b.clear();
+            self.b.extend((0..m).map(|k| {
                 if k < n_c {
                     reduced.q[2 * k]
                 } else if k < 2 * n_c {
@@ -187,16 +247,10 @@ impl Fc2dSolver for LcpRoute {
                 } else {
                     0.0
                 }
-            });
-            let lcp = Lcp::new(A, b)?;
+            }));
+            let lcp = LcpRef::from_column_major(m, &self.a, &self.b)?;
             let sol = &mut self.solution;
-            match self.options.solver {
-                LcpRouteSolver::Auto => Auto::default().solve_into(lcp.view(), None, sol)?,
-                LcpRouteSolver::Lemke => Lemke::default().solve_into(lcp.view(), None, sol)?,
-                LcpRouteSolver::Enumeration => {
-                    Enumeration::default().solve_into(lcp.view(), None, sol)?
-                }
-            }
+            self.pivoting.solve_into(lcp, None, sol)?;
             out.lcp_method = Some(sol.method);
             out.iterations = sol.iterations;
             for i in 0..n_c {
@@ -206,11 +260,11 @@ impl Fc2dSolver for LcpRoute {
             }
             sol.status
         };
-        let nc2 = 2 * n_c;
+        let nb = reduced.g_vec.len();
         for (b, g) in reduced.g_vec.iter().enumerate() {
             let mut lambda = *g;
             for j in 0..nc2 {
-                lambda += reduced.g_mat[(b, j)] * out.r[j];
+                lambda += reduced.g_mat[b + j * nb] * out.r[j];
             }
             out.r[nc2 + b] = lambda;
         }

@@ -126,7 +126,11 @@ const MAX_REGULARIZATION: f64 = 1e-2;
 /// symbolic LU analysis (column ordering and supernodal structure) are kept and reused
 /// across iterations and across solves of problems with the same block structure (same
 /// groups, row pointers and block columns); only the numeric factorisation is repeated.
-/// A workspace (scratch memory, the matrix values, the iterates) is reused likewise.
+/// The last four structures of at most 1,024 rows are kept, so that a
+/// problem whose contacts open and close between a few sets (a time-stepper's island from
+/// one step to the next) reuses each one's analysis; a larger structure is kept alone.
+/// A workspace (scratch memory, the matrix values, the iterates) is reused likewise, and
+/// once every structure has been seen, solves do not allocate.
 ///
 /// **Stopping.** After each iteration the shared [`Fc2dResidual`] of the iterate is
 /// computed; the solve ends [`Status::Solved`] when its `natural` field is within the
@@ -165,7 +169,14 @@ impl Default for Newton {
     }
 }
 
-/// The block structure of the last problem, the pattern of J and its symbolic LU.
+/// Number of block structures whose pattern and LU analysis [`Newton`] keeps.
+const PATTERNS: usize = 4;
+
+/// Largest number of rows of a block structure kept beside others: the analysis of a
+/// larger one is kept alone, so that its memory is not held several times.
+const PATTERN_ROWS: usize = 1024;
+
+/// A block structure, the pattern of J and its symbolic LU.
 #[derive(Default)]
 struct Pattern {
     group_start: Vec<usize>,
@@ -185,7 +196,8 @@ struct Pattern {
 
 #[derive(Default)]
 struct Workspace {
-    pattern: Pattern,
+    /// The patterns of the last structures solved, the latest first (see [`PATTERNS`]).
+    patterns: Vec<Pattern>,
     /// ρ per row.
     rho: Vec<f64>,
     u: Vec<f64>,
@@ -261,18 +273,43 @@ impl Newton {
     }
 }
 
-impl Pattern {
-    /// Rebuilds J's pattern and its symbolic LU unless the block structure is the same
-    /// as the last problem's.
+impl Workspace {
+    /// Brings the pattern of `problem`'s block structure to the front of the kept ones,
+    /// building it in place of the least recently used one when it is not kept (see
+    /// [`PATTERNS`] and [`PATTERN_ROWS`]).
     fn prepare(&mut self, problem: Fc2dRef<'_>) -> Result<(), LcpError> {
+        let patterns = &mut self.patterns;
+        if let Some(i) = patterns.iter().position(|pattern| pattern.is(problem)) {
+            patterns[..=i].rotate_right(1);
+            return Ok(());
+        }
+        let rows = |pattern: &Pattern| pattern.group_start.last().copied().unwrap_or(0);
+        if problem.n_rows() > PATTERN_ROWS {
+            patterns.truncate(1);
+        } else {
+            patterns.retain(|pattern| rows(pattern) <= PATTERN_ROWS);
+        }
+        if patterns.len() < PATTERNS && (patterns.is_empty() || problem.n_rows() <= PATTERN_ROWS) {
+            patterns.push(Pattern::default());
+        }
+        patterns.rotate_right(1);
+        patterns[0].build(problem)
+    }
+}
+
+impl Pattern {
+    /// Whether this is the pattern of `problem`'s block structure.
+    fn is(&self, problem: Fc2dRef<'_>) -> bool {
         let p = problem.parts();
-        if self.symbolic.is_some()
+        self.symbolic.is_some()
             && self.group_start == p.group_start
             && self.row_ptr == p.row_ptr
             && self.col == p.col
-        {
-            return Ok(());
-        }
+    }
+
+    /// Builds J's pattern and its symbolic LU for `problem`'s block structure.
+    fn build(&mut self, problem: Fc2dRef<'_>) -> Result<(), LcpError> {
+        let p = problem.parts();
         self.symbolic = None;
         // faer's numeric LU keeps the sizes of its last matrix: start afresh.
         self.numeric = NumericLu::new();
@@ -500,7 +537,7 @@ impl Fc2dSolver for Newton {
             out.certify(problem, tolerance, Status::NumericalFailure);
             return Ok(());
         }
-        self.work.pattern.prepare(problem)?;
+        self.work.prepare(problem)?;
         let w = &mut self.work;
         for v in [&mut w.rho, &mut w.u, &mut w.phi, &mut w.d, &mut w.r_trial, &mut w.u_trial] {
             v.clear();
@@ -546,7 +583,7 @@ impl Fc2dSolver for Newton {
                 for (d, phi) in w.d.iter_mut().zip(&w.phi) {
                     *d = -phi;
                 }
-                if w.pattern.solve(problem, &w.a, &w.b, delta, &mut w.d) {
+                if w.patterns[0].solve(problem, &w.a, &w.b, delta, &mut w.d) {
                     solved = true;
                     break;
                 }
