@@ -73,7 +73,7 @@ pub(super) enum IslandSolver {
     /// island's Gauss-Seidel runs in chunks.
     Auto(Box<AutoChain>),
     Nsgs(Nsgs),
-    Lcp(LcpRoute),
+    Lcp(Box<LcpRoute>),
 }
 
 impl IslandSolver {
@@ -145,11 +145,11 @@ impl IslandSolver {
                 } else {
                     LcpRouteSolver::Enumeration
                 };
-                Self::Lcp(LcpRoute::new(LcpRouteOptions {
+                Self::Lcp(Box::new(LcpRoute::new(LcpRouteOptions {
                     tolerance: FC2D_TOLERANCE,
                     solver,
                     ..LcpRouteOptions::default()
-                })?)
+                })?))
             }
         })
     }
