@@ -99,7 +99,8 @@
 //! detection, assembly, solution and projection. A [`Recorder`] keeps the bodies' q and u and the
 //! energies, and lists impacts by contact identity; it keeps no per-contact columns, since the
 //! contacts come and go. Nothing is allocated per step once the buffers have grown to the
-//! largest contact set. Joints (bilateral constraints, split by body through
+//! largest contact set and the islands' solvers have seen their block structures (Newton
+//! keeps the last four of each). Joints (bilateral constraints, split by body through
 //! [`BodyStructure::bilateral_rows`]) link their bodies into islands as contacts do and join
 //! each island's problem as bilateral groups; the projection corrects their drift.
 //!
