@@ -157,6 +157,30 @@ fn planted_solutions_with_a_joint_are_found() {
 }
 
 #[test]
+fn a_newton_solve_does_not_depend_on_the_structures_solved_before() {
+    // Twelve block structures (1 to 6 contacts, with and without a joint), more than Newton
+    // keeps, cycled three times: each solve gives the bits of a fresh solver's, whether its
+    // structure's analysis was kept, rebuilt in place of another's or new.
+    let mut rng = Rng::new(43);
+    let problems: Vec<Fc2d> =
+        (0..12).map(|k| planted_fc2d(1 + k % 6, 0.6, k >= 6, &mut rng).problem).collect();
+    let options = NewtonOptions { tolerance: 1e-12, ..Default::default() };
+    let fresh: Vec<Fc2dSolution> =
+        problems.iter().map(|p| Newton::new(options.clone()).unwrap().solve(p).unwrap()).collect();
+    let mut newton = Newton::new(options).unwrap();
+    let mut out = Fc2dSolution::new();
+    for round in 0..3 {
+        for (k, (p, expected)) in problems.iter().zip(&fresh).enumerate() {
+            newton.solve_into(p.view(), None, &mut out).unwrap();
+            assert_eq!(out.status, Status::Solved, "round {round}, problem {k}");
+            let bits = |r: &[f64]| r.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&out.r), bits(&expected.r), "round {round}, problem {k}");
+            assert_eq!(out.iterations, expected.iterations);
+        }
+    }
+}
+
+#[test]
 fn newton_from_the_solution_takes_no_iteration_and_keeps_its_history() {
     let mut rng = Rng::new(43);
     let p = planted_fc2d(8, 0.5, true, &mut rng);
