@@ -203,6 +203,38 @@ fn check_contacts(
     Ok(depth)
 }
 
+/// M⁻¹ w_N and M⁻¹ w_T of each side of each detected contact, then M⁻¹ w_B of each side of
+/// each joint group's rows, into `work` (`inv` the bodies' M⁻¹ blocks); in parallel for a
+/// large problem.
+fn directions(
+    work: &mut Vec<ContactWork>,
+    inv: &[[f64; 9]],
+    detected: &[BodyContact],
+    groups: &[JointGroup],
+) {
+    let of_link = |a: usize| {
+        let (bodies, w_0, w_1) = link(detected, groups, a);
+        let mut w = ContactWork::default();
+        for side in 0..2 {
+            let k = bodies[side];
+            if k != NO_BODY {
+                let m = &inv[k as usize];
+                w.mw_n[side] = mul3(m, &w_0[side]);
+                w.mw_t[side] = mul3(m, &w_1[side]);
+            }
+        }
+        w
+    };
+    work.clear();
+    let n = detected.len() + groups.len();
+    if in_parallel(n) {
+        // Written in place into the reserved capacity: nothing is allocated once warm.
+        work.par_extend((0..n).into_par_iter().with_min_len(CHUNK_LINKS).map(of_link));
+    } else {
+        work.extend((0..n).map(of_link));
+    }
+}
+
 impl BodyPath {
     /// The path for a mechanism of `nb` bodies and `n_bilaterals` bilateral rows.
     pub(super) fn new(nb: usize, n_bilaterals: usize) -> Self {
@@ -263,31 +295,9 @@ impl BodyPath {
         }
     }
 
-    /// M⁻¹ w_N and M⁻¹ w_T of each side of each detected contact, then M⁻¹ w_B of each side
-    /// of each joint group's rows; in parallel for a large problem.
+    /// [`directions`] of the path's contacts and joint groups into its work.
     fn directions(&mut self) {
-        let (inv, detected, groups) = (&self.inv, &self.detected, &self.groups);
-        let of_link = |a: usize| {
-            let (bodies, w_0, w_1) = link(detected, groups, a);
-            let mut w = ContactWork::default();
-            for side in 0..2 {
-                let k = bodies[side];
-                if k != NO_BODY {
-                    let m = &inv[k as usize];
-                    w.mw_n[side] = mul3(m, &w_0[side]);
-                    w.mw_t[side] = mul3(m, &w_1[side]);
-                }
-            }
-            w
-        };
-        self.work.clear();
-        let n = detected.len() + groups.len();
-        if in_parallel(n) {
-            // Written in place into the reserved capacity: nothing is allocated once warm.
-            self.work.par_extend((0..n).into_par_iter().with_min_len(CHUNK_LINKS).map(of_link));
-        } else {
-            self.work.extend((0..n).map(of_link));
-        }
+        directions(&mut self.work, &self.inv, &self.detected, &self.groups);
     }
 
     /// Evaluates and groups the bilateral rows at (q, t); returns the largest |g_B|.
@@ -390,45 +400,60 @@ impl Core {
         let detect_end = Instant::now();
         b.penetration = check_contacts(&mut b.detected, nb, self.options.gap_tolerance, t_m)?;
 
-        // γ_A, b = wᵀũ + ŵ + ε γ_A (the formulas of the path of fixed contacts), μ, and the
-        // warm start from the impulses under the same identity, by a merge walk over the
-        // two lists in increasing order of identity (each chunk's walk starts where its first
-        // identity would be).
-        b.directions();
+        // A large problem's islands are split while the contacts' directions, right-hand sides
+        // and warm starts are computed: neither reads what the other writes, so the bits are
+        // the same in either order, and the split (sequential) runs beside the rest on a
+        // second thread.
         let nc = b.detected.len();
-        let (detected, prev, u_free, u) = (&b.detected, &b.prev, &b.u_free, &self.u);
-        for_chunks(&mut b.work[..nc], |start, work| {
-            let contacts = &detected[start..start + work.len()];
-            let mut j = contacts.first().map_or(0, |c| prev.partition_point(|p| p.0 < c.id));
-            for (c, w) in contacts.iter().zip(work) {
-                let law = c.law;
-                let p = c.point;
-                let gamma_n = side_dot(c.bodies, &c.w_n, u) + p.w_n_hat;
-                let gamma_t = side_dot(c.bodies, &c.w_t, u) + p.w_t_hat;
-                w.gamma_a = [gamma_n, gamma_t];
-                w.b = [
-                    side_dot(c.bodies, &c.w_n, u_free) + p.w_n_hat + law.eps_n() * gamma_n,
-                    side_dot(c.bodies, &c.w_t, u_free) + p.w_t_hat + law.eps_t() * gamma_t,
-                ];
-                w.mu = law.mu();
-                while j < prev.len() && prev[j].0 < c.id {
-                    j += 1;
+        let BodyPath {
+            islands, work, ids, inv, detected, groups, prev, joint_prev, u_free, ..
+        } = &mut *b;
+        let u = &self.u;
+        let mut link_work = || {
+            directions(work, inv, detected, groups);
+            // γ_A, b = wᵀũ + ŵ + ε γ_A (the formulas of the path of fixed contacts), μ, and
+            // the warm start from the impulses under the same identity, by a merge walk over
+            // the two lists in increasing order of identity (each chunk's walk starts where
+            // its first identity would be).
+            for_chunks(&mut work[..nc], |start, work| {
+                let contacts = &detected[start..start + work.len()];
+                let mut j = contacts.first().map_or(0, |c| prev.partition_point(|p| p.0 < c.id));
+                for (c, w) in contacts.iter().zip(work) {
+                    let law = c.law;
+                    let p = c.point;
+                    let gamma_n = side_dot(c.bodies, &c.w_n, u) + p.w_n_hat;
+                    let gamma_t = side_dot(c.bodies, &c.w_t, u) + p.w_t_hat;
+                    w.gamma_a = [gamma_n, gamma_t];
+                    w.b = [
+                        side_dot(c.bodies, &c.w_n, u_free) + p.w_n_hat + law.eps_n() * gamma_n,
+                        side_dot(c.bodies, &c.w_t, u_free) + p.w_t_hat + law.eps_t() * gamma_t,
+                    ];
+                    w.mu = law.mu();
+                    while j < prev.len() && prev[j].0 < c.id {
+                        j += 1;
+                    }
+                    w.warm = if j < prev.len() && prev[j].0 == c.id { prev[j].1 } else { [0.0; 2] };
                 }
-                w.warm = if j < prev.len() && prev[j].0 == c.id { prev[j].1 } else { [0.0; 2] };
+            });
+            ids.clear();
+            ids.extend(detected.iter().map(|c| c.id));
+            // The joint groups ask γ_B,E = w_Bᵀ u_E + ŵ_B = 0: q_B = w_Bᵀ ũ + ŵ_B,
+            // warm-started from the step before (the groups are the same at every step).
+            let warm_joints = joint_prev.len() == groups.len();
+            for (g, (group, w)) in groups.iter().zip(&mut work[nc..]).enumerate() {
+                for row in 0..group.rows {
+                    w.b[row] = side_dot(group.bodies, &group.w[row], u_free) + group.w_hat[row];
+                }
+                w.warm = if warm_joints { joint_prev[g] } else { [0.0; 2] };
             }
-        });
-        b.ids.clear();
-        b.ids.extend(b.detected.iter().map(|c| c.id));
-        // The joint groups ask γ_B,E = w_Bᵀ u_E + ŵ_B = 0: q_B = w_Bᵀ ũ + ŵ_B, warm-started
-        // from the step before (the groups are the same at every step).
-        let warm_joints = b.joint_prev.len() == b.groups.len();
-        for (g, (group, w)) in b.groups.iter().zip(&mut b.work[nc..]).enumerate() {
-            for row in 0..group.rows {
-                w.b[row] = side_dot(group.bodies, &group.w[row], &b.u_free) + group.w_hat[row];
-            }
-            w.warm = if warm_joints { b.joint_prev[g] } else { [0.0; 2] };
+        };
+        let mut split = || islands.split(nb, detected, groups);
+        if in_parallel(nc + groups.len()) {
+            rayon::join(split, link_work);
+        } else {
+            split();
+            link_work();
         }
-        b.islands.split(nb, &b.detected, &b.groups);
         b.islands.assemble(&b.detected, &b.groups, &b.work, &self.options.solver)?;
         b.islands_solved = b.islands.count();
         let assembled = Instant::now();
