@@ -140,10 +140,8 @@ impl Reduced {
         let n = problem.n_rows();
         let nc2 = 2 * problem.n_contacts();
         let nb = n - nc2;
-        let dense = &mut self.dense;
-        dense.clear();
-        dense.resize(n * n, 0.0);
-        problem.for_each_entry(|i, j, v| dense[i + j * n] += v);
+        problem.dense_into(&mut self.dense);
+        let dense = &self.dense;
         let q = problem.q();
         self.g_mat.clear();
         self.g_mat.resize(nb * nc2, 0.0);

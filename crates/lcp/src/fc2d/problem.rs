@@ -326,10 +326,18 @@ impl<'a> Fc2dRef<'a> {
 
     /// W as a dense `n_rows x n_rows` column-major array (for small problems and tests).
     pub fn to_dense(&self) -> Vec<f64> {
-        let n = self.n_rows();
-        let mut w = vec![0.0; n * n];
-        self.for_each_entry(|i, j, v| w[i + j * n] += v);
+        let mut w = Vec::new();
+        self.dense_into(&mut w);
         w
+    }
+
+    /// [`Self::to_dense`] into `w`, whose buffer is kept: no allocation once it has held a
+    /// problem of this size.
+    pub(crate) fn dense_into(&self, w: &mut Vec<f64>) {
+        let n = self.n_rows();
+        w.clear();
+        w.resize(n * n, 0.0);
+        self.for_each_entry(|i, j, v| w[i + j * n] += v);
     }
 
     /// Calls `f(row, column, value)` for each stored entry of W (padding of one-row groups
