@@ -136,3 +136,62 @@ fn malformed_declared_scenes_name_the_field() {
     let area = std::f64::consts::PI * 0.05 * 0.05;
     assert!((m - area).abs() < 1e-15 && (i - 0.5 * area * 0.0025).abs() < 1e-15 && c == [0.0, 0.0]);
 }
+
+#[test]
+fn a_dynamic_body_without_its_mass_properties_names_the_field_it_lacks() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenes/bodies/pendulum-wall.toml"),
+    )
+    .unwrap();
+    let error = |text: String| match Scene::from_toml_str(&text).and_then(|s| s.build()) {
+        Err(ModelError::BadValue { key, value, reason }) => (key, value, reason),
+        other => panic!("{other:?}"),
+    };
+    let cases = [
+        (
+            text.replace("inertia = 0.00125", ""),
+            "bodies.bob.inertia",
+            "(missing)",
+            "`mass` is given",
+        ),
+        (text.replace("mass = 1.0", ""), "bodies.bob.mass", "(missing)", "`inertia` is given"),
+        (
+            text.replace("mass = 1.0", "mass = 1.0\ndensity = 2.5"),
+            "bodies.bob.density",
+            "2.5",
+            "not instead",
+        ),
+        (
+            text.replace("mass = 1.0", "").replace("inertia = 0.00125", ""),
+            "bodies.bob.mass",
+            "(missing)",
+            "none is given",
+        ),
+    ];
+    for (text, key, value, why) in cases {
+        let (k, v, reason) = error(text);
+        assert_eq!((k.as_str(), v.as_str()), (key, value), "{reason}");
+        assert!(
+            reason.contains(why) && reason.contains("mass and inertia or a density"),
+            "{reason}"
+        );
+    }
+}
+
+#[test]
+fn a_missing_field_is_named_once() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenes/bodies/pendulum-wall.toml"),
+    )
+    .unwrap();
+    let no_position = text.replace("position = [0.0, 0.0]  # m\n", "");
+    match Scene::from_toml_str(&no_position) {
+        Err(ModelError::Parse { field, message, .. }) => {
+            assert_eq!(field.as_deref(), Some("bodies.wall"));
+            assert_eq!(message.trim(), "missing field `position`");
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -133,12 +133,23 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
                     }
                     (rho * area, rho * polar, [first[0] / area, first[1] / area])
                 }
-                _ => {
-                    return Err(bad(
-                        field("mass"),
-                        "(missing)",
-                        "a dynamic body needs either mass and inertia or a density".to_owned(),
-                    ));
+                (mass, inertia, density) => {
+                    let either = "a dynamic body needs either mass and inertia or a density";
+                    let why = |what: &str| format!("{either}; {what}");
+                    return Err(match (mass, inertia, density) {
+                        (Some(_), None, None) => {
+                            bad(field("inertia"), "(missing)", why("`mass` is given"))
+                        }
+                        (None, Some(_), None) => {
+                            bad(field("mass"), "(missing)", why("`inertia` is given"))
+                        }
+                        (_, _, Some(rho)) if mass.is_some() || inertia.is_some() => bad(
+                            field("density"),
+                            &rho.to_string(),
+                            why("`density` is given with `mass` or `inertia`, not instead"),
+                        ),
+                        _ => bad(field("mass"), "(missing)", why("none is given")),
+                    });
                 }
             };
             Kind::Dynamic { dof, mass, inertia, com }

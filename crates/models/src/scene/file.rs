@@ -186,10 +186,15 @@ pub(super) fn parse_error(text: &str, error: &toml::de::Error) -> ModelError {
         return ModelError::Parse {
             path: None,
             field: Some(field),
-            message: format!("{}\n{message}", error.message()),
+            message: both(error.message(), message),
         };
     }
     ModelError::Parse { path: None, field: None, message: error.to_string() }
+}
+
+/// The reader's message, then the one found by reading the field again unless it says the same.
+fn both(reader: &str, found: String) -> String {
+    if reader.trim() == found.trim() { found } else { format!("{reader}\n{found}") }
 }
 
 /// The dotted key written on the line that holds byte `offset`, with its table header.
@@ -283,7 +288,7 @@ pub(super) fn declared_parse_error(
         Some((field, message)) => ModelError::Parse {
             path: None,
             field: Some(field),
-            message: format!("{}\n{message}", error.message()),
+            message: both(error.message(), message),
         },
         // An error outside the arrays of tables keeps the reader's position.
         None => ModelError::Parse {
