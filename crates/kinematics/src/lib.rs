@@ -16,7 +16,8 @@
 //! * for mechanisms declared by bodies and shapes, the geometry of [`shapes`]: disks, convex
 //!   polygons, capsules, half-planes, polylines and sampled profiles ([`Shape`]) placed by a
 //!   body [`Pose`], their contact points with normals, gaps and persistent feature ids
-//!   ([`collide`], [`ManifoldPoint`], [`max_points`]), and a broad phase ([`BroadPhase`]) over
+//!   ([`collide`], [`ManifoldPoint`], [`max_points`]; [`collide_placed`] from a [`Placement`]
+//!   whose sine and cosine are computed once per body), and a broad phase ([`BroadPhase`]) over
 //!   their bounding boxes ([`Aabb`]); each point's gap changes at the rate of the normal
 //!   relative velocity of its two material points, from which w_N follows.
 //!
@@ -134,7 +135,9 @@ pub use planar::{
     Circle, ContactGeometry, LineMotion, PointMotion, PoseMotion, ScalarMotion, Side, chain_rule,
     circle_circle, circle_line, corner_line, point_line, rectangle_corners,
 };
-pub use shapes::{Aabb, BroadPhase, ManifoldPoint, Pose, Shape, collide, max_points};
+pub use shapes::{
+    Aabb, BroadPhase, ManifoldPoint, Placement, Pose, Shape, collide, collide_placed, max_points,
+};
 
 /// Kinematic quantities of one contact at `(q, t)`, besides its force directions.
 ///

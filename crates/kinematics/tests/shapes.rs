@@ -6,7 +6,8 @@ use std::f64::consts::PI;
 
 use approx::assert_relative_eq;
 use moreau_kinematics::{
-    Aabb, BroadPhase, KinematicsError, ManifoldPoint, Pose, Shape, SplitMix64, collide, max_points,
+    Aabb, BroadPhase, KinematicsError, ManifoldPoint, Placement, Pose, Shape, SplitMix64, collide,
+    collide_placed, max_points,
 };
 
 fn points(a: &Shape, pa: Pose, b: &Shape, pb: Pose, margin: f64) -> Vec<ManifoldPoint> {
@@ -184,14 +185,14 @@ fn check_rate(a: &Shape, b: &Shape, seed: u64, deepest: f64) -> usize {
     checked
 }
 
-#[test]
-fn gap_rate_is_the_normal_relative_velocity_for_every_pair() {
+/// One pair of every supported kind of shapes, named.
+fn every_pair() -> Vec<(&'static str, Shape, Shape)> {
     let tri = Shape::Polygon { vertices: vec![[-0.15, -0.1], [0.2, -0.05], [0.0, 0.2]] };
     let cap = Shape::Capsule { a: [-0.2, 0.0], b: [0.15, 0.05], radius: 0.06 };
     let seg = Shape::Capsule { a: [-0.2, 0.03], b: [0.2, -0.03], radius: 0.0 };
     let plane = Shape::HalfPlane { point: [0.0, 0.05], normal: [0.3, 1.0] };
     let d = disk(0.03, -0.02, 0.12);
-    let pairs: Vec<(&str, Shape, Shape)> = vec![
+    vec![
         ("disk-disk", d.clone(), disk(0.0, 0.05, 0.1)),
         ("disk-polygon", d.clone(), rect(0.3, 0.2)),
         ("polygon-disk", tri.clone(), d.clone()),
@@ -212,11 +213,46 @@ fn gap_rate_is_the_normal_relative_velocity_for_every_pair() {
         ("capsule-profile", seg.clone(), cam()),
         ("half_plane-polyline", plane.clone(), zigzag()),
         ("profile-half_plane", cam(), plane.clone()),
-    ];
+    ]
+}
+
+#[test]
+fn gap_rate_is_the_normal_relative_velocity_for_every_pair() {
+    let pairs = every_pair();
     for (k, (name, a, b)) in pairs.iter().enumerate() {
         let checked = check_rate(a, b, 100 + k as u64, 0.05);
         assert!(checked >= 30, "{name}: only {checked} points checked");
     }
+}
+
+#[test]
+fn shapes_placed_once_collide_and_bound_as_their_poses_do() {
+    let mut rng = SplitMix64::new(17);
+    let mut touching = 0;
+    for (name, a, b) in every_pair() {
+        for _ in 0..200 {
+            let mut pose = || {
+                let theta = if rng.below(4) == 0 { 0.0 } else { rng.uniform(-PI, PI) };
+                Pose::new(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), theta)
+            };
+            let (pa, pb) = (pose(), pose());
+            // The rotation as a caller that already has it would give it.
+            let given = |p: &Pose| {
+                let (sin, cos) = if p.theta == 0.0 { (0.0, 1.0) } else { p.theta.sin_cos() };
+                Placement::with_rotation(p, cos, sin)
+            };
+            let expected = points(&a, pa, &b, pb, 0.1);
+            touching += usize::from(!expected.is_empty());
+            for (la, lb) in [(Placement::new(&pa), Placement::new(&pb)), (given(&pa), given(&pb))] {
+                assert_eq!((la.pose(), lb.pose()), (pa, pb));
+                let mut out = Vec::new();
+                collide_placed(&a, &la, &b, &lb, 0.1, &mut out).unwrap();
+                assert_eq!(out, expected, "{name}");
+                assert_eq!((a.aabb_placed(&la), b.aabb_placed(&lb)), (a.aabb(&pa), b.aabb(&pb)));
+            }
+        }
+    }
+    assert!(touching > 1000, "{touching} touching placements");
 }
 
 #[test]

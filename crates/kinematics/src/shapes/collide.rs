@@ -2,7 +2,7 @@
 
 use super::convex::{Core, CorePoint, Feature, point_contact, polygon_contacts};
 use super::nonconvex::{convex_chain, half_plane_chain};
-use super::shape::Frame;
+use super::shape::Placement;
 use super::{ManifoldPoint, Pose, Shape};
 use crate::KinematicsError;
 
@@ -78,6 +78,22 @@ pub fn collide(
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) -> Result<(), KinematicsError> {
+    collide_placed(a, &Placement::new(pose_a), b, &Placement::new(pose_b), margin, out)
+}
+
+/// [`collide`] of two shapes so placed: the same points, bit for bit, without computing the
+/// placements' sines and cosines again.
+///
+/// # Errors
+/// As [`collide`].
+pub fn collide_placed(
+    a: &Shape,
+    pose_a: &Placement,
+    b: &Shape,
+    pose_b: &Placement,
+    margin: f64,
+    out: &mut Vec<ManifoldPoint>,
+) -> Result<(), KinematicsError> {
     use Shape::*;
     if !(margin >= 0.0) {
         return Err(KinematicsError::InvalidOption { name: "margin", value: margin });
@@ -101,14 +117,32 @@ pub fn collide(
         (Polyline { points }, convex) | (Profile { points }, convex) => {
             let closed = matches!(a, Profile { .. });
             with_core(convex, pose_b, |x| {
-                convex_chain(x, convex.aabb(pose_b), points, closed, pose_a, false, margin, out)
+                convex_chain(
+                    x,
+                    convex.aabb_placed(pose_b),
+                    points,
+                    closed,
+                    pose_a,
+                    false,
+                    margin,
+                    out,
+                )
             });
             Ok(())
         }
         (convex, Polyline { points }) | (convex, Profile { points }) => {
             let closed = matches!(b, Profile { .. });
             with_core(convex, pose_a, |x| {
-                convex_chain(x, convex.aabb(pose_a), points, closed, pose_b, true, margin, out)
+                convex_chain(
+                    x,
+                    convex.aabb_placed(pose_a),
+                    points,
+                    closed,
+                    pose_b,
+                    true,
+                    margin,
+                    out,
+                )
             });
             Ok(())
         }
@@ -139,8 +173,8 @@ fn usable(shape: &Shape) -> Result<(), KinematicsError> {
 }
 
 /// Calls `f` with the convex core of a disk, capsule or polygon at `pose`.
-fn with_core<R>(shape: &Shape, pose: &Pose, f: impl FnOnce(&Core<'_>) -> R) -> R {
-    let frame = Frame::new(pose);
+fn with_core<R>(shape: &Shape, frame: &Placement, f: impl FnOnce(&Core<'_>) -> R) -> R {
+    let frame = *frame;
     match shape {
         Shape::Disk { center, radius } => {
             f(&Core::new(std::slice::from_ref(center), frame, *radius, false))
@@ -194,14 +228,14 @@ fn convex_pair(a: &Core<'_>, b: &Core<'_>, margin: f64, out: &mut Vec<ManifoldPo
 fn half_plane(
     point: &[f64; 2],
     normal: &[f64; 2],
-    pose: &Pose,
+    pose: &Placement,
     other: &Shape,
-    other_pose: &Pose,
+    other_pose: &Placement,
     plane_is_a: bool,
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) {
-    let frame = Frame::new(pose);
+    let frame = pose;
     let origin = frame.point(*point);
     let n = frame.vector(*normal).normalize();
     match other {

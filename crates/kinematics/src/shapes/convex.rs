@@ -10,7 +10,7 @@
 //! And parry's polygons own their vertices: building one from a [`super::Shape`] per call
 //! would allocate, where these cores borrow the shape's slices.
 
-use super::shape::{Frame, V};
+use super::shape::{Placement, V};
 
 /// Right-hand normal of an edge direction: outward for a counter-clockwise polygon.
 #[inline]
@@ -32,7 +32,7 @@ const CACHED: usize = 8;
 #[derive(Clone, Copy)]
 pub(crate) struct Core<'a> {
     vertices: &'a [[f64; 2]],
-    frame: Frame,
+    frame: Placement,
     pub radius: f64,
     one_sided: bool,
     world: [V; CACHED],
@@ -60,7 +60,7 @@ pub(crate) struct CorePoint {
 }
 
 impl<'a> Core<'a> {
-    pub fn new(vertices: &'a [[f64; 2]], frame: Frame, radius: f64, one_sided: bool) -> Self {
+    pub fn new(vertices: &'a [[f64; 2]], frame: Placement, radius: f64, one_sided: bool) -> Self {
         let mut world = [V::zeros(); CACHED];
         if vertices.len() <= CACHED {
             for (w, v) in world.iter_mut().zip(vertices) {
@@ -437,7 +437,7 @@ mod tests {
     #[test]
     fn closest_point_of_a_polygon_outside_at_a_corner_and_inside() {
         let v = square();
-        let c = Core::new(&v, Frame::new(&Pose::default()), 0.0, false);
+        let c = Core::new(&v, Placement::new(&Pose::default()), 0.0, false);
         // Beside a face: its interior, at distance 0.5.
         let (q, dir, s, f) = closest_to_point(&c, V::new(1.5, 0.2));
         assert_eq!(f, Feature::Edge(1));
@@ -455,7 +455,7 @@ mod tests {
     #[test]
     fn a_one_sided_segment_has_one_face_and_a_two_sided_one_two() {
         let ends = [[0.0, 0.0], [1.0, 0.0]];
-        let frame = Frame::new(&Pose::default());
+        let frame = Placement::new(&Pose::default());
         let one = Core::new(&ends, frame, 0.0, true);
         let two = Core::new(&ends, frame, 0.0, false);
         assert_eq!((one.faces(), two.faces()), (1, 2));
@@ -469,8 +469,8 @@ mod tests {
     fn corners_facing_each_other_give_their_closest_pair() {
         // Two unit squares, the second moved by (3, 4) from the first's corner (1, 1).
         let v = square();
-        let a = Core::new(&v, Frame::new(&Pose::default()), 0.0, false);
-        let b = Core::new(&v, Frame::new(&Pose::new(5.0, 6.0, 0.0)), 0.0, false);
+        let a = Core::new(&v, Placement::new(&Pose::default()), 0.0, false);
+        let b = Core::new(&v, Placement::new(&Pose::new(5.0, 6.0, 0.0)), 0.0, false);
         let mut points = Vec::new();
         polygon_contacts(&a, &b, 10.0, &mut |p| points.push(p));
         let closest = points.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);

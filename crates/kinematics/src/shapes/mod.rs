@@ -59,8 +59,8 @@ mod nonconvex;
 mod shape;
 
 pub use broad::BroadPhase;
-pub use collide::{collide, max_points};
-pub use shape::Shape;
+pub use collide::{collide, collide_placed, max_points};
+pub use shape::{Placement, Shape};
 
 use serde::{Deserialize, Serialize};
 

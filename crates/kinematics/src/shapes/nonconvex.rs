@@ -11,8 +11,8 @@
 
 use super::collide::manifold_point;
 use super::convex::{Core, CorePoint, Feature, closest_to_point, point_pair, polygon_contacts};
-use super::shape::{Frame, V};
-use super::{Aabb, ManifoldPoint, Pose};
+use super::shape::{Placement, V};
+use super::{Aabb, ManifoldPoint};
 
 /// The slope, relative to a segment's length, below which two chain points count as level.
 const LEVEL: f64 = 1e-9;
@@ -24,12 +24,11 @@ pub(crate) fn convex_chain(
     x_box: Aabb,
     points: &[[f64; 2]],
     closed: bool,
-    pose: &Pose,
+    frame: &Placement,
     x_is_a: bool,
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) {
-    let frame = Frame::new(pose);
     let p = points.len();
     let m = if closed { p } else { p - 1 };
     let n_x = x.len();
@@ -38,14 +37,14 @@ pub(crate) fn convex_chain(
     let vertex_id = |v: usize| m * n_x + v % p;
     let flip = !x_is_a;
 
-    if closed && n_x == 1 && inside(x.vertex(0), &frame, points) {
+    if closed && n_x == 1 && inside(x.vertex(0), frame, points) {
         // A disk whose centre has entered the solid: one point, on the nearest segment, with
         // the direction reversed so that the gap −(d + r) grows as the disk comes out.
         let c = x.vertex(0);
         let mut best: Option<(V, V, f64, usize, Feature)> = None;
         for k in 0..m {
             let ends = [points[k], points[(k + 1) % p]];
-            let seg = Core::new(&ends, frame, 0.0, true);
+            let seg = Core::new(&ends, *frame, 0.0, true);
             let (q, dir, d, feature) = closest_to_point(&seg, c);
             if best.is_none_or(|b| d < b.2) {
                 best = Some((q, dir, d, k, feature));
@@ -77,7 +76,7 @@ pub(crate) fn convex_chain(
             continue;
         }
         let ends = [points[k], points[(k + 1) % p]];
-        let seg = Core::new(&ends, frame, 0.0, closed);
+        let seg = Core::new(&ends, *frame, 0.0, closed);
         let mut emit = |cp: CorePoint| {
             let id = match cp.on_b {
                 Feature::Edge(_) => match cp.on_a {
@@ -141,7 +140,7 @@ fn local_minimum(
 
 /// Whether the world point `c` lies inside the closed chain through `points` at `frame`, by
 /// the parity of the crossings of a ray towards +x.
-fn inside(c: V, frame: &Frame, points: &[[f64; 2]]) -> bool {
+fn inside(c: V, frame: &Placement, points: &[[f64; 2]]) -> bool {
     let p = points.len();
     let mut odd = false;
     let mut a = frame.point(points[p - 1]);
@@ -163,12 +162,11 @@ pub(crate) fn half_plane_chain(
     n: V,
     points: &[[f64; 2]],
     closed: bool,
-    pose: &Pose,
+    frame: &Placement,
     plane_is_a: bool,
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) {
-    let frame = Frame::new(pose);
     let p = points.len();
     let point = |v: usize| frame.point(points[v % p]);
     let height = |v: usize| n.dot(&(point(v) - origin));

@@ -11,30 +11,48 @@ use crate::KinematicsError;
 /// A world vector or point.
 pub(crate) type V = Vector2<f64>;
 
-/// A body frame as a rotation (cos θ, sin θ) and a translation, to map body points to the world.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Frame {
-    pub cos: f64,
-    pub sin: f64,
-    pub origin: V,
+/// A body's placement in the world: its [`Pose`] with the cosine and sine of its orientation,
+/// computed once. [`collide_placed`](crate::shapes::collide_placed) and [`Shape::aabb_placed`]
+/// take shapes so placed, so that a body placed against several others, or whose caller has
+/// cos θ and sin θ already, does not have them computed again; [`crate::collide`] and
+/// [`Shape::aabb`] place their poses themselves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    pub(crate) cos: f64,
+    pub(crate) sin: f64,
+    pub(crate) origin: V,
+    theta: f64,
 }
 
-impl Frame {
+impl Placement {
+    /// The placement at `pose`: cos θ and sin θ by `f64::sin_cos` (no call at θ = 0).
     pub fn new(pose: &Pose) -> Self {
         // Fixed bodies (floors, walls) are mostly unturned: their frame costs no sine.
         let (sin, cos) = if pose.theta == 0.0 { (0.0, 1.0) } else { pose.theta.sin_cos() };
-        Self { cos, sin, origin: V::new(pose.x, pose.y) }
+        Self::with_rotation(pose, cos, sin)
+    }
+
+    /// The placement at `pose` with the caller's `cos` and `sin`, which must be cos θ and
+    /// sin θ of `pose.theta` as [`Placement::new`] computes them (`(1, 0)` at θ = 0, else
+    /// `f64::sin_cos`): the results are then those of the placement by `new`, bit for bit.
+    pub fn with_rotation(pose: &Pose, cos: f64, sin: f64) -> Self {
+        Self { cos, sin, origin: V::new(pose.x, pose.y), theta: pose.theta }
+    }
+
+    /// The pose.
+    pub fn pose(&self) -> Pose {
+        Pose { x: self.origin.x, y: self.origin.y, theta: self.theta }
     }
 
     /// A body vector in the world.
     #[inline]
-    pub fn vector(&self, v: [f64; 2]) -> V {
+    pub(crate) fn vector(&self, v: [f64; 2]) -> V {
         V::new(self.cos * v[0] - self.sin * v[1], self.sin * v[0] + self.cos * v[1])
     }
 
     /// A body point in the world.
     #[inline]
-    pub fn point(&self, p: [f64; 2]) -> V {
+    pub(crate) fn point(&self, p: [f64; 2]) -> V {
         self.origin + self.vector(p)
     }
 }
@@ -405,7 +423,11 @@ impl Shape {
     /// The world bounding box of the shape at `pose`. A half-plane's box is bounded only
     /// along an axis that its normal is exactly parallel to.
     pub fn aabb(&self, pose: &Pose) -> Aabb {
-        let frame = Frame::new(pose);
+        self.aabb_placed(&Placement::new(pose))
+    }
+
+    /// [`Shape::aabb`] of the shape so placed.
+    pub fn aabb_placed(&self, frame: &Placement) -> Aabb {
         let around = |points: &mut dyn Iterator<Item = V>, r: f64| {
             let mut min = V::repeat(f64::INFINITY);
             let mut max = V::repeat(f64::NEG_INFINITY);

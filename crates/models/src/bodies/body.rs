@@ -1,6 +1,6 @@
 //! Built bodies: where each body is at (q, t), and how a point of it moves with q and t.
 
-use moreau_kinematics::{Pose, Shape};
+use moreau_kinematics::{Placement, Pose, Shape};
 
 use super::spec::{DrivenState, Motion};
 
@@ -87,6 +87,12 @@ impl Frame {
     #[inline]
     pub fn pose(&self) -> Pose {
         Pose { x: self.p[0], y: self.p[1], theta: self.theta }
+    }
+
+    /// The frame as the kinematics' placement, with the frame's cos θ and sin θ.
+    #[inline]
+    pub fn placement(&self) -> Placement {
+        Placement::with_rotation(&self.pose(), self.cos, self.sin)
     }
 
     /// R(θ) r: a body-frame vector in the world.

@@ -11,7 +11,7 @@
 
 use std::cell::RefCell;
 
-use moreau_kinematics::{Aabb, ManifoldPoint, Shape, collide, max_points};
+use moreau_kinematics::{Aabb, ManifoldPoint, Shape, collide, collide_placed, max_points};
 use moreau_setvalued::ContactLaw;
 
 use super::body::{Body, Frame, Kind};
@@ -248,8 +248,8 @@ impl Multibody {
     ) {
         let (sa, sb): (&Shape, &Shape) =
             (&self.bodies[pair.a].shapes[pair.shape_a], &self.bodies[pair.b].shapes[pair.shape_b]);
-        let (pa, pb) = (fa.pose(), fb.pose());
-        let far = box_distance(&sa.aabb(&pa), &sb.aabb(&pb));
+        let (pa, pb) = (fa.placement(), fb.placement());
+        let far = box_distance(&sa.aabb_placed(&pa), &sb.aabb_placed(&pb));
         let open = SlotGeometry { gap: far.max(pair.margin), ..SlotGeometry::default() };
         if far > pair.margin {
             (0..pair.count).for_each(|k| emit(k, open));
@@ -260,7 +260,7 @@ impl Multibody {
             points.clear();
             // A pair was accepted at build time, so the narrow phase cannot refuse it; should it
             // still fail, the gaps are not numbers and the stepper stops with a typed error.
-            if collide(sa, &pa, sb, &pb, pair.margin, &mut points).is_err() {
+            if collide_placed(sa, &pa, sb, &pb, pair.margin, &mut points).is_err() {
                 let failed = SlotGeometry { gap: f64::NAN, ..SlotGeometry::default() };
                 (0..pair.count).for_each(|k| emit(k, failed));
                 return;

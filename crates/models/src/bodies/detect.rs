@@ -14,7 +14,7 @@
 
 use std::cell::RefCell;
 
-use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Shape, collide, max_points};
+use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Shape, collide_placed, max_points};
 use moreau_setvalued::ContactLaw;
 use moreau_stepper::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
 use rayon::prelude::*;
@@ -206,7 +206,9 @@ impl Multibody {
         let (fa, fb) = (&frames[a], &frames[b]);
         let (shape_a, shape_b) = (&self.bodies[a].shapes[sa], &self.bodies[b].shapes[sb]);
         points.clear();
-        if collide(shape_a, &fa.pose(), shape_b, &fb.pose(), margin, points).is_err() {
+        if collide_placed(shape_a, &fa.placement(), shape_b, &fb.placement(), margin, points)
+            .is_err()
+        {
             // The pairs were checked at build time; a margin that is not a number gives a gap
             // that is not one, and the stepper stops with a typed error.
             let failed = ManifoldPoint {
@@ -289,7 +291,8 @@ impl BodyStructure for Multibody {
         let parallel = in_parallel(n);
         self.frames_into(q, t, frames);
         let frames = &*frames;
-        let aabb = |&(b, s): &(usize, usize)| self.bodies[b].shapes[s].aabb(&frames[b].pose());
+        let aabb =
+            |&(b, s): &(usize, usize)| self.bodies[b].shapes[s].aabb_placed(&frames[b].placement());
         boxes.clear();
         if parallel {
             boxes.par_extend(detector.colliders.par_iter().with_min_len(CHUNK_ITEMS).map(aabb));
