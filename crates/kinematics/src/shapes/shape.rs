@@ -26,6 +26,7 @@ pub struct Placement {
 
 impl Placement {
     /// The placement at `pose`: cos θ and sin θ by `f64::sin_cos` (no call at θ = 0).
+    #[inline]
     pub fn new(pose: &Pose) -> Self {
         // Fixed bodies (floors, walls) are mostly unturned: their frame costs no sine.
         let (sin, cos) = if pose.theta == 0.0 { (0.0, 1.0) } else { pose.theta.sin_cos() };
@@ -35,11 +36,13 @@ impl Placement {
     /// The placement at `pose` with the caller's `cos` and `sin`, which must be cos θ and
     /// sin θ of `pose.theta` as [`Placement::new`] computes them (`(1, 0)` at θ = 0, else
     /// `f64::sin_cos`): the results are then those of the placement by `new`, bit for bit.
+    #[inline]
     pub fn with_rotation(pose: &Pose, cos: f64, sin: f64) -> Self {
         Self { cos, sin, origin: V::new(pose.x, pose.y), theta: pose.theta }
     }
 
     /// The pose.
+    #[inline]
     pub fn pose(&self) -> Pose {
         Pose { x: self.origin.x, y: self.origin.y, theta: self.theta }
     }
