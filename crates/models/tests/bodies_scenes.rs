@@ -100,13 +100,18 @@ fn bad_settings_name_the_path_and_leave_the_scene_alone() {
     assert_eq!(scene, before);
 }
 
-#[test]
-fn malformed_declared_scenes_name_the_field() {
-    let text = std::fs::read_to_string(
+/// The text of `scenes/bodies/pendulum-wall.toml`.
+fn pendulum_wall() -> String {
+    std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../scenes/bodies/pendulum-wall.toml"),
     )
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn malformed_declared_scenes_name_the_field() {
+    let text = pendulum_wall();
     let unknown = text.replace("mass = 1.0", "mas = 1.0");
     match Scene::from_toml_str(&unknown) {
         Err(ModelError::Parse { field, message, .. }) => {
@@ -139,11 +144,7 @@ fn malformed_declared_scenes_name_the_field() {
 
 #[test]
 fn a_dynamic_body_without_its_mass_properties_names_the_field_it_lacks() {
-    let text = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../scenes/bodies/pendulum-wall.toml"),
-    )
-    .unwrap();
+    let text = pendulum_wall();
     let error = |text: String| match Scene::from_toml_str(&text).and_then(|s| s.build()) {
         Err(ModelError::BadValue { key, value, reason }) => (key, value, reason),
         other => panic!("{other:?}"),
@@ -181,11 +182,7 @@ fn a_dynamic_body_without_its_mass_properties_names_the_field_it_lacks() {
 
 #[test]
 fn a_missing_field_is_named_once() {
-    let text = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../scenes/bodies/pendulum-wall.toml"),
-    )
-    .unwrap();
+    let text = pendulum_wall();
     let no_position = text.replace("position = [0.0, 0.0]  # m\n", "");
     match Scene::from_toml_str(&no_position) {
         Err(ModelError::Parse { field, message, .. }) => {

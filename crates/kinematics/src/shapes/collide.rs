@@ -88,9 +88,9 @@ pub fn collide(
 /// As [`collide`].
 pub fn collide_placed(
     a: &Shape,
-    pose_a: &Placement,
+    place_a: &Placement,
     b: &Shape,
-    pose_b: &Placement,
+    place_b: &Placement,
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) -> Result<(), KinematicsError> {
@@ -107,22 +107,22 @@ pub fn collide_placed(
         (HalfPlane { .. }, HalfPlane { .. }) => Err(unsupported()),
         (Polyline { .. } | Profile { .. }, Polyline { .. } | Profile { .. }) => Err(unsupported()),
         (HalfPlane { point, normal }, other) => {
-            half_plane(point, normal, pose_a, other, pose_b, true, margin, out);
+            half_plane(point, normal, place_a, other, place_b, true, margin, out);
             Ok(())
         }
         (other, HalfPlane { point, normal }) => {
-            half_plane(point, normal, pose_b, other, pose_a, false, margin, out);
+            half_plane(point, normal, place_b, other, place_a, false, margin, out);
             Ok(())
         }
         (Polyline { points }, convex) | (Profile { points }, convex) => {
             let closed = matches!(a, Profile { .. });
-            with_core(convex, pose_b, |x| {
+            with_core(convex, place_b, |x| {
                 convex_chain(
                     x,
-                    convex.aabb_placed(pose_b),
+                    convex.aabb_placed(place_b),
                     points,
                     closed,
-                    pose_a,
+                    place_a,
                     false,
                     margin,
                     out,
@@ -132,13 +132,13 @@ pub fn collide_placed(
         }
         (convex, Polyline { points }) | (convex, Profile { points }) => {
             let closed = matches!(b, Profile { .. });
-            with_core(convex, pose_a, |x| {
+            with_core(convex, place_a, |x| {
                 convex_chain(
                     x,
-                    convex.aabb_placed(pose_a),
+                    convex.aabb_placed(place_a),
                     points,
                     closed,
-                    pose_b,
+                    place_b,
                     true,
                     margin,
                     out,
@@ -147,8 +147,8 @@ pub fn collide_placed(
             Ok(())
         }
         _ => {
-            with_core(a, pose_a, |ca| {
-                with_core(b, pose_b, |cb| convex_pair(ca, cb, margin, out));
+            with_core(a, place_a, |ca| {
+                with_core(b, place_b, |cb| convex_pair(ca, cb, margin, out));
             });
             Ok(())
         }
@@ -172,7 +172,7 @@ fn usable(shape: &Shape) -> Result<(), KinematicsError> {
     }
 }
 
-/// Calls `f` with the convex core of a disk, capsule or polygon at `pose`.
+/// Calls `f` with the convex core of a disk, capsule or polygon so placed.
 fn with_core<R>(shape: &Shape, frame: &Placement, f: impl FnOnce(&Core<'_>) -> R) -> R {
     let frame = *frame;
     match shape {
@@ -223,27 +223,26 @@ fn convex_pair(a: &Core<'_>, b: &Core<'_>, margin: f64, out: &mut Vec<ManifoldPo
     });
 }
 
-/// A half-plane (boundary through `point`, outward `normal`, body at `pose`) against `other`
-/// at `other_pose`; `plane_is_a` tells which of A and B the half-plane is.
+/// A half-plane (boundary through `point`, outward `normal`, body at `frame`) against `other`
+/// at `other_frame`; `plane_is_a` tells which of A and B the half-plane is.
 fn half_plane(
     point: &[f64; 2],
     normal: &[f64; 2],
-    pose: &Placement,
+    frame: &Placement,
     other: &Shape,
-    other_pose: &Placement,
+    other_frame: &Placement,
     plane_is_a: bool,
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) {
-    let frame = pose;
     let origin = frame.point(*point);
     let n = frame.vector(*normal).normalize();
     match other {
         Shape::Polyline { points } | Shape::Profile { points } => {
             let closed = matches!(other, Shape::Profile { .. });
-            half_plane_chain(origin, n, points, closed, other_pose, plane_is_a, margin, out);
+            half_plane_chain(origin, n, points, closed, other_frame, plane_is_a, margin, out);
         }
-        _ => with_core(other, other_pose, |c| {
+        _ => with_core(other, other_frame, |c| {
             for i in 0..c.len() {
                 let v = c.vertex(i);
                 let height = n.dot(&(v - origin));

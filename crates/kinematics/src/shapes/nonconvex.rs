@@ -18,7 +18,7 @@ use super::{Aabb, ManifoldPoint};
 const LEVEL: f64 = 1e-9;
 
 /// A convex shape `x` (its world box `x_box`) against the chain through `points` (closed for a
-/// profile) at `pose`; `x_is_a` tells which of A and B the convex shape is.
+/// profile) at `frame`; `x_is_a` tells which of A and B the convex shape is.
 pub(crate) fn convex_chain(
     x: &Core<'_>,
     x_box: Aabb,
@@ -155,7 +155,7 @@ fn inside(c: V, frame: &Placement, points: &[[f64; 2]]) -> bool {
 }
 
 /// A half-plane (boundary through `origin`, unit outward normal `n`) against the chain through
-/// `points` at `pose`: each point whose height above the boundary is a local minimum along the
+/// `points` at `frame`: each point whose height above the boundary is a local minimum along the
 /// chain (every point of a flat run) and at most `margin`.
 pub(crate) fn half_plane_chain(
     origin: V,

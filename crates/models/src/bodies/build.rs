@@ -90,6 +90,9 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
     let kind = match spec.kind {
         BodyType::Dynamic => {
             refuse("motion", spec.motion.is_some(), "only a driven body has a motion")?;
+            let why = |what: &str| {
+                format!("a dynamic body needs either mass and inertia or a density; {what}")
+            };
             let (mass, inertia, com) = match (spec.mass, spec.inertia, spec.density) {
                 (Some(m), Some(i), None) => {
                     positive(&field("mass"), m)?;
@@ -133,23 +136,21 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
                     }
                     (rho * area, rho * polar, [first[0] / area, first[1] / area])
                 }
-                (mass, inertia, density) => {
-                    let either = "a dynamic body needs either mass and inertia or a density";
-                    let why = |what: &str| format!("{either}; {what}");
-                    return Err(match (mass, inertia, density) {
-                        (Some(_), None, None) => {
-                            bad(field("inertia"), "(missing)", why("`mass` is given"))
-                        }
-                        (None, Some(_), None) => {
-                            bad(field("mass"), "(missing)", why("`inertia` is given"))
-                        }
-                        (_, _, Some(rho)) if mass.is_some() || inertia.is_some() => bad(
-                            field("density"),
-                            &rho.to_string(),
-                            why("`density` is given with `mass` or `inertia`, not instead"),
-                        ),
-                        _ => bad(field("mass"), "(missing)", why("none is given")),
-                    });
+                (Some(_), None, None) => {
+                    return Err(bad(field("inertia"), "(missing)", why("`mass` is given")));
+                }
+                (None, Some(_), None) => {
+                    return Err(bad(field("mass"), "(missing)", why("`inertia` is given")));
+                }
+                (None, None, None) => {
+                    return Err(bad(field("mass"), "(missing)", why("none is given")));
+                }
+                (_, _, Some(rho)) => {
+                    return Err(bad(
+                        field("density"),
+                        &rho.to_string(),
+                        why("`density` is given with `mass` or `inertia`, not instead"),
+                    ));
                 }
             };
             Kind::Dynamic { dof, mass, inertia, com }
