@@ -43,12 +43,21 @@ pub enum ModelError {
         source: std::io::Error,
     },
     /// A `--set key=value` whose key the scene does not have.
-    #[error("unknown key `{key}`; accepted keys: {}", accepted.join(", "))]
+    #[error("unknown key `{key}`; the scene's keys: {}{}", accepted.join(", "),
+        if *declared {
+            "; and the optional fields that a body, joint, contact or the scene leaves out \
+             (such as `bodies.<name>.density`, `joints.<name>.angle`, `projection`)"
+        } else {
+            ""
+        })]
     UnknownKey {
         /// The rejected key.
         key: String,
-        /// Every key the scene accepts.
+        /// The keys the scene writes ([`Scene::keys`](crate::Scene::keys)).
         accepted: Vec<String>,
+        /// Whether the scene declares its mechanism, whose tables also take the optional
+        /// fields they leave out.
+        declared: bool,
     },
     /// A `--set key=value` whose value does not parse or is out of range.
     #[error("bad value `{value}` for `{key}`: {reason}")]

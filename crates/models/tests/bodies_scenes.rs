@@ -55,13 +55,17 @@ fn set_reaches_every_declared_field_by_its_path() {
     scene.set("contacts.hit.mu", "0.2").unwrap();
     scene.set("gravity.1", "-1.62").unwrap();
     scene.set("joints.hinge.anchor_a", "[0.01, 0.0]").unwrap();
-    // A field the file leaves at its default.
+    // Fields the file leaves at their defaults: the initial state is written out, so that
+    // an entry of the velocity is a key too.
+    assert!(scene.keys().iter().any(|k| k == "bodies.bob.velocity"), "{:?}", scene.keys());
     scene.set("bodies.bob.angle", "0.3").unwrap();
     scene.set("bodies.1.omega", "1.5").unwrap();
+    scene.set("bodies.bob.velocity.0", "0.25").unwrap();
     scene.set("projection", "false").unwrap();
     let s = spec(&scene);
     let bob = &s.bodies[1];
     assert_eq!((bob.mass, bob.position[1], bob.angle, bob.omega), (Some(2.0), -0.9, 0.3, 1.5));
+    assert_eq!(bob.velocity, [0.25, 0.0]);
     assert_eq!(bob.kind, BodyType::Dynamic);
     assert_eq!((s.contacts[0].mu, s.gravity[1]), (0.2, -1.62));
     assert!(
@@ -90,9 +94,15 @@ fn bad_settings_name_the_path_and_leave_the_scene_alone() {
         other => panic!("{other:?}"),
     }
     match scene.set("bodies.nobody.mass", "1") {
-        Err(ModelError::UnknownKey { key, accepted }) => {
+        Err(e @ ModelError::UnknownKey { .. }) => {
+            let message = e.to_string();
+            let ModelError::UnknownKey { key, accepted, declared } = e else { unreachable!() };
             assert_eq!(key, "bodies.nobody.mass");
             assert!(accepted.iter().any(|k| k == "contacts.hit.eps_n"));
+            // The list is the scene's keys, and the message says that a declared scene takes
+            // the optional fields it leaves out as well.
+            assert!(declared && !accepted.iter().any(|k| k == "bodies.bob.density"));
+            assert!(message.contains("optional fields"), "{message}");
         }
         other => panic!("{other:?}"),
     }

@@ -176,8 +176,9 @@ fn set_rejects_unknown_keys_and_bad_values() {
     let mut scene = Scene::report(ModelKind::Ball);
     let before = scene.clone();
     match scene.set("bounciness", "1") {
-        Err(ModelError::UnknownKey { key, accepted }) => {
+        Err(ModelError::UnknownKey { key, accepted, declared }) => {
             assert_eq!(key, "bounciness");
+            assert!(!declared);
             for k in ["dt", "t_end", "solver", "record_every", "eps_n", "m", "init.v0"] {
                 assert!(accepted.contains(&k.to_string()), "{k} missing from {accepted:?}");
             }

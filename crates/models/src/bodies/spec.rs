@@ -114,14 +114,6 @@ fn default_mask() -> u32 {
     u32::MAX
 }
 
-fn is_zero2(v: &[f64; 2]) -> bool {
-    *v == [0.0, 0.0]
-}
-
-fn is_zero(v: &f64) -> bool {
-    *v == 0.0
-}
-
 /// One body.
 ///
 /// A dynamic body states either `mass` and `inertia` (with `center_of_mass`, default the body
@@ -152,14 +144,16 @@ pub struct BodySpec {
     pub density: Option<f64>,
     /// Position of the body origin `[x, y]` at t = 0 (m); for a driven body, p₀ of its motion.
     pub position: [f64; 2],
-    /// Orientation θ at t = 0 (rad); default 0.
-    #[serde(default, skip_serializing_if = "is_zero")]
+    /// Orientation θ at t = 0 (rad); default 0. Written out even at its default, with
+    /// `velocity` and `omega`, so that every body's initial state is a key of its scene
+    /// (`--set bodies.<name>.velocity.0=1`).
+    #[serde(default)]
     pub angle: f64,
     /// Initial velocity of the origin `[ẋ, ẏ]` (m/s), dynamic bodies; default 0.
-    #[serde(default, skip_serializing_if = "is_zero2")]
+    #[serde(default)]
     pub velocity: [f64; 2],
     /// Initial angular velocity θ̇ (rad/s), dynamic bodies; default 0.
-    #[serde(default, skip_serializing_if = "is_zero")]
+    #[serde(default)]
     pub omega: f64,
     /// The motion of a driven body (required for `type = "driven"`, refused otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -8,9 +8,13 @@ use super::Scene;
 use crate::{ModelError, ModelKind};
 
 impl Scene {
-    /// Every key [`Self::set`] accepts: the scene's keys (`dt`, `t_end`, `record_every`,
-    /// `solver`, ...) and then the model's parameters without the `params.` prefix (`m`,
-    /// `eps_n`, `init.y0`, `beak.mu`, ...).
+    /// The keys the scene writes, which [`Self::set`] accepts: the scene's keys (`dt`,
+    /// `t_end`, `record_every`, `solver`, ...) and then the model's parameters without the
+    /// `params.` prefix (`m`, `eps_n`, `init.y0`, `beak.mu`, ...), or a declared mechanism's
+    /// (`bodies.<name>.velocity`, `joints.<name>.anchor_a`, `contacts.<name>.mu`, ...; an
+    /// array's entry as `bodies.<name>.velocity.0`).
+    /// [`Self::set`] also takes, in a declared scene, the optional fields that its tables
+    /// leave out (`bodies.<name>.density`, `projection`).
     pub fn keys(&self) -> Vec<String> {
         self.leaves().into_iter().map(|(display, _)| display).collect()
     }
@@ -74,7 +78,11 @@ impl Scene {
         {
             return Ok(vec![key.to_owned()]);
         }
-        Err(ModelError::UnknownKey { key: key.to_owned(), accepted: self.keys() })
+        Err(ModelError::UnknownKey {
+            key: key.to_owned(),
+            accepted: self.keys(),
+            declared: self.kind() == ModelKind::Declared,
+        })
     }
 
     /// Sets one value, as given on a command line by `--set key=value`.
