@@ -51,7 +51,7 @@ fn law() -> impl Strategy<Value = LawParams> {
 /// numbers everywhere; returns the model and the record.
 ///
 /// With friction and tangential restitution (ε_T > 0) the LCP of eq. 7.41 can have no
-/// solution at all (tests/extremes.rs shows one). Such a run must stop with
+/// solution at all (tests/extremes/drift.rs shows one). Such a run must stop with
 /// [`StepError::LcpFailed`], and then complete enumeration must confirm that the LCP it
 /// carries has no solution: the stepper never gives up on a solvable step. That outcome is
 /// returned as `None`.
@@ -189,7 +189,7 @@ proptest! {
         let mut options = StepperOptions::new(dt);
         options.projection = projection;
         // Penetration is not asserted here: in persistent contact along a curved path it
-        // drifts step by step (tests/extremes.rs measures it), and the projection can leave
+        // drifts step by step (tests/extremes/drift.rs measures it), and the projection can leave
         // some when the slider turns far (docs/extremes.md).
         run_with(ModelParams::SliderCrank(params), options)?;
     }
@@ -213,7 +213,7 @@ proptest! {
         let params_copy = params.clone();
         let (_, rec) = run_solvable(ModelParams::SliderCrankIdeal(params), dt)?;
         // No contacts. The centrifugal terms of h are taken at u_A, which makes the scheme
-        // first order in Δt for them (tests/extremes.rs): at ω₁Δt up to 0.2 rad per step the
+        // first order in Δt for them (tests/extremes/drift.rs): at ω₁Δt up to 0.2 rad per step the
         // energy error reaches tens of per cent, mostly as a loss; the gain stays below 5 %.
         let e = rec.total_energy();
         let gain = e.iter().map(|x| x - e[0]).fold(f64::NEG_INFINITY, f64::max);
