@@ -199,6 +199,60 @@ fn a_heap_detects_the_fixed_slots_closed_contacts() {
 }
 
 #[test]
+fn every_contact_is_located_on_its_bodies_with_its_gap() {
+    let detected = heap(ContactSet::Detected);
+    let (q0, _) = detected.initial_state();
+    let names = detected.body_names();
+    // The name of each body with coordinates, by its index in the body structure.
+    let dynamic: Vec<&str> = detected
+        .coordinate_names()
+        .iter()
+        .step_by(3)
+        .map(|n| n.strip_suffix(".x").unwrap())
+        .collect();
+    let mut found = Vec::new();
+    detected.body_structure().unwrap().detect(&q0, 0.0, 0.01, &mut found);
+    assert!(found.len() > 20);
+    for c in &found {
+        let l = detected.locate_contact(c.id, &q0, 0.0, 0.01).expect("located");
+        assert_eq!(l.geometry.gap, c.point.g_n);
+        assert!((l.geometry.normal[0].hypot(l.geometry.normal[1]) - 1.0).abs() < 1e-12);
+        for s in 0..2 {
+            let name = names[l.bodies[s]];
+            match c.bodies[s] {
+                NO_BODY => assert!(!dynamic.contains(&name), "{name}"),
+                k => assert_eq!(dynamic[k as usize], name),
+            }
+        }
+    }
+    // The explicit contact declared from b9 to b5 keeps that order: b9 (dynamic body 9) laid
+    // on b5, two capsules of radius 0.03 m, 0.05 m apart.
+    let mut q = q0.clone();
+    let (x5, y5, a5) = (q0[15], q0[16], q0[17]);
+    q[27..30].copy_from_slice(&[x5, y5 + 0.05, a5]);
+    found.clear();
+    detected.body_structure().unwrap().detect(&q, 0.0, 0.01, &mut found);
+    let pairs: Vec<[&str; 2]> = found
+        .iter()
+        .map(|c| detected.locate_contact(c.id, &q, 0.0, 0.01).unwrap().bodies.map(|b| names[b]))
+        .filter(|p| p.contains(&"b5") && p.contains(&"b9"))
+        .collect();
+    assert!(!pairs.is_empty() && pairs.iter().all(|p| *p == ["b9", "b5"]), "{pairs:?}");
+    // An identity of no contact, and a contact farther than the margin, are not located.
+    assert_eq!(detected.locate_contact(u64::MAX, &q0, 0.0, 0.01), None);
+    let far: Vec<f64> =
+        q0.iter().enumerate().map(|(i, v)| if i % 3 == 1 { v + 10.0 } else { *v }).collect();
+    assert_eq!(detected.locate_contact(found[0].id, &far, 0.0, 0.01), None);
+    // With the fixed contact set the identity is the contact's index.
+    let fixed = heap(ContactSet::Fixed);
+    for i in 0..fixed.num_contacts() {
+        let l = fixed.locate_contact(i as u64, &q0, 0.0, 0.0).unwrap();
+        assert_eq!(l.geometry, fixed.contact_geometry(i, &q0, 0.0));
+    }
+    assert_eq!(fixed.locate_contact(fixed.num_contacts() as u64, &q0, 0.0, 0.0), None);
+}
+
+#[test]
 fn identities_are_stable_under_small_moves() {
     let detected = heap(ContactSet::Detected);
     let (q0, _) = detected.initial_state();

@@ -44,7 +44,15 @@ thread_local! {
 fn box_distance(a: &Aabb, b: &Aabb) -> f64 {
     let dx = (a.min[0] - b.max[0]).max(b.min[0] - a.max[0]).max(0.0);
     let dy = (a.min[1] - b.max[1]).max(b.min[1] - a.max[1]).max(0.0);
-    dx.hypot(dy)
+    // Boxes apart along one axis only (always so against an axis-aligned half-plane): the
+    // distance is that one, which `hypot` would return exactly, without its call.
+    if dx == 0.0 {
+        dy
+    } else if dy == 0.0 {
+        dx
+    } else {
+        dx.hypot(dy)
+    }
 }
 
 /// The default margin of a pair: 1 % of the smaller finite bounding-box diagonal at t = 0.

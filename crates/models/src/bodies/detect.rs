@@ -260,6 +260,38 @@ impl Multibody {
     }
 }
 
+impl Multibody {
+    /// The contact of identity `id` at (q, t), found again by the narrow phase of its two
+    /// shapes with `margin`: the bodies of its sides a and b and its geometry; `None` when the
+    /// identity names no pair of colliders in contact under the rules, or no point of that
+    /// feature within the margin.
+    pub(crate) fn locate_detected(
+        &self,
+        detector: &Detector,
+        id: u64,
+        q: &[f64],
+        t: f64,
+        margin: f64,
+    ) -> Option<([usize; 2], SlotGeometry)> {
+        let low = |bits: u32, v: u64| (v & ((1 << bits) - 1)) as usize;
+        let i = (id >> (COLLIDER_BITS + FEATURE_BITS)) as usize;
+        let j = low(COLLIDER_BITS, id >> FEATURE_BITS);
+        let feature = low(FEATURE_BITS, id) as u32;
+        let (&x, &y) = (detector.colliders.get(i)?, detector.colliders.get(j)?);
+        let (_, flipped) = detector.law(&self.bodies, x, y)?;
+        let ((a, sa), (b, sb)) = if flipped { (y, x) } else { (x, y) };
+        let (fa, fb) = (self.frame(a, q, t), self.frame(b, q, t));
+        let (shape_a, shape_b) = (&self.bodies[a].shapes[sa], &self.bodies[b].shapes[sb]);
+        let mut points = Vec::new();
+        collide_placed(shape_a, &fa.placement(), shape_b, &fb.placement(), margin, &mut points)
+            .ok()?;
+        let p = points.iter().find(|p| p.feature == feature && p.gap <= margin)?;
+        let geometry =
+            SlotGeometry { point_a: p.point_a, point_b: p.point_b, normal: p.normal, gap: p.gap };
+        Some(([a, b], geometry))
+    }
+}
+
 impl BodyStructure for Multibody {
     fn num_bodies(&self) -> usize {
         self.dynamic.len()

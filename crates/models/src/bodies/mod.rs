@@ -70,7 +70,7 @@ pub use build::GROUND;
 pub use builder::{BodyHandle, ContactHandle, ForceHandle, JointHandle, MultibodyBuilder};
 pub use fill::FillPattern;
 pub use joints::SlotGeometry;
-pub use multibody::Multibody;
+pub use multibody::{LocatedContact, Multibody};
 pub use spec::{
     AutoContacts, BodySpec, BodyType, Closure, ContactSet, ContactSpec, DrivenState, FillSpec,
     ForceSpec, JointSpec, Motion, PairOverride, SystemSpec, TimeFunction,

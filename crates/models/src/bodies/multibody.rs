@@ -36,6 +36,18 @@ pub(crate) enum Slot {
     Pair { pair: usize, feature: usize },
 }
 
+/// A contact of a step, located: the bodies on its two sides and its geometry
+/// ([`Multibody::locate_contact`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocatedContact {
+    /// The bodies of sides a and b, as indices into [`Multibody::body_names`] (fixed and
+    /// driven bodies included).
+    pub bodies: [usize; 2],
+    /// The point on each body's surface (m), the unit normal from a towards b and the gap g_N
+    /// (m).
+    pub geometry: SlotGeometry,
+}
+
 /// A declared mechanism built into maximal coordinates: q = (x, y, θ) of each dynamic body's
 /// origin in declaration order (f = 3 n_dyn), u = (ẋ, ẏ, θ̇) likewise.
 ///
@@ -270,6 +282,37 @@ impl Multibody {
     /// When `i >= num_contacts()`.
     pub fn contact_geometry(&self, i: usize, q: &[f64], t: f64) -> SlotGeometry {
         self.slot_geometry(i, q, t).0
+    }
+
+    /// The two bodies and the geometry at (q, t) of the contact that a step reports under the
+    /// identity `id` (`moreau_stepper::StepReport::contact_ids`), or `None` when there is no
+    /// such contact.
+    ///
+    /// With the fixed contact set the identity is the contact's index in the contact list,
+    /// closed or open. With the detected one it names two shapes and a feature; their narrow
+    /// phase is run again, and the contact is found when that feature's gap is at most
+    /// `margin`. At a step's midpoint (q_M, t_M) = (q_A + Δt/2 u_A, t_A + Δt/2) with the
+    /// stepper's `gap_tolerance` as the margin, this finds exactly the contacts the step
+    /// detected, with the points, normal and gap its problem was written for.
+    pub fn locate_contact(
+        &self,
+        id: u64,
+        q: &[f64],
+        t: f64,
+        margin: f64,
+    ) -> Option<LocatedContact> {
+        let (bodies, geometry) = match &self.detector {
+            Some(detector) => self.locate_detected(detector, id, q, t, margin)?,
+            None => {
+                let i = usize::try_from(id).ok().filter(|&i| i < self.slots.len())?;
+                let bodies = match self.slots[i] {
+                    Slot::Joint { joint, .. } => [self.joints[joint].a, self.joints[joint].b],
+                    Slot::Pair { pair, .. } => [self.pairs[pair].a, self.pairs[pair].b],
+                };
+                (bodies, self.slot_geometry(i, q, t).0)
+            }
+        };
+        Some(LocatedContact { bodies, geometry })
     }
 
     /// Where each contact slot's points are at (q, t): the midpoint of the two surface points
