@@ -37,6 +37,10 @@ pub struct SimulateArgs {
     /// Output CSV file (written as OUT.partial until the run succeeds).
     #[arg(long)]
     pub out: PathBuf,
+    /// Also write every active contact of the recorded steps, located on its bodies, to this
+    /// CSV file (declared mechanisms): t, id, bodies, points, normal, gap, impulses, state.
+    #[arg(long, value_name = "FILE")]
+    pub contacts: Option<PathBuf>,
 }
 
 /// Arguments of `sweep`.
@@ -115,6 +119,7 @@ impl SimulateArgs {
             tf: self.tf,
             solver: self.solver,
             max_steps: self.max_steps,
+            contacts: self.contacts.clone(),
         };
         let done = simulate::run_to_csv(&options, &self.out, &mut |w| eprintln!("warning: {w}"))?;
         println!(
@@ -126,6 +131,9 @@ impl SimulateArgs {
             done.rows,
             self.out.display()
         );
+        if let (Some(rows), Some(path)) = (done.contact_rows, &self.contacts) {
+            println!("wrote {rows} contact rows to {}", path.display());
+        }
         if done.inexact_steps > 0 {
             println!(
                 "{} steps took an island above the solvers' tolerance, as inexact_residual = {} \

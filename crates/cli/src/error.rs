@@ -165,6 +165,27 @@ pub enum CliError {
         /// The scene's model (`declared` for a declared mechanism).
         in_scene: String,
     },
+    /// A contacts file asked of a model whose contacts have no declared bodies and shapes to
+    /// locate them on.
+    #[error(
+        "a contacts file needs a declared mechanism; the report's model '{model}' records its \
+         contacts' impulses and active flags in the main CSV (PN1, PT1, ..., A1, ...)"
+    )]
+    ContactsOfReportModel {
+        /// The model's name.
+        model: String,
+    },
+    /// A contact that a step reported and that its detection does not find again.
+    #[error(
+        "contact {id} of the step ending at t = {t:e} s is not found again at the step's \
+         midpoint"
+    )]
+    ContactNotLocated {
+        /// The contact's identity (`StepReport::contact_ids`).
+        id: u64,
+        /// End time of the step (s).
+        t: f64,
+    },
     /// A damaged sweep part: a cut-off or altered row.
     #[error("{part}: line {line} is damaged ({reason})")]
     DamagedPart {

@@ -42,6 +42,7 @@
 
 pub mod analysis;
 pub mod cli;
+pub mod contacts;
 mod error;
 pub mod grid;
 pub mod guard;

@@ -10,6 +10,7 @@ use anyhow::{Context, Result, bail};
 use moreau_models::{AnyModel, ModelKind, Scene, Simulation};
 use moreau_stepper::{Observer, Record, Recorder, StepReport};
 
+use crate::contacts::ContactLog;
 use crate::error::CliError;
 use crate::guard::{self, DEFAULT_MAX_STEPS};
 use crate::runs::{RunResult, RunSpec, run_info};
@@ -34,6 +35,9 @@ pub struct SimulateOptions {
     pub solver: Option<String>,
     /// The largest number of steps allowed; [`DEFAULT_MAX_STEPS`] when `None`.
     pub max_steps: Option<u64>,
+    /// A file to write the located contacts of the recorded steps to (declared mechanisms
+    /// only; see [`crate::contacts`]), written as `<file>.partial` until the run succeeds.
+    pub contacts: Option<PathBuf>,
 }
 
 impl SimulateOptions {
@@ -163,15 +167,17 @@ pub fn check_record_every(scene: &Scene, steps: u64) -> Result<()> {
     Ok(())
 }
 
-/// Sets the last row's time to t_end after the last planned step (step index `planned − 1`):
-/// the stepper's n Δt differs from t_end by round-off only, since t_end is a whole number of
-/// steps.
+/// The time of the row of step `step` that ends at the stepper's time `t`: t_end after the
+/// last planned step (step index `planned − 1`), whose n Δt differs from t_end by round-off
+/// only, since t_end is a whole number of steps; `t` otherwise.
+fn row_time(t: f64, step: u64, planned: u64, scene: &Scene) -> f64 {
+    if step + 1 == planned && (t - scene.t_end).abs() <= 1e-6 * scene.dt { scene.t_end } else { t }
+}
+
+/// Sets the last row's time to t_end after the last planned step ([`row_time`]).
 fn end_at_t_end(record: &mut Record, step: u64, planned: u64, scene: &Scene) {
-    if step + 1 == planned
-        && let Some(t) = record.t.last_mut()
-        && (*t - scene.t_end).abs() <= 1e-6 * scene.dt
-    {
-        *t = scene.t_end;
+    if let Some(t) = record.t.last_mut() {
+        *t = row_time(*t, step, planned, scene);
     }
 }
 
@@ -288,6 +294,8 @@ struct Streamer<W: Write> {
     scene: Scene,
     out: W,
     rows: u64,
+    /// The contacts file, when one was asked for.
+    contacts: Option<ContactLog<W>>,
     error: Option<anyhow::Error>,
     bar: Option<indicatif::ProgressBar>,
 }
@@ -307,6 +315,13 @@ impl<W: Write> Observer<AnyModel> for Streamer<W> {
     fn observe(&mut self, model: &AnyModel, report: &StepReport<'_>) -> ControlFlow<()> {
         let _ = self.recorder.observe(model, report);
         end_at_t_end(&mut self.recorder.record, report.step, self.planned, &self.scene);
+        if let (Some(log), AnyModel::Declared(m)) = (&mut self.contacts, model) {
+            let t = row_time(report.t, report.step, self.planned, &self.scene);
+            if let Err(e) = log.observe(m, report, t) {
+                self.error = Some(e);
+                return ControlFlow::Break(());
+            }
+        }
         if let Some(bar) = &self.bar
             && report.step.is_multiple_of(4096)
         {
@@ -338,6 +353,8 @@ pub struct Simulated {
     pub inexact_residual: f64,
     /// Rows written (row 0 is the initial state).
     pub rows: u64,
+    /// Rows written to the contacts file, when one was asked for.
+    pub contact_rows: Option<u64>,
     /// Wall-clock time (s).
     pub wall_seconds: f64,
     /// Warnings about the initial gaps (see [`guard::gap_warnings`]).
@@ -351,16 +368,39 @@ pub fn partial_path(out: &Path) -> PathBuf {
     PathBuf::from(s)
 }
 
+/// Creates `<path>.partial` for writing, refusing a folder.
+fn create_partial(path: &Path) -> Result<(PathBuf, BufWriter<File>)> {
+    if path.is_dir() {
+        return Err(CliError::Output { path: path.to_owned(), reason: "is a folder".into() }.into());
+    }
+    let partial = partial_path(path);
+    let file = File::create(&partial).map_err(|e| CliError::Output {
+        path: partial.clone(),
+        reason: format!("cannot be created: {e}"),
+    })?;
+    Ok((partial, BufWriter::new(file)))
+}
+
+/// Renames a finished `partial` file to `path`.
+fn publish(partial: &Path, path: &Path) -> Result<()> {
+    std::fs::rename(partial, path).map_err(|e| {
+        CliError::Output { path: path.to_owned(), reason: format!("cannot be written: {e}") }.into()
+    })
+}
+
 /// Runs the options' scene under the guards and streams its record to `out` as CSV.
 ///
 /// The scene and its step plan are checked, and `<out>.partial` is created, before the first
 /// step; the rows go there in batches of a few thousand, and the file is renamed to `out`
 /// once the run has ended at t_end (or its stop rule). A run that fails or diverges leaves
 /// `<out>.partial` for inspection and no `out`. `warn` receives the warnings about the
-/// initial gaps before the run.
+/// initial gaps before the run. With [`SimulateOptions::contacts`], the located contacts of
+/// the recorded steps go to that file in the same way ([`crate::contacts`]).
 ///
 /// # Errors
-/// As [`scene`] and [`guard::run_guarded`]; an unwritable output.
+/// As [`scene`] and [`guard::run_guarded`]; an unwritable output;
+/// [`CliError::ContactsOfReportModel`] for a contacts file of a report model;
+/// [`CliError::Output`] for a contacts file that is the output itself.
 pub fn run_to_csv(
     options: &SimulateOptions,
     out: &Path,
@@ -371,19 +411,33 @@ pub fn run_to_csv(
     let model = scene.build()?;
     let planned = guard::plan_steps(&scene, options.step_limit())?;
     check_record_every(&scene, planned)?;
-    if out.is_dir() {
-        return Err(CliError::Output { path: out.to_owned(), reason: "is a folder".into() }.into());
-    }
-    let partial = partial_path(out);
-    let file = File::create(&partial).map_err(|e| CliError::Output {
-        path: partial.clone(),
-        reason: format!("cannot be created: {e}"),
-    })?;
+    let contacts = match (&options.contacts, &model) {
+        (None, _) => None,
+        (Some(path), _) if path == out => {
+            return Err(CliError::Output {
+                path: path.clone(),
+                reason: "is the record's output too; give the contacts a file of their own".into(),
+            }
+            .into());
+        }
+        (Some(path), AnyModel::Declared(m)) => {
+            let (partial, w) = create_partial(path)?;
+            let margin = scene.stepper_options().gap_tolerance;
+            let log =
+                ContactLog::new(m, m.initial_state(), scene.record_every, scene.dt, margin, w)?;
+            Some((path.clone(), partial, log))
+        }
+        (Some(_), other) => {
+            return Err(
+                CliError::ContactsOfReportModel { model: other.kind().name().into() }.into()
+            );
+        }
+    };
+    let (partial, mut out_w) = create_partial(out)?;
     let warnings = guard::gap_warnings(&model);
     for w in &warnings {
         warn(w);
     }
-    let mut out_w = BufWriter::new(file);
     writeln!(out_w, "{}", header(&model).join(","))?;
     let mut recorder = Recorder::every(scene.record_every);
     let (q0, u0) = model.initial_state();
@@ -398,8 +452,20 @@ pub fn run_to_csv(
         bar.set_message(format!("simulate {}", scene.kind()));
         bar
     });
-    let mut streamer =
-        Streamer { recorder, planned, scene: scene.clone(), out: out_w, rows: 0, error: None, bar };
+    let (contacts_path, contacts_partial, log) = match contacts {
+        Some((path, partial, log)) => (Some(path), Some(partial), Some(log)),
+        None => (None, None, None),
+    };
+    let mut streamer = Streamer {
+        recorder,
+        planned,
+        scene: scene.clone(),
+        out: out_w,
+        rows: 0,
+        contacts: log,
+        error: None,
+        bar,
+    };
     let run = guard::run_guarded(&scene, &model, options.step_limit(), &mut streamer);
     if let Some(bar) = &streamer.bar {
         bar.finish_and_clear();
@@ -411,10 +477,14 @@ pub fn run_to_csv(
     streamer.drain()?;
     streamer.out.flush()?;
     drop(streamer.out);
-    std::fs::rename(&partial, out).map_err(|e| CliError::Output {
-        path: out.to_owned(),
-        reason: format!("cannot be written: {e}"),
-    })?;
+    let contact_rows = streamer.contacts.as_ref().map(|log| log.rows);
+    if let (Some(log), Some(path), Some(partial)) =
+        (streamer.contacts.take(), &contacts_path, &contacts_partial)
+    {
+        drop(log.finish()?);
+        publish(partial, path)?;
+    }
+    publish(&partial, out)?;
     Ok(Simulated {
         scene,
         steps: run.summary.steps,
@@ -422,6 +492,7 @@ pub fn run_to_csv(
         inexact_steps: run.summary.inexact_steps,
         inexact_residual: run.summary.inexact_residual,
         rows: streamer.rows,
+        contact_rows,
         wall_seconds: start.elapsed().as_secs_f64(),
         warnings,
     })

@@ -1,0 +1,146 @@
+//! The contacts file of `simulate --contacts FILE`: every contact in the active set of the
+//! steps the record keeps, located on its bodies, for force networks and contact statistics.
+//!
+//! One CSV row per active contact of each recorded step, in the step's order of identity:
+//!
+//! | column | meaning |
+//! |---|---|
+//! | `t` | end time t_E of the step (s), the record row's `t` |
+//! | `id` | the contact's identity: its index in the contact list with the fixed contact set, the detection's identity (two shapes and a feature, the same while they touch) with the detected one |
+//! | `body_a`, `body_b` | the bodies of its two sides, by name |
+//! | `xa`, `ya`, `xb`, `yb` | the points on body a's and body b's surfaces at the step's midpoint q_M (m) |
+//! | `nx`, `ny` | the unit normal from a towards b at q_M |
+//! | `gap` | g_N(q_M, t_M) (m), ≤ the stepper's gap tolerance for an active contact |
+//! | `PN`, `PT` | the impulses of this one step (N s; the mean force over the step is P/Δt) |
+//! | `gamma_n`, `gamma_t` | the relative velocities γ_N,E and γ_T,E after the step (m/s) |
+//! | `state` | `open`, `stick` or `slip` |
+//! | `impact` | 1 when the step was an impact at the contact, else 0 |
+//!
+//! Unlike the record's `PN` and `PT` columns, which sum the impulses of the steps between two
+//! rows, the contacts file shows the one step that ends at each row: contacts come and go
+//! between rows. The points and normal are those the step's problem was written for: the
+//! contacts are found again at q_M = q_A + Δt/2 u_A, t_M = t_A + Δt/2 (the step's own
+//! arithmetic), with the scene's gap tolerance as the margin.
+
+use std::io::Write;
+
+use anyhow::Result;
+use moreau_models::bodies::Multibody;
+use moreau_stepper::{ContactState, StepReport};
+
+use crate::error::CliError;
+
+/// The header of a contacts file.
+pub const HEADER: &str =
+    "t,id,body_a,body_b,xa,ya,xb,yb,nx,ny,gap,PN,PT,gamma_n,gamma_t,state,impact";
+
+/// Writes the located contacts of the recorded steps of a run of a declared mechanism.
+pub(crate) struct ContactLog<W: Write> {
+    out: W,
+    /// One step in `every` is recorded.
+    every: u64,
+    dt: f64,
+    margin: f64,
+    names: Vec<String>,
+    /// q_A, u_A and t_A of the coming step: the state the last step ended at.
+    q_a: Vec<f64>,
+    u_a: Vec<f64>,
+    t_a: f64,
+    q_m: Vec<f64>,
+    /// Rows written.
+    pub(crate) rows: u64,
+}
+
+impl<W: Write> ContactLog<W> {
+    /// A log of `model` run from (q0, u0) at t = 0, recording one step in `every`, with the
+    /// stepper's step `dt` and gap tolerance `margin`; writes the header.
+    pub(crate) fn new(
+        model: &Multibody,
+        (q0, u0): (Vec<f64>, Vec<f64>),
+        every: usize,
+        dt: f64,
+        margin: f64,
+        mut out: W,
+    ) -> Result<Self> {
+        writeln!(out, "{HEADER}")?;
+        let names = model.body_names().into_iter().map(str::to_owned).collect();
+        let q_m = vec![0.0; q0.len()];
+        Ok(Self {
+            out,
+            every: every.max(1) as u64,
+            dt,
+            margin,
+            names,
+            q_a: q0,
+            u_a: u0,
+            t_a: 0.0,
+            q_m,
+            rows: 0,
+        })
+    }
+
+    /// Writes the active contacts of the step of `report` when the record keeps it, at time
+    /// `t` (the record row's), and takes the step's end state as the next step's start.
+    ///
+    /// # Errors
+    /// [`CliError::ContactNotLocated`] for a contact the step reported that its midpoint does
+    /// not give again; an unwritable file.
+    pub(crate) fn observe(
+        &mut self,
+        model: &Multibody,
+        report: &StepReport<'_>,
+        t: f64,
+    ) -> Result<()> {
+        if (report.step + 1).is_multiple_of(self.every) {
+            // q_M and t_M as the step computed them, to the bit.
+            let half = 0.5 * self.dt;
+            for ((q_m, q), u) in self.q_m.iter_mut().zip(&self.q_a).zip(&self.u_a) {
+                *q_m = q + half * u;
+            }
+            let t_m = self.t_a + half;
+            for (c, &id) in report.contacts.iter().zip(report.contact_ids) {
+                if !c.active {
+                    continue;
+                }
+                let located = model
+                    .locate_contact(id, &self.q_m, t_m, self.margin)
+                    .ok_or(CliError::ContactNotLocated { id, t: report.t })?;
+                let g = located.geometry;
+                let state = match c.state {
+                    ContactState::Open => "open",
+                    ContactState::Stick => "stick",
+                    ContactState::Slip => "slip",
+                };
+                writeln!(
+                    self.out,
+                    "{t},{id},{},{},{},{},{},{},{},{},{},{},{},{},{},{state},{}",
+                    self.names[located.bodies[0]],
+                    self.names[located.bodies[1]],
+                    g.point_a[0],
+                    g.point_a[1],
+                    g.point_b[0],
+                    g.point_b[1],
+                    g.normal[0],
+                    g.normal[1],
+                    g.gap,
+                    c.p_n,
+                    c.p_t,
+                    c.gamma_n,
+                    c.gamma_t,
+                    u8::from(c.impact),
+                )?;
+                self.rows += 1;
+            }
+        }
+        self.q_a.copy_from_slice(report.q);
+        self.u_a.copy_from_slice(report.u);
+        self.t_a = report.t;
+        Ok(())
+    }
+
+    /// Flushes the file and returns its writer.
+    pub(crate) fn finish(mut self) -> Result<W> {
+        self.out.flush()?;
+        Ok(self.out)
+    }
+}
