@@ -82,57 +82,10 @@ fn the_pendulums_impacts_are_located_on_the_wall_with_the_records_impulses() -> 
     Ok(())
 }
 
-/// Three disks of 1, 2 and 3 kg and radius 0.1 m stacked on a floor, 1 mm apart, their
-/// contacts detected at each step; ε_N = 0, so they come to rest on one another.
-const STACK: &str = r#"
-dt = 0.001
-t_end = 1.0
-record_every = 100
-gravity = [0.0, -9.81]
-projection = false
-contact_set = "detected"
-
-[[bodies]]
-name = "floor"
-type = "fixed"
-position = [0.0, 0.0]
-shapes = [{ type = "half_plane", point = [0.0, 0.0], normal = [0.0, 1.0] }]
-
-[[bodies]]
-name = "d0"
-type = "dynamic"
-mass = 1.0
-inertia = 0.005
-position = [0.0, 0.101]
-shapes = [{ type = "disk", center = [0.0, 0.0], radius = 0.1 }]
-
-[[bodies]]
-name = "d1"
-type = "dynamic"
-mass = 2.0
-inertia = 0.01
-position = [0.0, 0.302]
-shapes = [{ type = "disk", center = [0.0, 0.0], radius = 0.1 }]
-
-[[bodies]]
-name = "d2"
-type = "dynamic"
-mass = 3.0
-inertia = 0.015
-position = [0.0, 0.503]
-shapes = [{ type = "disk", center = [0.0, 0.0], radius = 0.1 }]
-
-[contacts_auto]
-eps_n = 0.0
-eps_t = 0.0
-mu = 0.5
-"#;
-
 #[test]
 fn a_resting_stack_carries_the_weight_above_each_contact() -> Result<()> {
     let dir = tempfile::tempdir()?;
-    let scene = dir.path().join("stack.toml");
-    std::fs::write(&scene, STACK)?;
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies/stack.toml");
     let (out, contacts) = (dir.path().join("s.csv"), dir.path().join("c.csv"));
     let options = SimulateOptions {
         scene: Some(scene),
