@@ -316,10 +316,23 @@ impl Strip {
         motion: &[Frame],
         frame_seconds: f64,
     ) -> Result<Vec<PathBuf>> {
+        let mut files = self.write_still(dir, stem)?;
+        let anim = dir.join(format!("{stem}_anim.svg"));
+        let window = bounds(motion.iter().chain(&self.frames));
+        std::fs::write(&anim, animated_svg(&self.title, motion, window, frame_seconds))
+            .with_context(|| format!("writing {}", anim.display()))?;
+        files.push(anim);
+        Ok(files)
+    }
+
+    /// Writes `<stem>.svg` and `<stem>.png` (the strip alone); returns the paths.
+    ///
+    /// # Errors
+    /// When a file cannot be written.
+    pub fn write_still(&self, dir: &Path, stem: &str) -> Result<Vec<PathBuf>> {
         register_fonts();
         let svg = dir.join(format!("{stem}.svg"));
         let png = dir.join(format!("{stem}.png"));
-        let anim = dir.join(format!("{stem}_anim.svg"));
         {
             let root = SVGBackend::new(&svg, self.size()).into_drawing_area();
             self.draw(&root).with_context(|| format!("drawing {}", svg.display()))?;
@@ -330,10 +343,7 @@ impl Strip {
             self.draw(&root).with_context(|| format!("drawing {}", png.display()))?;
             root.present().map_err(|e| anyhow!("writing {}: {e}", png.display()))?;
         }
-        let window = bounds(motion.iter().chain(&self.frames));
-        std::fs::write(&anim, animated_svg(&self.title, motion, window, frame_seconds))
-            .with_context(|| format!("writing {}", anim.display()))?;
-        Ok(vec![svg, png, anim])
+        Ok(vec![svg, png])
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {

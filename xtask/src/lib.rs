@@ -30,6 +30,7 @@
 pub use moreau_cli::{analysis, grid, keys, runs, simulate, sweep, table};
 
 pub mod frames;
+pub mod network;
 pub mod plot;
 pub mod report;
 pub mod reproduce;

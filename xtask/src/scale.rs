@@ -20,10 +20,15 @@ use moreau_stepper::{BodyContact, Mechanism, NO_BODY, Stepper};
 use serde::Serialize;
 use serde_json::Value;
 
+use crate::frames::{Frame, Strip};
+use crate::network;
 use crate::plot::{Figure, Mark, Panel, Series};
 
 /// The figure's file stem.
 pub const STEM: &str = "fig_scale";
+
+/// File stem of the force networks of the resting scenes.
+pub const NETWORK_STEM: &str = "fig_scale_network";
 
 /// One scene at one size.
 #[derive(Clone, Debug, PartialEq)]
@@ -112,6 +117,9 @@ pub struct RunResult {
     pub max_displacement: f64,
     /// Wall time of the whole run, settling included (s).
     pub wall_seconds: f64,
+    /// The force network of the last step of a resting run ([`crate::network::frame`]).
+    #[serde(skip)]
+    pub network: Option<Frame>,
 }
 
 /// The runs of the study; `quick` keeps those that take a few seconds.
@@ -365,6 +373,7 @@ fn measure(
         }
         r.max_penetration = r.max_penetration.max(report.penetration);
         if k + 1 == spec.window && spec.resting {
+            let (ids, contacts) = (report.contact_ids.to_vec(), report.contacts.to_vec());
             let impulses: Vec<(u64, f64, f64)> = report
                 .contact_ids
                 .iter()
@@ -377,6 +386,17 @@ fn measure(
                 let weight = weight(model, &q_a);
                 r.force_balance_rel = ((support - weight) / weight).abs();
             }
+            let caption = vec![format!("{} {}, t = {:.2} s", spec.scene, r.size, t_a + dt)];
+            let state = (q_a.as_slice(), u_a.as_slice(), t_a);
+            r.network = Some(network::frame(
+                model,
+                state,
+                dt,
+                model_gap_tolerance(),
+                &ids,
+                &contacts,
+                caption,
+            )?);
         }
     }
     (r.inexact_steps, r.inexact_residual) = (inexact_steps, inexact_residual);
@@ -633,5 +653,25 @@ pub fn write(
     let figure = Figure::new("Many-body steps: scaling", vec![time, iterations, balance], 3);
     let written = figure.write(out, STEM)?;
     files.extend(crate::reproduce::names(&written));
+    // The force networks of the largest resting column and pyramid of at most 1,300 bodies.
+    let networks: Vec<Frame> = ["disk-column", "pyramid"]
+        .into_iter()
+        .filter_map(|scene| {
+            let largest = one_thread(scene).into_iter().filter(|r| r.bodies <= 1300);
+            largest.max_by_key(|r| r.bodies)?.network.clone()
+        })
+        .collect();
+    if !networks.is_empty() {
+        let strip = Strip {
+            title: "Force networks at rest (line width grows with the normal impulse)".into(),
+            columns: networks.len(),
+            frames: networks,
+            cell_width: 420,
+            cell_height: 420,
+            window: None,
+        };
+        let written = strip.write_still(out, NETWORK_STEM)?;
+        files.extend(crate::reproduce::names(&written));
+    }
     Ok(Written { files, json, markdown: md })
 }

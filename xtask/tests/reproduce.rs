@@ -76,6 +76,8 @@ fn check_outputs(dir: &Path) -> Result<()> {
         "fig_scale.svg",
         "fig_scale.png",
         "fig_scale.csv",
+        "fig_scale_network.svg",
+        "fig_scale_network.png",
         "scale.csv",
         "scale.json",
     ] {

@@ -16,9 +16,11 @@ pub(super) fn entries() -> Vec<Entry> {
                   island. Left: wall time per step against the contacts that carry an impulse \
                   (log-log, with the least-squares slope of the disk column). Middle: solver \
                   iterations per step against the height of the resting column. Right: the \
-                  resting column's support reactions against its weight. Wall times are measured \
-                  while the report's other figures are drawn on the other cores; \
-                  cargo xtask scale measures them alone.",
+                  resting column's support reactions against its weight. Below: the force networks \
+                  of the resting column and pyramid, each contact of the last step a line from \
+                  centre of mass to centre of mass (or to the floor), its width growing with \
+                  the normal impulse. Wall times are measured while the report's other figures \
+                  are drawn on the other cores; cargo xtask scale measures them alone.",
         runs: |_| Vec::new(),
         draw: fig,
     }]
