@@ -11,6 +11,7 @@ use clap::Args;
 use moreau_stepper::ContactState;
 
 use crate::frames::{Frame, Strip, frame, motion};
+use crate::network;
 use crate::runs::RunResult;
 use crate::simulate::{self, SimulateOptions};
 
@@ -42,6 +43,11 @@ pub struct FramesArgs {
     /// Output folder (created when missing).
     #[arg(long, default_value = "target/frames")]
     pub out: PathBuf,
+    /// Draw the strip's frames as force networks (declared scenes): each contact of the step
+    /// ending at the frame's row a line between the bodies' centres of mass, as wide as its
+    /// normal impulse.
+    #[arg(long)]
+    pub forces: bool,
 }
 
 impl FramesArgs {
@@ -87,13 +93,83 @@ pub fn run(args: &FramesArgs) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let stem = stem(args);
-    let strip = strip(&result, &stem, &rows);
+    let mut strip = strip(&result, &stem, &rows);
+    if args.forces {
+        strip.frames = networks(&result, &rows)?;
+        strip.title = format!("{} (force networks)", strip.title);
+    }
     let r = result.record();
     let end = r.t.last().copied().unwrap_or(0.0);
     let anim = motion(result.model(), r, 0.0, end, ANIMATION_FRAMES);
     // The animation plays in real time, within 1/25 s and 1/2 s a frame.
     let frame_seconds = (end / (ANIMATION_FRAMES - 1) as f64).clamp(0.04, 0.5);
     strip.write(&args.out, &stem, &anim, frame_seconds)
+}
+
+/// The force networks of the steps that end at the record's `rows`, from a second run of the
+/// scene (bit for bit the first): row k > 0 ends step k · record_every − 1; row 0, the initial
+/// state, shows the bodies alone.
+///
+/// # Errors
+/// A scene that does not declare its bodies; a row whose step ends at another time than the
+/// row's (a run ended by its stop rule between two recorded steps); a failed step.
+pub fn networks(result: &RunResult, rows: &[usize]) -> Result<Vec<Frame>> {
+    let (scene, r) = (&result.scene, result.record());
+    let every = scene.record_every.max(1) as u64;
+    let step_of = |k: usize| (k > 0).then(|| k as u64 * every - 1);
+    let mut stepper = scene.stepper()?;
+    let (dt, margin) = (stepper.options().dt, stepper.options().gap_tolerance);
+    let caption = |t: f64, carrying: usize| {
+        vec![format!("t = {t:.4} s"), format!("{carrying} contacts carry an impulse")]
+    };
+    let mut frames: Vec<Option<Frame>> = vec![None; rows.len()];
+    for (slot, &k) in frames.iter_mut().zip(rows) {
+        if k == 0 {
+            let (q, u) = (stepper.q().to_vec(), stepper.u().to_vec());
+            let state = (q.as_slice(), u.as_slice(), stepper.t());
+            *slot = Some(network::frame(
+                stepper.mechanism(),
+                state,
+                0.0,
+                margin,
+                &[],
+                &[],
+                caption(r.t[0], 0),
+            )?);
+        }
+    }
+    let last = rows.iter().filter_map(|&k| step_of(k)).max();
+    for s in 0..last.map_or(0, |l| l + 1) {
+        let (q_a, u_a, t_a) = (stepper.q().to_vec(), stepper.u().to_vec(), stepper.t());
+        let report = stepper.step()?;
+        let wanted: Vec<usize> = (0..rows.len()).filter(|&i| step_of(rows[i]) == Some(s)).collect();
+        if wanted.is_empty() {
+            continue;
+        }
+        let (ids, contacts) = (report.contact_ids.to_vec(), report.contacts.to_vec());
+        let t = report.t;
+        let carrying = contacts.iter().filter(|c| c.p_n > 0.0).count();
+        for i in wanted {
+            let row_t = r.t[rows[i]];
+            ensure!(
+                (t - row_t).abs() <= 1e-6 * dt,
+                "row {} at t = {row_t} s is not the end of step {s} (t = {t} s)",
+                rows[i]
+            );
+            let state = (q_a.as_slice(), u_a.as_slice(), t_a);
+            let model = stepper.mechanism();
+            frames[i] = Some(network::frame(
+                model,
+                state,
+                dt,
+                margin,
+                &ids,
+                &contacts,
+                caption(row_t, carrying),
+            )?);
+        }
+    }
+    frames.into_iter().map(|f| f.context("a row without its step")).collect()
 }
 
 /// The rows of the strip: the row nearest each of `times`, or `count` rows evenly spaced

@@ -20,6 +20,7 @@ fn args(scene: PathBuf, out: &Path) -> FramesArgs {
         times: None,
         count: None,
         out: out.to_owned(),
+        forces: false,
     }
 }
 
@@ -102,5 +103,38 @@ fn frames_draw_a_report_scene_file_and_count_evenly() -> Result<()> {
         ensure!(svg.contains(caption), "the strip lacks {caption}");
     }
     ensure!(files[1].file_name().context("name")? == "ball.png");
+    Ok(())
+}
+
+#[test]
+fn force_networks_of_a_pile_are_drawn_at_the_rows_steps() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let a = FramesArgs {
+        times: Some(vec![0.0, 0.5, 1.0]),
+        forces: true,
+        sets: Vec::new(),
+        ..args(scene("scenes/bodies/stack.toml"), dir.path())
+    };
+    let files = run(&a)?;
+    for f in &files {
+        ensure!(std::fs::metadata(f)?.len() > 1000, "{} is tiny", f.display());
+    }
+    // The same frames through the library: the initial state has no line; at rest each of
+    // the three contacts is one.
+    let options = SimulateOptions { scene: a.scene.clone(), ..SimulateOptions::default() };
+    let result = simulate(&options)?;
+    let rows = rows(&result, a.times.as_deref(), None)?;
+    let frames = xtask::scene_frames::networks(&result, &rows)?;
+    let lines = |f: &xtask::frames::Frame| {
+        f.shapes
+            .iter()
+            .filter(|s| matches!(s, Shape::Poly { paint, .. } if paint.stroke == (180, 20, 20)))
+            .count()
+    };
+    assert_eq!(frames.iter().map(lines).collect::<Vec<_>>(), [0, 3, 3]);
+    assert_eq!(frames[2].caption, ["t = 1.0000 s", "3 contacts carry an impulse"]);
+    // A report model has no bodies to draw the network on.
+    let ball = FramesArgs { model: Some("ball".into()), scene: None, ..a };
+    ensure!(run(&ball).is_err());
     Ok(())
 }
