@@ -3,6 +3,12 @@
 
 use super::*;
 
+/// A slider-crank's start with the crank, rod and slider in line (all angles 0), the crank
+/// turning at w1 and the rod at the rate the slider's guide gives it, −l₁/l₂ w1.
+fn flat_start(l1: f64, l2: f64, w1: f64) -> moreau::models::SliderCrankInit {
+    moreau::models::SliderCrankInit { th1: 0.0, th2: 0.0, th3: 0.0, w1, w2: -l1 / l2 * w1, w3: 0.0 }
+}
+
 /// A slider-crank with a short rod (l₂ = 1.5 l₁) and a thin slider, μ = ε_N = 0, whose upper
 /// corners slide along the guide for a long stretch of the crank's turn.
 fn short_rod_slider_crank() -> SliderCrankParams {
@@ -17,14 +23,7 @@ fn short_rod_slider_crank() -> SliderCrankParams {
         eps_n: 0.0,
         eps_t: 0.0,
         mu: 0.0,
-        init: moreau::models::SliderCrankInit {
-            th1: 0.0,
-            th2: 0.0,
-            th3: 0.0,
-            w1,
-            w2: -l1 / l2 * w1,
-            w3: 0.0,
-        },
+        init: flat_start(l1, l2, w1),
         ..SliderCrankParams::report()
     }
 }
@@ -83,14 +82,7 @@ fn projection_over_all_corners_frees_a_slider_turned_in_the_guide() {
         eps_n: 0.0,
         eps_t: 0.0,
         mu: 1.744512096813874,
-        init: moreau::models::SliderCrankInit {
-            th1: 0.0,
-            th2: 0.0,
-            th3: 0.0,
-            w1,
-            w2: -l1 / l2 * w1,
-            w3: 0.0,
-        },
+        init: flat_start(l1, l2, w1),
         ..rep
     };
     let model = moreau::models::ModelParams::SliderCrank(p.clone()).build().unwrap();
