@@ -27,7 +27,7 @@
 //!   Universidade do Minho.
 #![deny(missing_docs)]
 
-pub use moreau_cli::{analysis, grid, keys, runs, simulate, sweep, table};
+pub use moreau_cli::{analysis, contacts, grid, keys, runs, simulate, sweep, table};
 
 pub mod frames;
 pub mod network;

@@ -6,13 +6,14 @@
 //! centre of mass to the contact point. The contacts are those the step solved, found again
 //! at its midpoint q_M = q_A + Δt/2 u_A ([`moreau_models::bodies::Multibody::locate_contact`]).
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use moreau_models::AnyModel;
 use moreau_models::bodies::Multibody;
 use moreau_stepper::ContactReport;
 
 use moreau_models::{Drawing, Role};
 
+use crate::contacts;
 use crate::frames::{Frame, Paint, Shape, bounds, shapes};
 
 /// Width classes of the lines, in pixels: 1 for the weakest contacts to this for the
@@ -20,7 +21,7 @@ use crate::frames::{Frame, Paint, Shape, bounds, shapes};
 const WIDEST: f64 = 6.0;
 
 /// The frame of the force network of the step that starts at (q_A, u_A, t_A) with step `dt`,
-/// whose contacts carried the impulses `contacts` under the identities `ids`, found again with
+/// whose contacts carried the impulses `reports` under the identities `ids`, found again with
 /// the active-set `margin` the step used; `caption` under it, its window its own.
 ///
 /// # Errors
@@ -33,22 +34,19 @@ pub fn frame(
     dt: f64,
     margin: f64,
     ids: &[u64],
-    contacts: &[ContactReport],
+    reports: &[ContactReport],
     caption: Vec<String>,
 ) -> Result<Frame> {
     let AnyModel::Declared(m) = model else {
         bail!("a force network needs a scene of declared bodies");
     };
-    let half = 0.5 * dt;
-    let q_m: Vec<f64> = q_a.iter().zip(u_a).map(|(q, u)| q + half * u).collect();
-    let t_m = t_a + half;
+    let mut q_m = Vec::new();
+    let t_m = contacts::midpoint(q_a, u_a, t_a, dt, &mut q_m);
     let centres = centres(m, &q_m, t_m);
-    let strongest = contacts.iter().map(|c| c.p_n).fold(0.0, f64::max);
+    let strongest = reports.iter().map(|c| c.p_n).fold(0.0, f64::max);
     let mut links = Vec::new();
-    for (&id, c) in ids.iter().zip(contacts).filter(|(_, c)| c.p_n > 0.0) {
-        let l = m
-            .locate_contact(id, &q_m, t_m, margin)
-            .with_context(|| format!("contact {id} is not found again at t = {t_m} s"))?;
+    for (&id, c) in ids.iter().zip(reports).filter(|(_, c)| c.p_n > 0.0) {
+        let l = contacts::locate(m, id, (&q_m, t_m), margin, t_a + dt)?;
         let [a, b] = l.bodies.map(|k| centres[k]);
         let (from, to) = match (a, b) {
             (Some(a), Some(b)) => (a, b),

@@ -194,9 +194,10 @@ fn support_force(
     found: &mut Vec<BodyContact>,
 ) -> f64 {
     let Some(bodies) = model.body_structure() else { return f64::NAN };
-    let q_m: Vec<f64> = q_a.iter().zip(u_a).map(|(q, u)| q + 0.5 * dt * u).collect();
+    let mut q_m = Vec::new();
+    let t_m = crate::contacts::midpoint(q_a, u_a, t_a, dt, &mut q_m);
     found.clear();
-    bodies.detect(&q_m, t_a + 0.5 * dt, model_gap_tolerance(), found);
+    bodies.detect(&q_m, t_m, model_gap_tolerance(), found);
     let mut force = 0.0;
     let mut k = 0;
     for &(id, p_n, p_t) in impulses {

@@ -25,10 +25,34 @@
 use std::io::Write;
 
 use anyhow::Result;
-use moreau_models::bodies::Multibody;
+use moreau_models::bodies::{LocatedContact, Multibody};
 use moreau_stepper::{ContactState, StepReport};
 
 use crate::error::CliError;
+
+/// The midpoint of the step from (q_A, u_A, t_A) with step `dt`: q_M = q_A + Δt/2 u_A into
+/// `q_m` and t_M = t_A + Δt/2 returned, in the stepper's own arithmetic, so to the bit.
+pub fn midpoint(q_a: &[f64], u_a: &[f64], t_a: f64, dt: f64, q_m: &mut Vec<f64>) -> f64 {
+    let half = 0.5 * dt;
+    q_m.clear();
+    q_m.extend(q_a.iter().zip(u_a).map(|(q, u)| q + half * u));
+    t_a + half
+}
+
+/// The contact `id` of the step that ends at `t_e`, located at the step's midpoint
+/// (`q_m`, `t_m`) with the step's active-set `margin` ([`Multibody::locate_contact`]).
+///
+/// # Errors
+/// [`CliError::ContactNotLocated`] when the midpoint does not give it again.
+pub fn locate(
+    model: &Multibody,
+    id: u64,
+    (q_m, t_m): (&[f64], f64),
+    margin: f64,
+    t_e: f64,
+) -> Result<LocatedContact, CliError> {
+    model.locate_contact(id, q_m, t_m, margin).ok_or(CliError::ContactNotLocated { id, t: t_e })
+}
 
 /// The header of a contacts file.
 pub const HEADER: &str =
@@ -64,7 +88,7 @@ impl<W: Write> ContactLog<W> {
     ) -> Result<Self> {
         writeln!(out, "{HEADER}")?;
         let names = model.body_names().into_iter().map(str::to_owned).collect();
-        let q_m = vec![0.0; q0.len()];
+        let q_m = Vec::with_capacity(q0.len());
         Ok(Self {
             out,
             every: every.max(1) as u64,
@@ -92,19 +116,12 @@ impl<W: Write> ContactLog<W> {
         t: f64,
     ) -> Result<()> {
         if (report.step + 1).is_multiple_of(self.every) {
-            // q_M and t_M as the step computed them, to the bit.
-            let half = 0.5 * self.dt;
-            for ((q_m, q), u) in self.q_m.iter_mut().zip(&self.q_a).zip(&self.u_a) {
-                *q_m = q + half * u;
-            }
-            let t_m = self.t_a + half;
+            let t_m = midpoint(&self.q_a, &self.u_a, self.t_a, self.dt, &mut self.q_m);
             for (c, &id) in report.contacts.iter().zip(report.contact_ids) {
                 if !c.active {
                     continue;
                 }
-                let located = model
-                    .locate_contact(id, &self.q_m, t_m, self.margin)
-                    .ok_or(CliError::ContactNotLocated { id, t: report.t })?;
+                let located = locate(model, id, (&self.q_m, t_m), self.margin, report.t)?;
                 let g = located.geometry;
                 let state = match c.state {
                     ContactState::Open => "open",

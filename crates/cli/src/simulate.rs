@@ -411,8 +411,9 @@ pub fn run_to_csv(
     let model = scene.build()?;
     let planned = guard::plan_steps(&scene, options.step_limit())?;
     check_record_every(&scene, planned)?;
-    let contacts = match (&options.contacts, &model) {
-        (None, _) => None,
+    // The contacts file's path and its `.partial`, and its log.
+    let (contacts_files, log) = match (&options.contacts, &model) {
+        (None, _) => (None, None),
         (Some(path), _) if path == out => {
             return Err(CliError::Output {
                 path: path.clone(),
@@ -425,7 +426,7 @@ pub fn run_to_csv(
             let margin = scene.stepper_options().gap_tolerance;
             let log =
                 ContactLog::new(m, m.initial_state(), scene.record_every, scene.dt, margin, w)?;
-            Some((path.clone(), partial, log))
+            (Some((path.clone(), partial)), Some(log))
         }
         (Some(_), other) => {
             return Err(
@@ -452,10 +453,6 @@ pub fn run_to_csv(
         bar.set_message(format!("simulate {}", scene.kind()));
         bar
     });
-    let (contacts_path, contacts_partial, log) = match contacts {
-        Some((path, partial, log)) => (Some(path), Some(partial), Some(log)),
-        None => (None, None, None),
-    };
     let mut streamer = Streamer {
         recorder,
         planned,
@@ -478,9 +475,7 @@ pub fn run_to_csv(
     streamer.out.flush()?;
     drop(streamer.out);
     let contact_rows = streamer.contacts.as_ref().map(|log| log.rows);
-    if let (Some(log), Some(path), Some(partial)) =
-        (streamer.contacts.take(), &contacts_path, &contacts_partial)
-    {
+    if let (Some(log), Some((path, partial))) = (streamer.contacts.take(), &contacts_files) {
         drop(log.finish()?);
         publish(partial, path)?;
     }
