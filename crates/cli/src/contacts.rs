@@ -66,7 +66,7 @@ pub(crate) struct ContactLog<W: Write> {
     dt: f64,
     margin: f64,
     names: Vec<String>,
-    /// q_A, u_A and t_A of the coming step: the state the last step ended at.
+    /// q_A, u_A and t_A of the next recorded step: the state the step before it ended at.
     q_a: Vec<f64>,
     u_a: Vec<f64>,
     t_a: f64,
@@ -104,7 +104,8 @@ impl<W: Write> ContactLog<W> {
     }
 
     /// Writes the active contacts of the step of `report` when the record keeps it, at time
-    /// `t` (the record row's), and takes the step's end state as the next step's start.
+    /// `t` (the record row's), and takes the step's end state as the next step's start when
+    /// the record keeps the next step.
     ///
     /// # Errors
     /// [`CliError::ContactNotLocated`] for a contact the step reported that its midpoint does
@@ -149,9 +150,12 @@ impl<W: Write> ContactLog<W> {
                 self.rows += 1;
             }
         }
-        self.q_a.copy_from_slice(report.q);
-        self.u_a.copy_from_slice(report.u);
-        self.t_a = report.t;
+        // The next step's start is needed only when the record keeps that step.
+        if (report.step + 2).is_multiple_of(self.every) {
+            self.q_a.copy_from_slice(report.q);
+            self.u_a.copy_from_slice(report.u);
+            self.t_a = report.t;
+        }
         Ok(())
     }
 
