@@ -10,8 +10,8 @@ pub(crate) enum Kind {
     /// Coordinates q[dof..dof + 3] = (x, y, θ) of the origin; mass m, inertia I_O about the
     /// origin and centre of mass `com` in the body frame.
     Dynamic { dof: usize, mass: f64, inertia: f64, com: [f64; 2] },
-    /// At its initial pose for ever.
-    Fixed,
+    /// At its initial pose for ever: its frame there, computed once.
+    Fixed(Frame),
     /// Moving as told.
     Driven(Motion),
 }
@@ -175,6 +175,13 @@ impl Motion {
     }
 }
 
+impl Kind {
+    /// A fixed body at `pose`.
+    pub fn fixed(pose: [f64; 3]) -> Self {
+        Kind::Fixed(Frame::at(pose, [0.0; 2], 0.0, None))
+    }
+}
+
 impl Body {
     /// The body's frame at (q, t).
     #[inline]
@@ -183,7 +190,7 @@ impl Body {
             Kind::Dynamic { dof, .. } => {
                 Frame::at([q[*dof], q[dof + 1], q[dof + 2]], [0.0; 2], 0.0, Some(*dof))
             }
-            Kind::Fixed => Frame::at(self.pose0, [0.0; 2], 0.0, None),
+            Kind::Fixed(frame) => *frame,
             Kind::Driven(motion) => {
                 let s = motion.state(self.pose0, t);
                 Frame::at(s.pose, s.velocity, s.omega, None)

@@ -52,7 +52,7 @@ pub(crate) fn resolve(
     if name == GROUND {
         bodies.push(Body {
             name: GROUND.to_owned(),
-            kind: Kind::Fixed,
+            kind: Kind::fixed([0.0; 3]),
             pose0: [0.0; 3],
             shapes: Vec::new(),
             group: 0,
@@ -165,7 +165,7 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
             refuse("velocity", moving, &format!("a {what} body's motion is not an initial state"))?;
             if spec.kind == BodyType::Fixed {
                 refuse("motion", spec.motion.is_some(), "only a driven body has a motion")?;
-                Kind::Fixed
+                Kind::fixed([spec.position[0], spec.position[1], spec.angle])
             } else {
                 let motion = spec.motion.clone().ok_or_else(|| {
                     bad(field("motion"), "(missing)", "a driven body needs a motion".to_owned())

@@ -17,7 +17,7 @@ impl Multibody {
         let frames: Vec<_> = (0..self.bodies.len()).map(|i| self.frame(i, q, t)).collect();
         let role = |i: usize| match self.bodies[i].kind {
             Kind::Dynamic { .. } => Role::Rod,
-            Kind::Fixed => Role::Ground,
+            Kind::Fixed(_) => Role::Ground,
             Kind::Driven(_) => Role::Cam,
         };
         // A dynamic body is drawn as links from its origin to the points where it is joined,
@@ -125,7 +125,7 @@ impl Multibody {
         use moreau_kinematics::Shape;
         let role = match self.bodies[i].kind {
             Kind::Dynamic { .. } => Role::Slider,
-            Kind::Fixed => Role::Ground,
+            Kind::Fixed(_) => Role::Ground,
             Kind::Driven(_) => Role::Cam,
         };
         let points = |v: &[[f64; 2]]| v.iter().map(|p| frame.point(*p)).collect::<Vec<_>>();
