@@ -7,11 +7,9 @@
 //! at its midpoint q_M = q_A + Δt/2 u_A ([`moreau_models::bodies::Multibody::locate_contact`]).
 
 use anyhow::{Result, bail};
-use moreau_models::AnyModel;
 use moreau_models::bodies::Multibody;
+use moreau_models::{AnyModel, Drawing, Role};
 use moreau_stepper::ContactReport;
-
-use moreau_models::{Drawing, Role};
 
 use crate::contacts;
 use crate::frames::{Frame, Paint, Shape, bounds, shapes};
@@ -64,10 +62,10 @@ pub fn frame(
         Shape::Poly { points, closed, .. } => Shape::Poly { points, closed, paint: GREY },
         Shape::Circle { center, radius, .. } => Shape::Circle { center, radius, paint: GREY },
     };
-    let all: Vec<Shape> = shapes(&model.draw(&q_m, t_m)).into_iter().map(grey).collect();
-    let moving: Vec<Shape> = shapes(&moving_only(model.draw(&q_m, t_m))).into_iter().collect();
+    let drawing = model.draw(&q_m, t_m);
+    let moving = shapes(&moving_only(drawing.clone()));
     let window = bounds([&Frame { t: t_m, shapes: moving, caption: Vec::new(), window: None }]);
-    let mut drawn = all;
+    let mut drawn: Vec<Shape> = shapes(&drawing).into_iter().map(grey).collect();
     drawn.extend(links);
     Ok(Frame { t: t_m, shapes: drawn, caption, window: Some(window) })
 }

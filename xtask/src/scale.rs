@@ -375,12 +375,8 @@ fn measure(
         r.max_penetration = r.max_penetration.max(report.penetration);
         if k + 1 == spec.window && spec.resting {
             let (ids, contacts) = (report.contact_ids.to_vec(), report.contacts.to_vec());
-            let impulses: Vec<(u64, f64, f64)> = report
-                .contact_ids
-                .iter()
-                .zip(report.contacts)
-                .map(|(id, c)| (*id, c.p_n, c.p_t))
-                .collect();
+            let impulses: Vec<(u64, f64, f64)> =
+                ids.iter().zip(&contacts).map(|(id, c)| (*id, c.p_n, c.p_t)).collect();
             let model = stepper.mechanism();
             {
                 let support = support_force(model, &q_a, &u_a, t_a, dt, &impulses, &mut found);

@@ -140,12 +140,12 @@ pub fn networks(result: &RunResult, rows: &[usize]) -> Result<Vec<Frame>> {
     }
     let last = rows.iter().filter_map(|&k| step_of(k)).max();
     for s in 0..last.map_or(0, |l| l + 1) {
-        let (q_a, u_a, t_a) = (stepper.q().to_vec(), stepper.u().to_vec(), stepper.t());
-        let report = stepper.step()?;
         let wanted: Vec<usize> = (0..rows.len()).filter(|&i| step_of(rows[i]) == Some(s)).collect();
-        if wanted.is_empty() {
-            continue;
-        }
+        // The step's start, kept only for a step that is drawn.
+        let start =
+            (!wanted.is_empty()).then(|| (stepper.q().to_vec(), stepper.u().to_vec(), stepper.t()));
+        let report = stepper.step()?;
+        let Some((q_a, u_a, t_a)) = start else { continue };
         let (ids, contacts) = (report.contact_ids.to_vec(), report.contacts.to_vec());
         let t = report.t;
         let carrying = contacts.iter().filter(|c| c.p_n > 0.0).count();
