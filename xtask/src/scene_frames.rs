@@ -10,7 +10,7 @@ use anyhow::{Context, Result, bail, ensure};
 use clap::Args;
 use moreau_stepper::ContactState;
 
-use crate::frames::{Frame, Strip, frame, motion};
+use crate::frames::{Frame, Strip, frame, motion, motion_rows};
 use crate::network;
 use crate::runs::RunResult;
 use crate::simulate::{self, SimulateOptions};
@@ -43,9 +43,9 @@ pub struct FramesArgs {
     /// Output folder (created when missing).
     #[arg(long, default_value = "target/frames")]
     pub out: PathBuf,
-    /// Draw the strip's frames as force networks (declared scenes): each contact of the step
-    /// ending at the frame's row a line between the bodies' centres of mass, as wide as its
-    /// normal impulse.
+    /// Draw the strip's and the animation's frames as force networks (declared scenes): each
+    /// contact of the step ending at the frame's row a line between the bodies' centres of
+    /// mass, as wide as its normal impulse.
     #[arg(long)]
     pub forces: bool,
 }
@@ -94,13 +94,20 @@ pub fn run(args: &FramesArgs) -> Result<Vec<PathBuf>> {
         .with_context(|| format!("creating {}", args.out.display()))?;
     let stem = stem(args);
     let mut strip = strip(&result, &stem, &rows);
-    if args.forces {
-        strip.frames = networks(&result, &rows)?;
-        strip.title = format!("{} (force networks)", strip.title);
-    }
     let r = result.record();
     let end = r.t.last().copied().unwrap_or(0.0);
-    let anim = motion(result.model(), r, 0.0, end, ANIMATION_FRAMES);
+    let anim = if args.forces {
+        // The strip's and the animation's networks from one second run; the animation keeps
+        // one window for all its frames.
+        let moving = motion_rows(r, 0.0, end, ANIMATION_FRAMES);
+        let mut all = networks(&result, &[rows.as_slice(), moving.as_slice()].concat())?;
+        let anim: Vec<Frame> = all.split_off(rows.len());
+        strip.frames = all;
+        strip.title = format!("{} (force networks)", strip.title);
+        anim.into_iter().map(|f| Frame { window: None, ..f }).collect()
+    } else {
+        motion(result.model(), r, 0.0, end, ANIMATION_FRAMES)
+    };
     // The animation plays in real time, within 1/25 s and 1/2 s a frame.
     let frame_seconds = (end / (ANIMATION_FRAMES - 1) as f64).clamp(0.04, 0.5);
     strip.write(&args.out, &stem, &anim, frame_seconds)

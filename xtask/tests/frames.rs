@@ -119,6 +119,9 @@ fn force_networks_of_a_pile_are_drawn_at_the_rows_steps() -> Result<()> {
     for f in &files {
         ensure!(std::fs::metadata(f)?.len() > 1000, "{} is tiny", f.display());
     }
+    // The animation shows the networks too: the red of their lines (180, 20, 20) is in it.
+    let anim = files.iter().find(|f| f.to_string_lossy().ends_with("_anim.svg")).context("anim")?;
+    ensure!(std::fs::read_to_string(anim)?.contains("#b41414"), "no network lines");
     // The same frames through the library: the initial state has no line; at rest each of
     // the three contacts is one.
     let options = SimulateOptions { scene: a.scene.clone(), ..SimulateOptions::default() };
