@@ -129,22 +129,16 @@ pub fn networks(result: &RunResult, rows: &[usize]) -> Result<Vec<Frame>> {
     let caption = |t: f64, carrying: usize| {
         vec![format!("t = {t:.4} s"), format!("{carrying} contacts carry an impulse")]
     };
-    let mut frames: Vec<Option<Frame>> = vec![None; rows.len()];
-    for (slot, &k) in frames.iter_mut().zip(rows) {
-        if k == 0 {
-            let (q, u) = (stepper.q().to_vec(), stepper.u().to_vec());
-            let state = (q.as_slice(), u.as_slice(), stepper.t());
-            *slot = Some(network::frame(
-                stepper.mechanism(),
-                state,
-                0.0,
-                margin,
-                &[],
-                &[],
-                caption(r.t[0], 0),
-            )?);
-        }
-    }
+    // Row 0 (in the strip and the animation alike) is drawn once.
+    let initial = if rows.contains(&0) {
+        let state = (stepper.q(), stepper.u(), stepper.t());
+        let mechanism = stepper.mechanism();
+        Some(network::frame(mechanism, state, 0.0, margin, &[], &[], caption(r.t[0], 0))?)
+    } else {
+        None
+    };
+    let mut frames: Vec<Option<Frame>> =
+        rows.iter().map(|&k| if k == 0 { initial.clone() } else { None }).collect();
     let last = rows.iter().filter_map(|&k| step_of(k)).max();
     for s in 0..last.map_or(0, |l| l + 1) {
         let wanted: Vec<usize> = (0..rows.len()).filter(|&i| step_of(rows[i]) == Some(s)).collect();
