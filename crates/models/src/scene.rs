@@ -302,7 +302,8 @@ impl Scene {
     /// The stepper's options: Δt, the solver and the projection; a declared mechanism stepped
     /// with the projection gets its projection tolerance
     /// ([`crate::bodies::Multibody::projection_tolerance`]), which keeps resting contacts
-    /// closed.
+    /// closed, and its joint tolerance ([`crate::bodies::Multibody::joint_tolerance`]), both
+    /// relative to its size.
     pub fn stepper_options(&self) -> StepperOptions {
         let options = StepperOptions::new(self.dt)
             .with_solver(self.solver)
@@ -310,7 +311,9 @@ impl Scene {
             .with_inexact_residual(self.inexact_residual);
         match &self.params {
             ModelParams::Declared(spec) if self.projection => match spec.build() {
-                Ok(m) => options.with_projection_tolerance(m.projection_tolerance()),
+                Ok(m) => options
+                    .with_projection_tolerance(m.projection_tolerance())
+                    .with_joint_tolerance(m.joint_tolerance()),
                 // The build's error surfaces where the scene is built.
                 Err(_) => options,
             },

@@ -57,6 +57,15 @@ pub enum StepError {
         /// The rejected value (m).
         value: f64,
     },
+    /// A tolerance of the projection (`projection_tolerance`, `joint_tolerance`) is negative
+    /// or not finite.
+    #[error("{name} {value} must be finite and >= 0")]
+    InvalidTolerance {
+        /// The option's name.
+        name: &'static str,
+        /// The rejected value.
+        value: f64,
+    },
     /// The residual up to which an inexact island is taken is negative, not finite or not
     /// below 1.
     #[error("inexact residual {value} must be finite, >= 0 and < 1")]

@@ -174,6 +174,14 @@ pub struct StepperOptions {
     /// still removes the penetration of impacts and its drift.
     #[serde(default)]
     pub projection_tolerance: f64,
+    /// The drift |g_B| of the bilateral constraints (in their unit, the mechanism's length
+    /// unit for joints) that the correction of the positions after a step leaves alone.
+    /// Default 0: 1e-12 max(1, ‖q‖∞), round-off of coordinates of order one or above in their
+    /// unit. A mechanism much smaller than its length unit (a part of a millimetre in metres)
+    /// needs a tolerance relative to its own size, which a declared mechanism gives (1e-12 of
+    /// its size), so that it is corrected alike in any unit.
+    #[serde(default)]
+    pub joint_tolerance: f64,
     /// For a mechanism with a [`crate::BodyStructure`]: the natural residual
     /// (`moreau_lcp::fc2d::Fc2dResidual::natural`, dimensionless) up to which an island that
     /// the default solver's chain (or the chosen solver) leaves above its tolerance is still
@@ -205,6 +213,7 @@ impl StepperOptions {
             gap_tolerance: 0.0,
             projection: false,
             projection_tolerance: 0.0,
+            joint_tolerance: 0.0,
             inexact_residual: 0.0,
         }
     }
@@ -233,6 +242,13 @@ impl StepperOptions {
     /// [`Self::projection_tolerance`]).
     pub fn with_projection_tolerance(mut self, tolerance: f64) -> Self {
         self.projection_tolerance = tolerance;
+        self
+    }
+
+    /// The same options with a drift of the bilateral constraints that the correction of the
+    /// positions leaves alone (see [`Self::joint_tolerance`]).
+    pub fn with_joint_tolerance(mut self, tolerance: f64) -> Self {
+        self.joint_tolerance = tolerance;
         self
     }
 

@@ -277,6 +277,14 @@ impl<M: Mechanism> Stepper<M> {
         if !(options.gap_tolerance >= 0.0 && options.gap_tolerance.is_finite()) {
             return Err(StepError::InvalidGapTolerance { value: options.gap_tolerance });
         }
+        for (name, value) in [
+            ("projection_tolerance", options.projection_tolerance),
+            ("joint_tolerance", options.joint_tolerance),
+        ] {
+            if !(value >= 0.0 && value.is_finite()) {
+                return Err(StepError::InvalidTolerance { name, value });
+            }
+        }
         if !(0.0..1.0).contains(&options.inexact_residual) {
             return Err(StepError::InvalidInexactResidual { value: options.inexact_residual });
         }

@@ -585,8 +585,10 @@ fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
     ))
 }
 
-/// The centre and half-diagonal of the box around the bodies' origins and finite shapes at
-/// t = 0 (at least 0.5 m, so that a lone body still shows its floor).
+/// The centre and 0.6 times the diagonal of the box around the bodies' origins and finite
+/// shapes at t = 0: the mechanism's size, in its own length unit, so that what is relative to
+/// it (the projection's tolerance, the reach of a drawn half-plane) is the same in any unit.
+/// A box of no size (every origin and shape at one point) gives 1.
 fn extent(bodies: &[Body]) -> ([f64; 2], f64) {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     let mut grow = |p: [f64; 2], q: [f64; 2]| {
@@ -612,5 +614,6 @@ fn extent(bodies: &[Body]) -> ([f64; 2], f64) {
         return ([0.0; 2], 1.0);
     }
     let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-    (centre, (0.6 * (hi[0] - lo[0]).hypot(hi[1] - lo[1])).max(0.5))
+    let size = 0.6 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    (centre, if size > 0.0 { size } else { 1.0 })
 }

@@ -84,9 +84,10 @@ pub struct Multibody {
 }
 
 impl Multibody {
-    /// The penetration (m) that the contact projection leaves alone when this mechanism is
+    /// The penetration that the contact projection leaves alone when this mechanism is
     /// stepped with the projection (`StepperOptions::projection_tolerance`): 1e-6 of the
-    /// mechanism's size (the half-diagonal of the box around its bodies at t = 0).
+    /// mechanism's size, 0.6 times the diagonal of the box around its bodies' origins and
+    /// finite shapes at t = 0, so that a scene written in any length unit is projected alike.
     ///
     /// The projection moves q_E and leaves u_E, so a resting contact projected onto g_N = 0
     /// comes out slightly open and falls back within a few steps: it opens and closes every
@@ -94,6 +95,15 @@ impl Multibody {
     /// scheme without projection.
     pub fn projection_tolerance(&self) -> f64 {
         1e-6 * self.extent.1
+    }
+
+    /// The drift of the joints that the correction of the positions leaves alone when this
+    /// mechanism is stepped with the projection (`StepperOptions::joint_tolerance`): 1e-12 of
+    /// the mechanism's size (see [`Self::projection_tolerance`]), so that a mechanism of a
+    /// fraction of its length unit holds its joints as closely, relative to its size, as one of
+    /// the unit's size.
+    pub fn joint_tolerance(&self) -> f64 {
+        1e-12 * self.extent.1
     }
 
     /// The declaration it was built from.

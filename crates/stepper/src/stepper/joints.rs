@@ -21,9 +21,14 @@ use crate::{BilateralPoint, Mechanism, StepError};
 pub(super) const PROJECTION_ITERATIONS: usize = 4;
 
 /// The drift |g_B| that the correction of the positions leaves alone at q (on both paths):
-/// 1e-12 (1 + ‖q‖∞), round-off of the positions.
-pub(super) fn drift_tolerance(q: &[f64]) -> f64 {
-    1e-12 * q.iter().fold(1.0f64, |s, v| s.max(v.abs()))
+/// `StepperOptions::joint_tolerance` when it is set, else 1e-12 max(1, ‖q‖∞), round-off of
+/// the positions.
+pub(super) fn drift_tolerance(q: &[f64], joint_tolerance: f64) -> f64 {
+    if joint_tolerance > 0.0 {
+        joint_tolerance
+    } else {
+        1e-12 * q.iter().fold(1.0f64, |s, v| s.max(v.abs()))
+    }
 }
 
 /// The bilateral constraints' part of a stepper's workspace.
@@ -183,12 +188,13 @@ impl Joints {
         t: f64,
         chol: &Cholesky,
         held: &[f64],
+        joint_tolerance: f64,
     ) -> Result<(), StepError> {
         let (f, n) = (self.f, self.n);
         // K is formed only when a correction is needed.
         let mut holding = None;
         let m = n + held.len() / f;
-        let tolerance = drift_tolerance(q);
+        let tolerance = drift_tolerance(q, joint_tolerance);
         for _ in 0..PROJECTION_ITERATIONS {
             let mut drift = 0.0f64;
             mech.bilaterals(q, t, &mut self.w_end, &mut self.points);

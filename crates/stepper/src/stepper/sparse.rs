@@ -590,7 +590,7 @@ impl Core {
             }
         }
         if n_joints > 0 {
-            let tolerance = drift_tolerance(&self.q);
+            let tolerance = drift_tolerance(&self.q, self.options.joint_tolerance);
             b.detected.clear();
             b.directions();
             let mut corrections = 0;

@@ -243,7 +243,14 @@ impl Core {
                 }
             }
             let held = &ws.proj_w[..closed * f];
-            ws.joints.project(mech, &mut self.q, t_e, &ws.chol, held)?;
+            ws.joints.project(
+                mech,
+                &mut self.q,
+                t_e,
+                &ws.chol,
+                held,
+                self.options.joint_tolerance,
+            )?;
         }
         for _ in 0..4 {
             // Every contact enters the projection LCP once one penetrates: pushing a corner
