@@ -1,8 +1,10 @@
 //! Declared mechanisms written in other units: lengths from micrometres to kilometres and
 //! masses from milligrams to kilotonnes give the same motion, measured in the mechanism's own
-//! scales.
+//! scales, and the same balance of forces.
 
 use moreau_models::Scene;
+
+const G: f64 = 9.81;
 
 /// The pendulum striking a wall of `scenes/bodies/pendulum-wall.toml` with lengths times `s`,
 /// masses times `m` (times of √s, so that g stays 9.81), with the position projection.
@@ -82,5 +84,148 @@ fn a_pendulum_striking_a_wall_moves_alike_in_any_unit_of_length_and_mass() {
             .fold(0.0f64, f64::max);
         assert!(worst < 1e-11, "lengths × {s:e}, masses × {m:e}: {worst:e}");
         assert!((scaled - impulse).abs() < 1e-11 * impulse, "{s:e}, {m:e}: {scaled} {impulse}");
+    }
+}
+
+/// Three boxes of `density` (kg/m²), 1 × 0.5, 0.8 × 0.4 and 0.6 × 0.3 m times `s`, stacked
+/// on a floor with detected contacts and the projection, at rest from t = 0.
+fn stack(s: f64, density: f64) -> String {
+    let mut text = format!(
+        r#"
+dt = {dt}
+t_end = {t_end}
+gravity = [0.0, -9.81]
+contact_set = "detected"
+[[bodies]]
+name = "floor"
+type = "fixed"
+position = [0.0, 0.0]
+shapes = [{{ type = "half_plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}]
+[contacts_auto]
+eps_n = 0.0
+eps_t = 0.0
+mu = 0.5
+"#,
+        dt = 1e-3 * s.sqrt(),
+        t_end = 0.2 * s.sqrt(),
+    );
+    let mut bottom = 0.0;
+    for (k, (w, h)) in [(0.5, 0.25), (0.4, 0.2), (0.3, 0.15)].into_iter().enumerate() {
+        let (w, h) = (w * s, h * s);
+        text += &format!(
+            r#"
+[[bodies]]
+name = "box{k}"
+type = "dynamic"
+density = {density}
+position = [0.0, {y}]
+shapes = [{{ type = "polygon", vertices = [[{l}, {b}], [{w}, {b}], [{w}, {h}], [{l}, {h}]] }}]
+"#,
+            y = bottom + h,
+            l = -w,
+            b = -h,
+        );
+        bottom += 2.0 * h;
+    }
+    text
+}
+
+#[test]
+fn a_stack_of_heavy_or_light_boxes_rests_on_its_floor_in_any_unit() {
+    // Masses from 0.35 mg (0.3 mm boxes of paper) to 6,800 t (40 m blocks of granite):
+    // every step's problem is solved, and the floor carries the weight.
+    for (s, density) in [(1.0, 1.0), (1.0, 1e4), (1e-3, 1e-3), (40.0, 2.7e3), (1e3, 1e-2)] {
+        let scene = Scene::from_toml_str(&stack(s, density)).unwrap();
+        let mut stepper = scene.stepper().unwrap();
+        let masses: Vec<f64> = [(0.5, 0.25), (0.4, 0.2), (0.3, 0.15)]
+            .iter()
+            .map(|(w, h)| density * 4.0 * w * h * s * s)
+            .collect();
+        let total: f64 = masses.iter().sum();
+        let dt = 1e-3 * s.sqrt();
+        let q0 = stepper.q().to_vec();
+        let momentum =
+            |u: &[f64]| masses.iter().enumerate().map(|(k, m)| m * u[3 * k + 1]).sum::<f64>();
+        let p0 = momentum(stepper.u());
+        let mut floor = 0.0;
+        let steps = 200;
+        for _ in 0..steps {
+            let report = stepper.step().unwrap_or_else(|e| panic!("{s}, {density}: {e}"));
+            // The floor's contacts are those of collider 0 (its half-plane).
+            floor += report
+                .contact_ids
+                .iter()
+                .zip(report.contacts)
+                .filter(|(id, _)| **id >> 40 == 0)
+                .map(|(_, c)| c.p_n)
+                .sum::<f64>();
+        }
+        // Momentum: the floor's impulses carry the weight over the run, less the stack's
+        // change of vertical momentum.
+        let weight = total * G * dt * steps as f64;
+        let balance = (floor - weight - (momentum(stepper.u()) - p0)).abs() / weight;
+        assert!(balance < 1e-9, "lengths × {s}, density {density}: {balance:e}");
+        let moved = q0.iter().zip(stepper.q()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(moved < 1e-6 * s, "lengths × {s}, density {density}: moved {moved:e}");
+    }
+}
+
+/// A box of 1 × 0.5 m times `s` and `density`, dropped from `drop` (times s) with speed v0
+/// (times √s) along a floor of friction μ = 0.5, and turning at ω0 (over √s).
+fn slider(s: f64, density: f64, drop: f64, v0: f64, omega0: f64) -> String {
+    format!(
+        r#"
+dt = {dt}
+t_end = 1.0
+gravity = [0.0, -9.81]
+contact_set = "detected"
+[[bodies]]
+name = "floor"
+type = "fixed"
+position = [0.0, 0.0]
+shapes = [{{ type = "half_plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}]
+[[bodies]]
+name = "box"
+type = "dynamic"
+density = {density}
+position = [0.0, {y}]
+velocity = [{v}, 0.0]
+omega = {omega}
+shapes = [{{ type = "polygon", vertices = [[{l}, {b}], [{w}, {b}], [{w}, {h}], [{l}, {h}]] }}]
+[contacts_auto]
+eps_n = 0.0
+eps_t = 0.0
+mu = 0.5
+"#,
+        dt = 1e-3 * s.sqrt(),
+        y = (0.25 + drop) * s,
+        v = v0 * s.sqrt(),
+        omega = omega0 / s.sqrt(),
+        l = -0.5 * s,
+        b = -0.25 * s,
+        w = 0.5 * s,
+        h = 0.25 * s,
+    )
+}
+
+#[test]
+fn a_tumbling_box_of_any_mass_lands_and_slides_to_rest_by_coulomb_friction() {
+    // Dropped turning, it bounces on its corners and slides; then, flat, it decelerates at
+    // μ g and stops. Masses from 5 g to 5,000 t: every step's problem is solved.
+    let mut reference = None;
+    for density in [1e-2, 1.0, 1e2, 1e4, 1e7] {
+        let scene = Scene::from_toml_str(&slider(1.0, density, 0.3, 3.0, 4.0)).unwrap();
+        let mut stepper = scene.stepper().unwrap();
+        let mut path = Vec::new();
+        for _ in 0..2000 {
+            stepper.step().unwrap_or_else(|e| panic!("density {density}: {e}"));
+            path.push(stepper.q()[0]);
+        }
+        let u = stepper.u();
+        assert!(u.iter().all(|v| v.abs() < 1e-9), "density {density}: {u:?}");
+        // The same motion for every mass, up to the solvers' tolerance.
+        let reference = reference.get_or_insert(path.clone());
+        let worst = reference.iter().zip(&path).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(worst < 1e-6, "density {density}: {worst:e}");
     }
 }

@@ -33,6 +33,34 @@ struct Slot {
     rp_off: usize,
     /// Whether some b_N < 0 or a joint group is present, so that the island needs a solve.
     solve: bool,
+    /// The power of two c by which W is multiplied and the impulses divided for the solve
+    /// ([`units`]); 1 when the island is solved as assembled.
+    scale: f64,
+}
+
+/// The largest |log₂| of W's largest diagonal entry for which an island is solved as
+/// assembled: bodies of 1/16 to 16 kg (in the units of their declaration).
+const UNSCALED_EXPONENT: f64 = 4.0;
+
+/// The power of two c for an island whose W has `largest_diagonal` as its largest diagonal
+/// entry: 2^−e with e the exponent nearest log₂ of it, so that c W has a largest diagonal
+/// entry between 1/√2 and √2, or 1 when |e| ≤ [`UNSCALED_EXPONENT`] (or the entry is not
+/// positive and finite, which the solver then refuses).
+///
+/// The solvers accept an iterate by the natural residual, which adds impulses and velocities
+/// (moreau-lcp's `Fc2dResidual`). On bodies much heavier than their unit of mass the
+/// impulses are many orders of magnitude above the velocities, and their round-off alone
+/// exceeds the tolerance: a pile of boxes of 10⁴ kg could not be solved, not even an island
+/// of one contact. Solving c W r̃ + q = u for r̃ = r / c measures both in units of velocity.
+/// The factor is a power of two, so that c W r̃ is W r to the bit and the solution comes
+/// back exactly as r = c r̃; the iterates are those of the problem as assembled, scaled, and
+/// only the point where the solver accepts one depends on the units.
+fn units(largest_diagonal: f64) -> f64 {
+    if !(largest_diagonal > 0.0 && largest_diagonal.is_finite()) {
+        return 1.0;
+    }
+    let e = largest_diagonal.log2().round();
+    if e.abs() <= UNSCALED_EXPONENT { 1.0 } else { (-e).exp2() }
 }
 
 /// A batch's island problems, concatenated: group starts and row pointers relative to each
@@ -106,6 +134,9 @@ pub(super) struct Batch {
     pub(super) r: Vec<f64>,
     /// Scratch of the LCP residual.
     sums: Vec<[f64; 4]>,
+    /// c W and the warm start divided by c of an island solved in its own units ([`units`]).
+    scaled_blocks: Vec<[f64; 4]>,
+    scaled_warm: Vec<f64>,
     /// The worst island's information, and the first failure.
     pub(super) info: Option<LcpInfo>,
     pub(super) failure: Option<IslandFailure>,
@@ -150,6 +181,8 @@ impl Batch {
             solution: Fc2dSolution::new(),
             r: Vec::new(),
             sums: Vec::new(),
+            scaled_blocks: Vec::new(),
+            scaled_warm: Vec::new(),
             info: None,
             failure: None,
         })
@@ -171,12 +204,16 @@ impl Batch {
                 rows: 0,
                 rp_off: p.row_ptr.len(),
                 solve: false,
+                scale: 1.0,
             };
+            let mut largest = 0.0f64;
             for k in range.clone() {
                 let a = s.order[k] as usize;
                 slot.n += usize::from(a < nc);
                 slot.solve |= a >= nc || s.work[a].b[0] < 0.0;
+                largest = largest.max(s.work[a].diagonal);
             }
+            slot.scale = units(largest);
             let b0 = p.blocks.len();
             p.block_off.push(b0);
             p.row_ptr.push(0);
@@ -260,7 +297,24 @@ impl Batch {
                 }
             };
             let warm = &self.problems.warm[rows.clone()];
-            let taken = match self.solver.solve(problem, warm, purpose, &mut self.solution) {
+            let c = slot.scale;
+            let solved = if c == 1.0 {
+                self.solver.solve(problem, warm, purpose, &mut self.solution)
+            } else {
+                let parts = problem.parts();
+                self.scaled_blocks.clear();
+                self.scaled_blocks.extend(parts.blocks.iter().map(|b| b.map(|v| c * v)));
+                self.scaled_warm.clear();
+                self.scaled_warm.extend(warm.iter().map(|v| v / c));
+                let scaled =
+                    Fc2dRef::from_parts(Fc2dParts { blocks: &self.scaled_blocks, ..parts });
+                let solved = scaled.and_then(|scaled| {
+                    self.solver.solve(scaled, &self.scaled_warm, purpose, &mut self.solution)
+                });
+                self.solution.r.iter_mut().for_each(|r| *r *= c);
+                solved
+            };
+            let taken = match solved {
                 Ok(taken) => taken,
                 Err(e) => {
                     self.failure = Some(IslandFailure::Input(e));
