@@ -118,3 +118,25 @@ fn a_limit_outside_zero_to_one_is_refused() {
         }
     }
 }
+
+#[test]
+fn a_negative_or_non_finite_projection_or_joint_tolerance_is_refused() {
+    for bad in [-1e-9, f64::NAN, f64::INFINITY] {
+        for joints in [false, true] {
+            let (disks, q, u) = column();
+            let options = if joints {
+                StepperOptions::new(1e-3).with_joint_tolerance(bad)
+            } else {
+                StepperOptions::new(1e-3).with_projection_tolerance(bad)
+            };
+            let expected = if joints { "joint_tolerance" } else { "projection_tolerance" };
+            match Stepper::new(disks, &q, &u, 0.0, options) {
+                Err(StepError::InvalidTolerance { name, value }) => {
+                    assert_eq!(name, expected);
+                    assert!(value.to_bits() == bad.to_bits());
+                }
+                other => panic!("{expected} = {bad}: {:?}", other.err()),
+            }
+        }
+    }
+}

@@ -39,7 +39,7 @@ struct Slot {
 }
 
 /// The largest |log₂| of W's largest diagonal entry for which an island is solved as
-/// assembled: bodies of 1/16 to 16 kg (in the units of their declaration).
+/// assembled: about bodies of 1/16 to 16 kg (in the units of their declaration).
 const UNSCALED_EXPONENT: f64 = 4.0;
 
 /// The power of two c for an island whose W has `largest_diagonal` as its largest diagonal
@@ -50,8 +50,8 @@ const UNSCALED_EXPONENT: f64 = 4.0;
 /// The solvers accept an iterate by the natural residual, which adds impulses and velocities
 /// (moreau-lcp's `Fc2dResidual`). On bodies much heavier than their unit of mass the
 /// impulses are many orders of magnitude above the velocities, and their round-off alone
-/// exceeds the tolerance: a pile of boxes of 10⁴ kg could not be solved, not even an island
-/// of one contact. Solving c W r̃ + q = u for r̃ = r / c measures both in units of velocity.
+/// exceeds the tolerance: a box of 5,000 t tumbling onto a floor stopped on an island of one
+/// contact at the iteration limit. Solving c W r̃ + q = u for r̃ = r / c measures both in units of velocity.
 /// The factor is a power of two, so that c W r̃ is W r to the bit and the solution comes
 /// back exactly as r = c r̃; the iterates are those of the problem as assembled, scaled, and
 /// only the point where the solver accepts one depends on the units.
