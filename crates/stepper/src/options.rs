@@ -199,9 +199,9 @@ pub struct StepperOptions {
     /// `IterationLimit` and its residual, and [`RunSummary`](crate::RunSummary) counts such
     /// steps. The residual is in the units of velocity and impulse, relative to the free
     /// velocities above 1 (m/s): 1e-4 leaves velocity errors of about 0.1 mm/s. An island
-    /// whose W has its largest diagonal entry outside 1/16 to 16 (bodies far from 1 kg) is
-    /// solved with its impulses divided by the power of two that brings that entry near 1, so
-    /// that its residual adds velocities to velocities.
+    /// whose heaviest body is far from 1 kg (its smallest normal diagonal entry of W outside
+    /// 1/16 to 16) is solved with its impulses divided by the power of two that brings that
+    /// entry near 1, so that its residual adds velocities to velocities.
     #[serde(default)]
     pub inexact_residual: f64,
 }

@@ -81,9 +81,8 @@ pub(super) struct ContactWork {
     pub(super) mu: f64,
     /// The impulses (P_N, P_T) found under the same identity in the step before, else zero.
     pub(super) warm: [f64; 2],
-    /// The larger diagonal entry of W of the link's two rows, w_Nᵀ M⁻¹ w_N and
-    /// w_Tᵀ M⁻¹ w_T (1/kg for a contact on bodies of mass properties in kg), which sets the
-    /// units its island is solved in.
+    /// The diagonal entry of W of the link's first row, w_Nᵀ M⁻¹ w_N of a contact (1/kg for
+    /// bodies of mass properties in kg), which sets the units its island is solved in.
     pub(super) diagonal: f64,
 }
 

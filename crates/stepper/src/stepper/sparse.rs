@@ -204,8 +204,8 @@ fn check_contacts(
 }
 
 /// M⁻¹ w_N and M⁻¹ w_T of each side of each detected contact, then M⁻¹ w_B of each side of
-/// each joint group's rows, and the larger of the two diagonal entries of W they give, into
-/// `work` (`inv` the bodies' M⁻¹ blocks); in parallel for a large problem.
+/// each joint group's rows, and the diagonal entry of W of the first row, into `work` (`inv`
+/// the bodies' M⁻¹ blocks); in parallel for a large problem.
 fn directions(
     work: &mut Vec<ContactWork>,
     inv: &[[f64; 9]],
@@ -223,10 +223,7 @@ fn directions(
                 w.mw_t[side] = mul3(m, &w_1[side]);
             }
         }
-        let diagonal = |w_r: &[[f64; 3]; 2], m_r: &[[f64; 3]; 2]| {
-            w_r.iter().zip(m_r).map(|(w_r, m_r)| dot3(w_r, m_r)).sum::<f64>()
-        };
-        w.diagonal = diagonal(w_0, &w.mw_n).max(diagonal(w_1, &w.mw_t));
+        w.diagonal = w_0.iter().zip(&w.mw_n).map(|(w_r, m_r)| dot3(w_r, m_r)).sum::<f64>();
         w
     };
     work.clear();
