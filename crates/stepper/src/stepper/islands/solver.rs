@@ -49,6 +49,10 @@ const NEWTON_ITERATIONS: usize = 50;
 /// when Gauss-Seidel and Newton leave it unsolved.
 const PIVOTING_ISLAND: usize = 300;
 
+/// The Gauss-Seidel sweeps (cluster solves included) that the default choice gives a small
+/// island, after its first window and pivoting, before the large islands' chain takes over.
+const SMALL_ISLAND_SWEEPS: usize = 2_000;
+
 /// The natural-map tolerance of small islands, where it costs a few sweeps more.
 const SMALL_TOLERANCE: f64 = 1e-13;
 
@@ -85,6 +89,7 @@ impl IslandSolver {
                     Fc2dAuto::new(Fc2dAutoOptions {
                         tolerance: SMALL_TOLERANCE,
                         omega: 1.0,
+                        max_sweeps: SMALL_ISLAND_SWEEPS,
                         ..Fc2dAutoOptions::default()
                     })?,
                     Fc2dAuto::new(Fc2dAutoOptions {
