@@ -80,9 +80,10 @@
 //! driven bodies link nothing). Each island's planar frictional-contact problem is assembled
 //! on 2 × 2 blocks W_ij = w_iᵀ M⁻¹ w_j and solved by `moreau_lcp::fc2d`: the default
 //! [`SolverChoice::Auto`] by `Fc2dAuto` (unrelaxed to 1e-13 for islands of up to 8 contacts,
-//! a one-contact island in one sweep; over-relaxed to 1e-10 beyond, within 5,000 sweeps, and
-//! then nonsmooth Newton started cold, the proximal point method, 100,000 more sweeps, and
-//! pivoting for islands of up to 300 contacts),
+//! a one-contact island in one sweep, pivoting and at most 2,000 sweeps; over-relaxed to
+//! 1e-10 beyond, within 5,000 sweeps; and for any island still unsolved, to 1e-10, nonsmooth
+//! Newton started cold, the proximal point method, 100,000 more sweeps, and pivoting for
+//! islands of up to 300 contacts; islands of bodies far from 1 kg in scaled units),
 //! [`SolverChoice::Pgs`] by
 //! `Nsgs` with its options, [`SolverChoice::Lemke`] and [`SolverChoice::Enumeration`] by the
 //! exact `LcpRoute` with that pivoting solver. Every contact is warm-started from the impulses
