@@ -36,7 +36,7 @@ fn nsgs(tolerance: f64, max_sweeps: usize) -> Nsgs {
 }
 
 fn assert_honest(name: &str, s: &Fc2dSolution, tolerance: f64) {
-    assert_eq!(s.status == Status::Solved, s.residual.natural <= tolerance, "{name}: {s:?}");
+    assert_eq!(s.status == Status::Solved, s.residual.meets(tolerance), "{name}: {s:?}");
 }
 
 /// Every contact's r lies in its Coulomb cone exactly: r_N >= 0 and |r_T| <= μ r_N.

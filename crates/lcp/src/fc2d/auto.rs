@@ -17,7 +17,8 @@ use crate::{LcpError, Method, Status};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Fc2dAutoOptions {
-    /// Accept r when [`Fc2dResidual::natural`] is `<= tolerance`. Default 1e-8.
+    /// Accept r when `natural <= max(tolerance, round_off)` ([`Fc2dResidual::meets`]).
+    /// Default 1e-8.
     pub tolerance: f64,
     /// Problems with at most this many contacts go to the [`LcpRoute`] when the first
     /// window of Gauss-Seidel sweeps does not solve them. Default 100 (a dense pivoting
@@ -510,7 +511,7 @@ impl Fc2dSolver for Fc2dAuto {
                     }
                 }
                 out.residual = Fc2dResidual::of_velocity(problem, &out.r, &out.u);
-                if out.residual.natural <= tolerance {
+                if out.residual.meets(tolerance) {
                     out.certify(problem, tolerance, Status::IterationLimit);
                     break;
                 }

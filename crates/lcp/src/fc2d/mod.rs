@@ -29,8 +29,10 @@
 //! [`Fc2dResidual`] is the one measure of all solvers, tests and reports: per contact the
 //! natural map `F_i = r_i - proj_K(r_i - û_i)`, per bilateral row `|u_b|`, their maximum
 //! scaled by `max(1, ‖q‖∞)` (`natural`, the acceptance measure), and Siconos' normalised
-//! error (`siconos`) for comparisons. A solver reports [`Status::Solved`](crate::Status)
-//! only when `natural <= tolerance`.
+//! error (`siconos`) for comparisons, and the floor that floating point cannot resolve at r
+//! (`round_off`, `4 ε` times the largest term of u = W r + q). A solver reports
+//! [`Status::Solved`](crate::Status) only when `natural <= max(tolerance, round_off)`: the
+//! tolerance, or round-off where the tolerance asks for more than floating point resolves.
 //!
 //! **Large problems on rayon's pool.** A problem of more than 1,024 groups is checked
 //! ([`Fc2dRef::from_parts`]), multiplied ([`Fc2dRef::velocity`]) and measured

@@ -32,7 +32,8 @@ pub enum Rho {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct NewtonOptions {
-    /// Accept r when [`Fc2dResidual::natural`] is `<= tolerance`. Default 1e-8.
+    /// Accept r when `natural <= max(tolerance, round_off)` ([`Fc2dResidual::meets`]).
+    /// Default 1e-8.
     pub tolerance: f64,
     /// Largest number of Newton iterations (each one a sparse LU). Default 100.
     pub max_iterations: usize,
@@ -553,7 +554,7 @@ impl Fc2dSolver for Newton {
 
         problem.velocity(&out.r, &mut w.u);
         out.residual = Fc2dResidual::of_velocity(problem, &out.r, &w.u);
-        if out.residual.natural <= tolerance {
+        if out.residual.meets(tolerance) {
             out.certify(problem, tolerance, Status::IterationLimit);
             return Ok(());
         }
@@ -635,7 +636,7 @@ impl Fc2dSolver for Newton {
                 out.status = Status::NumericalFailure;
                 return Ok(());
             }
-            if out.residual.natural <= tolerance {
+            if out.residual.meets(tolerance) {
                 break;
             }
         }

@@ -14,8 +14,9 @@ use crate::{LcpError, Method, Status};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct NsgsOptions {
-    /// Accept r when [`Fc2dResidual::natural`](super::Fc2dResidual::natural) is `<= tolerance` (in the units of r and u,
-    /// relative to q when `‖q‖∞ > 1`). Default 1e-8.
+    /// Accept r when `natural <= max(tolerance, round_off)`
+    /// ([`Fc2dResidual::meets`](super::Fc2dResidual::meets); natural is in the units of r
+    /// and u, relative to q when `‖q‖∞ > 1`). Default 1e-8.
     pub tolerance: f64,
     /// Largest number of sweeps over all contacts and bilateral groups. Default 10,000.
     pub max_sweeps: usize,

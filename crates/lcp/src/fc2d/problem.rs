@@ -300,6 +300,24 @@ impl<'a> Fc2dRef<'a> {
         [u0, u1]
     }
 
+    /// Group g's rows of |W| |r| (the second entry meaningless for a one-row group): the
+    /// magnitude of the terms that [`Self::row_product`] sums, which sets its round-off.
+    #[inline]
+    pub(crate) fn row_magnitude(&self, g: usize, r: &[f64]) -> [f64; 2] {
+        let p = &self.parts;
+        let gs = p.group_start;
+        let [mut m0, mut m1] = [0.0f64; 2];
+        for k in p.row_ptr[g]..p.row_ptr[g + 1] {
+            let j = p.col[k] as usize;
+            let b = &p.blocks[k];
+            let r0 = r[gs[j]].abs();
+            let r1 = if gs[j + 1] - gs[j] == 2 { r[gs[j] + 1].abs() } else { 0.0 };
+            m0 += b[0].abs() * r0 + b[1].abs() * r1;
+            m1 += b[2].abs() * r0 + b[3].abs() * r1;
+        }
+        [m0, m1]
+    }
+
     /// Computes `u = W r + q` (both of length `n_rows`).
     ///
     /// # Panics

@@ -14,7 +14,8 @@ use crate::{LcpError, Method, Status};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ProximalOptions {
-    /// Accept r when [`Fc2dResidual::natural`] is `<= tolerance`. Default 1e-8.
+    /// Accept r when `natural <= max(tolerance, round_off)` ([`Fc2dResidual::meets`]).
+    /// Default 1e-8.
     pub tolerance: f64,
     /// Largest number of proximal (outer) iterations. Default 300.
     pub max_outer: usize,
@@ -204,7 +205,7 @@ impl Fc2dSolver for Proximal {
         }
         self.u.clear();
         self.u.resize(n, 0.0);
-        let mut best = Fc2dResidual::compute(problem, &self.r, &mut self.u).natural;
+        let mut best = Fc2dResidual::compute(problem, &self.r, &mut self.u);
         let mut iterations = 0;
         let mut alpha = self.options.initial_weight;
         let mut status = Status::IterationLimit;
@@ -226,19 +227,19 @@ impl Fc2dSolver for Proximal {
             let sub = Fc2dRef::from_parts(Fc2dParts { blocks: &self.blocks, q: &self.q, ..p })?;
             self.newton.solve_into(sub, Some(&self.r), &mut self.inner)?;
             iterations += self.inner.iterations;
-            let natural = Fc2dResidual::compute(problem, &self.inner.r, &mut self.u).natural;
-            if !natural.is_finite() {
+            let trial = Fc2dResidual::compute(problem, &self.inner.r, &mut self.u);
+            if !trial.natural.is_finite() {
                 status = Status::NumericalFailure;
                 break;
             }
-            if self.inner.status == Status::Solved || natural < best {
+            if self.inner.status == Status::Solved || trial.natural < best.natural {
                 self.r.copy_from_slice(&self.inner.r);
-                best = natural;
+                best = trial;
                 alpha = (alpha * self.options.shrink).max(MIN_WEIGHT);
             } else {
                 alpha = (alpha * self.options.grow).min(MAX_WEIGHT);
             }
-            if best <= tolerance {
+            if best.meets(tolerance) {
                 break;
             }
         }

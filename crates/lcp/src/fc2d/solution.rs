@@ -71,7 +71,8 @@ impl Fc2dSolution {
     }
 
     /// Projects each contact's r onto its cone, recomputes u and the residual from r, and
-    /// sets the status: `Solved` when the residual is within `tolerance`, else `otherwise`.
+    /// sets the status: `Solved` when the residual is within `tolerance` (or its round-off,
+    /// [`Fc2dResidual::meets`]), else `otherwise`.
     ///
     /// The projection leaves an iterate of the cones unchanged, bit for bit; it removes the
     /// round-off of solvers that work in other variables (the LCP route's P_R = P_T + μ P_N
@@ -84,7 +85,7 @@ impl Fc2dSolution {
             (self.r[k], self.r[k + 1]) = project_cone(self.r[k], self.r[k + 1], mu);
         }
         self.residual = Fc2dResidual::compute(problem, &self.r, &mut self.u);
-        self.status = if self.residual.natural <= tolerance {
+        self.status = if self.residual.meets(tolerance) {
             Status::Solved
         } else if self.residual.natural.is_finite() {
             otherwise
