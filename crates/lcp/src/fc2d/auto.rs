@@ -510,7 +510,7 @@ impl Fc2dSolver for Fc2dAuto {
                         lcp_method = out.lcp_method;
                     }
                 }
-                out.residual = Fc2dResidual::of_velocity(problem, &out.r, &out.u);
+                out.residual = Fc2dResidual::of_velocity(problem, &out.r, &out.u, tolerance);
                 if out.residual.meets(tolerance) {
                     out.certify(problem, tolerance, Status::IterationLimit);
                     break;

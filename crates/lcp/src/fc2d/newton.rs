@@ -553,7 +553,7 @@ impl Fc2dSolver for Newton {
         choose_rho(problem, self.options.rho, &mut w.rho);
 
         problem.velocity(&out.r, &mut w.u);
-        out.residual = Fc2dResidual::of_velocity(problem, &out.r, &w.u);
+        out.residual = Fc2dResidual::of_velocity(problem, &out.r, &w.u, tolerance);
         if out.residual.meets(tolerance) {
             out.certify(problem, tolerance, Status::IterationLimit);
             return Ok(());
@@ -627,7 +627,7 @@ impl Fc2dSolver for Newton {
                 w.u.copy_from_slice(&self.fallback_out.u);
             }
             let w = &mut self.work;
-            out.residual = Fc2dResidual::of_velocity(problem, &out.r, &w.u);
+            out.residual = Fc2dResidual::of_velocity(problem, &out.r, &w.u, tolerance);
             if self.options.keep_history {
                 out.history.push(out.residual.natural);
             }

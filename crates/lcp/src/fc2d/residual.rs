@@ -77,7 +77,10 @@ pub struct Fc2dResidual {
     /// Where `absolute` is reached (a group index: contacts first); 0 when all are zero.
     pub worst_group: usize,
     /// `4 ε max_k ((|W| |r|)_k + |q_k| + |r_k|) / max(1, ‖q‖∞)`: the natural residual that
-    /// floating point does not resolve at r.
+    /// floating point does not resolve at r. A solver's result carries it only when `natural`
+    /// exceeds the solver's tolerance, where it decides ([`Fc2dResidual::meets`]), and 0
+    /// otherwise, sparing a pass over W; [`Fc2dResidual::compute`] carries it whenever
+    /// `natural` > 0.
     #[serde(default)]
     pub round_off: f64,
 }
@@ -96,12 +99,18 @@ impl Fc2dResidual {
     /// When r or u does not have one entry per row of the problem.
     pub fn compute(problem: Fc2dRef<'_>, r: &[f64], u: &mut [f64]) -> Fc2dResidual {
         problem.velocity(r, u);
-        Self::of_velocity(problem, r, u)
+        Self::of_velocity(problem, r, u, 0.0)
     }
 
     /// Measures r with a given `u`, which must be `W r + q` (as [`Fc2dResidual::compute`]
-    /// writes it).
-    pub(crate) fn of_velocity(problem: Fc2dRef<'_>, r: &[f64], u: &[f64]) -> Fc2dResidual {
+    /// writes it), against `tolerance`: `round_off` only when `natural` exceeds it, 0
+    /// otherwise.
+    pub(crate) fn of_velocity(
+        problem: Fc2dRef<'_>,
+        r: &[f64],
+        u: &[f64],
+        tolerance: f64,
+    ) -> Fc2dResidual {
         let n_c = problem.n_contacts();
         let mu = problem.mu();
         let q = problem.q();
@@ -111,15 +120,7 @@ impl Fc2dResidual {
         // the result does not depend on the pool.
         let of_groups = |groups: std::ops::Range<usize>| {
             let (mut absolute, mut worst, mut sum, mut finite) = (0.0f64, 0, 0.0, true);
-            let mut floor = 0.0f64;
             for g in groups {
-                let size = problem.row_magnitude(g, r);
-                let rows = gs[g + 1] - gs[g];
-                let mut largest = 0.0f64;
-                for (k, &s) in (gs[g]..gs[g + 1]).zip(&size[..rows]) {
-                    largest = largest.max(s + q[k].abs() + r[k].abs());
-                }
-                floor = floor.max(ROUND_OFF_ULPS * f64::EPSILON * largest);
                 if g < n_c {
                     let (i, m) = (2 * g, mu[g]);
                     let (f_n, f_t) = natural_map(r[i], r[i + 1], u[i], u[i + 1], m);
@@ -142,13 +143,13 @@ impl Fc2dResidual {
                     }
                 }
             }
-            (absolute, worst, sum, finite, floor)
+            (absolute, worst, sum, finite)
         };
-        let merge = |a: (f64, usize, f64, bool, f64), b: (f64, usize, f64, bool, f64)| {
+        let merge = |a: (f64, usize, f64, bool), b: (f64, usize, f64, bool)| {
             let (absolute, worst) = if b.0 > a.0 { (b.0, b.1) } else { (a.0, a.1) };
-            (absolute, worst, a.2 + b.2, a.3 && b.3, a.4.max(b.4))
+            (absolute, worst, a.2 + b.2, a.3 && b.3)
         };
-        let (absolute, worst, sum, mut finite, floor) =
+        let (absolute, worst, sum, mut finite) =
             chunks::reduce(0..problem.n_groups(), &of_groups, &merge);
         let norm2 = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
         finite &= r.iter().all(|v| v.is_finite()) && u.iter().all(|v| v.is_finite());
@@ -164,12 +165,31 @@ impl Fc2dResidual {
         let scale = norm2(r).max(norm2(u)).max(norm2(q));
         let error = sum.sqrt();
         let q_scale = problem.q_norm_inf().max(1.0);
+        let natural = absolute / q_scale;
         Fc2dResidual {
-            natural: absolute / q_scale,
+            natural,
             siconos: if scale > f64::EPSILON { error / scale } else { error },
             absolute,
             worst_group: worst,
-            round_off: floor / q_scale,
+            round_off: if natural > tolerance { Self::floor(problem, r) / q_scale } else { 0.0 },
         }
+    }
+
+    /// `4 ε max_k ((|W| |r|)_k + |q_k| + |r_k|)`: [`Self::round_off`] before the division by
+    /// max(1, ‖q‖∞). One more pass over W's blocks, in chunks as the residual.
+    fn floor(problem: Fc2dRef<'_>, r: &[f64]) -> f64 {
+        let (q, gs) = (problem.q(), problem.parts().group_start);
+        let of_groups = |groups: std::ops::Range<usize>| {
+            let mut largest = 0.0f64;
+            for g in groups {
+                let size = problem.row_magnitude(g, r);
+                for (k, &s) in (gs[g]..gs[g + 1]).zip(&size) {
+                    largest = largest.max(s + q[k].abs() + r[k].abs());
+                }
+            }
+            largest
+        };
+        let largest = chunks::reduce(0..problem.n_groups(), &of_groups, &|a: f64, b: f64| a.max(b));
+        ROUND_OFF_ULPS * f64::EPSILON * largest
     }
 }

@@ -84,7 +84,8 @@ impl Fc2dSolution {
             let k = gs[i];
             (self.r[k], self.r[k + 1]) = project_cone(self.r[k], self.r[k + 1], mu);
         }
-        self.residual = Fc2dResidual::compute(problem, &self.r, &mut self.u);
+        problem.velocity(&self.r, &mut self.u);
+        self.residual = Fc2dResidual::of_velocity(problem, &self.r, &self.u, tolerance);
         self.status = if self.residual.meets(tolerance) {
             Status::Solved
         } else if self.residual.natural.is_finite() {
