@@ -12,9 +12,10 @@
 //! refused unless a larger limit is given (`--max-steps`).
 //!
 //! # Initial gaps
-//! A contact whose gap g_N at the start is below −[`GAP_TOLERANCE`] penetrates; one within
-//! ±[`GAP_TOLERANCE`] touches, and round-off then decides whether it is in the first step's
-//! active set (g_N ≤ 0). Both are reported as warnings before the run.
+//! A contact whose gap g_N at the start is below −[`GAP_TOLERANCE`] ℓ penetrates; one within
+//! ±[`GAP_TOLERANCE`] ℓ touches, and round-off then decides whether it is in the first step's
+//! active set (g_N ≤ 0). Both are reported as warnings before the run. ℓ is 1 m for a report
+//! model and a declared mechanism's size in its own length unit ([`Scales`]).
 //!
 //! # The divergence guard
 //! Before the first step, Δt is compared with the stability limit 2/ω_max of the smooth
@@ -25,9 +26,17 @@
 //! torques, see [`energy_bound_applies`]) must not gain energy: the run stops when T + V
 //! exceeds its initial value by more than [`ENERGY_GROWTH`] times max(T₀ + |V₀|,
 //! [`ENERGY_FLOOR`]) (for a declared mechanism, T₀ + |V₀| + m |g| ℓ with m its dynamic mass
-//! and ℓ the diagonal of the region it occupies, since its V has an arbitrary zero). A driven
-//! mechanism gets the stability and magnitude checks only. And every entry of q and u must
-//! stay below [`MAGNITUDE_FACTOR`] (1 + max |q₀, u₀|).
+//! and ℓ its size, since its V has an arbitrary zero). A driven mechanism gets the stability
+//! and magnitude checks only. And every entry of q and u must stay below
+//! [`MAGNITUDE_FACTOR`] (1 + max |q₀, u₀|), for a declared mechanism in its own units
+//! ([`Bounds::of`]).
+//!
+//! **Units.** The constants are in metres, seconds and joules for the report's models. A
+//! declared mechanism may be written in any consistent units, and its guards measure it in
+//! them ([`Scales`]): gaps against its size, positions and the differences' shifts in its
+//! length, velocities in its length over √(ℓ/|g|), energies without a floor in joules. A
+//! mechanism of milligrams and micrometres is then guarded as the same one in kilograms and
+//! metres.
 
 use std::ops::ControlFlow;
 
@@ -58,6 +67,44 @@ pub const ENERGY_FLOOR: f64 = 1e-6;
 /// Factor of the state magnitude bound.
 pub const MAGNITUDE_FACTOR: f64 = 1e8;
 
+/// The units in which the guards measure a model: a length for its gaps, positions and the
+/// shifts of the stability limit's differences, and a time that makes velocities of lengths.
+///
+/// A report model is written in metres and seconds, and its guards' constants are in those
+/// units (length and time 1). A declared mechanism may be written in any consistent units
+/// (millimetres and grams, or kilometres and tonnes), and its guards measure it in its own:
+/// the length is its size (`Multibody::size`), the time √(ℓ/|g|) under gravity, else the
+/// scene's Δt.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scales {
+    /// The length unit ℓ (the unit of the model's lengths).
+    pub length: f64,
+    /// The time unit τ (the unit of the model's times).
+    pub time: f64,
+}
+
+impl Scales {
+    /// The scales of `model` run with the step `dt`.
+    pub fn of(model: &AnyModel, dt: f64) -> Scales {
+        let AnyModel::Declared(m) = model else { return Scales { length: 1.0, time: 1.0 } };
+        let length = m.size();
+        let g = m.spec().gravity;
+        let g = g[0].hypot(g[1]);
+        let time = if g > 0.0 { (length / g).sqrt() } else { dt };
+        Scales { length, time }
+    }
+
+    /// Whether coordinate j of the model is a length (x or y of a declared mechanism's body;
+    /// every coordinate of a report model, whose constants are in metres and radians alike),
+    /// rather than an angle.
+    fn unit(&self, model: &AnyModel, j: usize) -> f64 {
+        match model {
+            AnyModel::Declared(_) if j % 3 == 2 => 1.0,
+            _ => self.length,
+        }
+    }
+}
+
 /// The number of steps of a scene's run after checking Δt ≤ t_end, that t_end is a whole
 /// number of steps and that there are at most `max_steps` of them.
 ///
@@ -80,23 +127,30 @@ pub fn plan_steps(scene: &Scene, max_steps: u64) -> Result<u64, CliError> {
 }
 
 /// Warnings about the initial gaps: contacts that penetrate or touch within
-/// [`GAP_TOLERANCE`], named with their gaps.
+/// [`GAP_TOLERANCE`] times the model's length unit ([`Scales`]), named with their gaps.
 pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
     let (q0, _) = model.initial_state();
     let names = model.contact_names();
+    let tolerance = GAP_TOLERANCE * Scales::of(model, 1.0).length;
+    let unit = match model {
+        AnyModel::Declared(_) => {
+            format!(" (1e-9 of the mechanism's size, {:.3e})", tolerance * 1e9)
+        }
+        _ => " m".to_owned(),
+    };
     let mut out = Vec::new();
     for (i, name) in names.iter().enumerate() {
         let g = model.normal_gap(i, &q0, 0.0);
-        if g < -GAP_TOLERANCE {
+        if g < -tolerance {
             out.push(format!(
-                "contact {} ({name}) starts penetrating: g_N = {g:.6e} m (the scheme acts on \
+                "contact {} ({name}) starts penetrating: g_N = {g:.6e} (the scheme acts on \
                  velocities and leaves a penetration in place)",
                 i + 1
             ));
-        } else if g.abs() <= GAP_TOLERANCE {
+        } else if g.abs() <= tolerance {
             out.push(format!(
-                "contact {} ({name}) starts touching: g_N = {g:.3e} m is within ±{GAP_TOLERANCE:e} \
-                 m, so round-off decides whether it is active in the first step",
+                "contact {} ({name}) starts touching: g_N = {g:.3e} is within ±{tolerance:.3e}\
+                 {unit}, so round-off decides whether it is active in the first step",
                 i + 1
             ));
         }
@@ -131,21 +185,22 @@ pub fn energy_bound_applies(model: &AnyModel) -> bool {
     }
 }
 
-/// The energy scale of the energy test (J): max(T₀ + |V₀|, [`ENERGY_FLOOR`]) for a report
-/// model. A declared mechanism's V has its zero wherever the scene's origin happens to be, so
-/// that T₀ + |V₀| may vanish for a mechanism that starts at rest level with the origin (a rod
-/// released horizontally from a hinge at the origin); its scale adds m |g| ℓ, the work gravity
-/// can do on the total mass m of the dynamic bodies over the diagonal ℓ of the region the
-/// mechanism occupies at the start.
+/// The energy scale of the energy test: max(T₀ + |V₀|, [`ENERGY_FLOOR`]) for a report
+/// model (J). A declared mechanism's V has its zero wherever the scene's origin happens to be,
+/// so that T₀ + |V₀| may vanish for a mechanism that starts at rest level with the origin (a
+/// rod released horizontally from a hinge at the origin); its scale adds m |g| ℓ, the work
+/// gravity can do on the total mass m of the dynamic bodies over its size ℓ, and takes no floor
+/// in joules, which would hide the growth of a mechanism of milligrams and micrometres
+/// (m |g| ℓ = 1e-11 J) beneath it: the floor applies only when the scale is zero (nothing
+/// moves, no gravity, no potential).
 fn energy_scale(model: &AnyModel, t0: f64, v0: f64) -> f64 {
     let base = t0 + v0.abs();
     let AnyModel::Declared(m) = model else { return base.max(ENERGY_FLOOR) };
     let mass: f64 =
         (0..m.body_names().len()).filter_map(|i| m.mass_properties(i)).map(|p| p.0).sum();
     let g = m.spec().gravity;
-    let (q0, _) = m.initial_state();
-    let size = model.draw(&q0, 0.0).bounds().map_or(0.0, |b| b.width().hypot(b.height()));
-    (base + mass * g[0].hypot(g[1]) * size).max(ENERGY_FLOOR)
+    let scale = base + mass * g[0].hypot(g[1]) * m.size();
+    if scale > 0.0 { scale } else { ENERGY_FLOOR }
 }
 
 /// The largest natural angular frequency ω_max (rad/s) of the smooth dynamics at the
@@ -169,26 +224,35 @@ pub fn omega_max(model: &AnyModel) -> f64 {
     let mut m = vec![0.0; f * f];
     model.mass_matrix(&q0, 0.0, &mut m);
     let mut k = vec![0.0; f * f];
-    let mut diff = Differences::new(&q0);
+    let mut diff = Differences::new(model, &q0);
     stiffness_columns(model, &q0, &u0, 0..f, &mut diff, &mut |i, j, kij| k[i + f * j] = kij);
     largest_frequency(&m, &k, f)
 }
 
-/// The buffers of K's central differences: the shifted q and h at both shifts.
+/// The buffers of K's central differences: the shifted q, h at both shifts, and each
+/// coordinate's unit (the model's length for a length, 1 for an angle, see [`Scales`]).
 struct Differences {
     q: Vec<f64>,
     hp: Vec<f64>,
     hm: Vec<f64>,
+    unit: Vec<f64>,
 }
 
 impl Differences {
-    fn new(q0: &[f64]) -> Self {
+    fn new(model: &AnyModel, q0: &[f64]) -> Self {
         let f = q0.len();
-        Self { q: q0.to_vec(), hp: vec![0.0; f], hm: vec![0.0; f] }
+        let scales = Scales::of(model, 1.0);
+        let unit = (0..f).map(|j| scales.unit(model, j)).collect();
+        Self { q: q0.to_vec(), hp: vec![0.0; f], hm: vec![0.0; f], unit }
+    }
+
+    /// The finite-difference shift of coordinate j at q₀: 1e-6 (unit_j + |q₀_j|).
+    fn shift(&self, q0: &[f64], j: usize) -> f64 {
+        shift(self.unit[j], q0[j])
     }
 
     /// h at (q₀ ± δ, u₀, t = 0) into `hp` and `hm`, where δ shifts each coordinate j of
-    /// `columns` by [`shift`]`(q₀_j) · weight(j)`; q is left at q₀.
+    /// `columns` by [`Self::shift`] · weight(j); q is left at q₀.
     fn evaluate(
         &mut self,
         model: &AnyModel,
@@ -199,7 +263,7 @@ impl Differences {
     ) {
         for (sign, h) in [(1.0, &mut self.hp), (-1.0, &mut self.hm)] {
             for j in columns.clone() {
-                self.q[j] = q0[j] + sign * shift(q0[j]) * weight(j);
+                self.q[j] = q0[j] + sign * shift(self.unit[j], q0[j]) * weight(j);
             }
             model.forces(&self.q, u0, 0.0, h);
         }
@@ -218,7 +282,7 @@ fn stiffness_columns(
     keep: &mut impl FnMut(usize, usize, f64),
 ) {
     for j in columns {
-        let d = shift(q0[j]);
+        let d = diff.shift(q0, j);
         diff.evaluate(model, q0, u0, j..j + 1, |_| 1.0);
         for (i, (p, m)) in diff.hp.iter().zip(&diff.hm).enumerate() {
             // Forces that do not depend on q_j are computed alike at both shifts, so that
@@ -230,9 +294,10 @@ fn stiffness_columns(
     }
 }
 
-/// The finite-difference shift of a coordinate of value `q`.
-fn shift(q: f64) -> f64 {
-    1e-6 * (1.0 + q.abs())
+/// The finite-difference shift of a coordinate of value `q` in a model whose unit for it is
+/// `unit`.
+fn shift(unit: f64, q: f64) -> f64 {
+    1e-6 * (unit + q.abs())
 }
 
 /// [`stiffness_columns`] of a mechanism with a body structure, over the columns of the bodies
@@ -280,7 +345,7 @@ fn omega_max_by_body(
 ) -> f64 {
     let mut entries = Vec::new();
     let nb = structure.num_bodies();
-    let mut diff = Differences::new(q0);
+    let mut diff = Differences::new(model, q0);
     let mut keep = |i, j, kij| entries.push((i, j, kij));
     stiffness_columns_by_body(model, q0, u0, 0..nb, &mut diff, &mut keep);
     // Sorted by (row, column), so that K_ji is found by a binary search for each K_ij.
@@ -424,22 +489,29 @@ fn symmetric_eigenvalues(a: &mut [f64], f: usize) -> Vec<f64> {
     (0..f).map(|i| a[i + f * i]).collect()
 }
 
-/// The checks of the divergence guard after each step, wrapped around another observer.
-pub struct Guarded<'a, O> {
-    inner: &'a mut O,
-    energy_bound: Option<(f64, f64)>,
-    magnitude: f64,
-    mass: Mass,
-    /// The divergence seen, if any.
-    pub diverged: Option<CliError>,
+/// The bounds of the divergence guard for a model at its initial state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bounds {
+    /// (E₀, the largest T + V accepted) for a mechanism whose energy cannot grow
+    /// ([`energy_bound_applies`]), in the model's energy unit.
+    pub energy: Option<(f64, f64)>,
+    /// The largest |q_j| accepted, per coordinate.
+    pub q: Vec<f64>,
+    /// The largest |u_j| accepted, per velocity.
+    pub u: Vec<f64>,
 }
 
-impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
-    /// The guard of `model` at its initial state, passing every step on to `inner`.
-    pub fn new(model: &AnyModel, inner: &'a mut O) -> Self {
+impl Bounds {
+    /// The bounds of `model` run with the step `dt`: the energy bound E₀ + [`ENERGY_GROWTH`]
+    /// times the energy scale, and [`MAGNITUDE_FACTOR`] (1 + max |q₀, u₀|) on every entry of a
+    /// report model. A declared mechanism's entries are bounded in its own units ([`Scales`]):
+    /// positions by [`MAGNITUDE_FACTOR`] (ℓ + max |x₀, y₀|), angles by
+    /// [`MAGNITUDE_FACTOR`] (1 + max |θ₀|), velocities by [`MAGNITUDE_FACTOR`]
+    /// (ℓ/τ + max |v₀|) and angular velocities by [`MAGNITUDE_FACTOR`] (1/τ + max |ω₀|).
+    pub fn of(model: &AnyModel, dt: f64) -> Bounds {
         let (q0, u0) = model.initial_state();
         let mut mass = Mass::new(model, &q0);
-        let energy_bound = energy_bound_applies(model)
+        let energy = energy_bound_applies(model)
             .then(|| {
                 let v0 = model.potential_energy(&q0, 0.0)?;
                 let t0 = kinetic(model, &q0, &u0, 0.0, &mut mass);
@@ -447,30 +519,62 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
                 Some((e0, e0 + ENERGY_GROWTH * energy_scale(model, t0, v0)))
             })
             .flatten();
-        let largest = q0.iter().chain(&u0).fold(0.0f64, |m, x| m.max(x.abs()));
-        Self {
-            inner,
-            energy_bound,
-            magnitude: MAGNITUDE_FACTOR * (1.0 + largest),
-            mass,
-            diverged: None,
-        }
+        let scales = Scales::of(model, dt);
+        let (q, u) = if matches!(model, AnyModel::Declared(_)) {
+            // Lengths and angles apart: the largest initial entry of each kind, and its unit.
+            let largest = |x: &[f64], angle: bool| {
+                x.iter()
+                    .enumerate()
+                    .filter(|(j, _)| (j % 3 == 2) == angle)
+                    .fold(0.0f64, |m, (_, v)| m.max(v.abs()))
+            };
+            let bound = |x: &[f64], units: [f64; 2]| -> Vec<f64> {
+                let b = [largest(x, false) + units[0], largest(x, true) + units[1]];
+                (0..x.len()).map(|j| MAGNITUDE_FACTOR * b[usize::from(j % 3 == 2)]).collect()
+            };
+            let (l, t) = (scales.length, scales.time);
+            (bound(&q0, [l, 1.0]), bound(&u0, [l / t, 1.0 / t]))
+        } else {
+            let largest = q0.iter().chain(&u0).fold(0.0f64, |m, x| m.max(x.abs()));
+            let b = MAGNITUDE_FACTOR * (1.0 + largest);
+            (vec![b; q0.len()], vec![b; u0.len()])
+        };
+        Bounds { energy, q, u }
+    }
+}
+
+/// The checks of the divergence guard after each step, wrapped around another observer.
+pub struct Guarded<'a, O> {
+    inner: &'a mut O,
+    bounds: Bounds,
+    mass: Mass,
+    /// The divergence seen, if any.
+    pub diverged: Option<CliError>,
+}
+
+impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
+    /// The guard of `model` at its initial state, run with the step `dt`, passing every step
+    /// on to `inner`.
+    pub fn new(model: &AnyModel, dt: f64, inner: &'a mut O) -> Self {
+        let (q0, _) = model.initial_state();
+        Self { inner, bounds: Bounds::of(model, dt), mass: Mass::new(model, &q0), diverged: None }
     }
 
     fn check(&mut self, model: &AnyModel, r: &StepReport<'_>) -> Option<Divergence> {
-        for (what, values, names) in
-            [("q", r.q, model.coordinate_names()), ("u", r.u, model.velocity_names())]
-        {
-            if let Some(j) = values.iter().position(|x| !(x.abs() <= self.magnitude)) {
+        for (what, values, bounds, names) in [
+            ("q", r.q, &self.bounds.q, model.coordinate_names()),
+            ("u", r.u, &self.bounds.u, model.velocity_names()),
+        ] {
+            if let Some(j) = values.iter().zip(bounds).position(|(x, b)| !(x.abs() <= *b)) {
                 return Some(Divergence::StateMagnitude {
                     what,
                     name: names.get(j).map_or_else(|| j.to_string(), |s| (*s).to_owned()),
                     value: values[j],
-                    bound: self.magnitude,
+                    bound: bounds[j],
                 });
             }
         }
-        if let Some((initial, bound)) = self.energy_bound {
+        if let Some((initial, bound)) = self.bounds.energy {
             let v = model.potential_energy(r.q, r.t).unwrap_or(0.0);
             let reached = kinetic(model, r.q, r.u, r.t, &mut self.mass) + v;
             if !(reached <= bound) {
@@ -574,7 +678,7 @@ pub fn run_guarded<O: Observer<AnyModel>>(
             Divergence::StepAboveStability { dt: scene.dt, limit: 2.0 / omega, omega_max: omega };
         return Err(CliError::Diverged { cause, step: 0, t: 0.0 }.into());
     }
-    let mut guarded = Guarded::new(model, observer);
+    let mut guarded = Guarded::new(model, scene.dt, observer);
     let summary = match scene.run_with(&mut guarded) {
         Ok(s) => s,
         Err(ModelError::Step(StepError::NonFinite { what, index, t })) => {

@@ -15,7 +15,9 @@
 //! row at t_end, at most [`guard::DEFAULT_MAX_STEPS`] steps unless asked for, a stop with a
 //! typed [`CliError::Diverged`] naming the cause and the step when Δt exceeds the stability
 //! limit, the energy of a mechanism without drives grows, or the state explodes; warnings
-//! about penetrating or touching initial gaps. A declared mechanism's contacts can be written
+//! about penetrating or touching initial gaps. A declared mechanism written in other units
+//! (micrometres and milligrams, kilometres and kilotonnes) is guarded in its own
+//! ([`guard::Scales`]). A declared mechanism's contacts can be written
 //! too, located on their bodies ([`contacts`]: the force network of a pile at each recorded
 //! step). Records stream to disk in batches; sweep rows are written as members finish, each
 //! sweep part names its sweep, and [`parts::merge`] refuses mixed, incomplete or damaged sets.

@@ -223,14 +223,29 @@ fn initial_gaps_near_zero_or_negative_are_warned_about() -> Result<()> {
     Ok(())
 }
 
-/// Two bodies joined by a linear spring at its rest length along x (k = 400 N/m, m_a = 2 kg,
+/// Two bodies joined by a linear spring at its rest length at 45° (k = 400 N/m, m_a = 2 kg,
 /// m_b = 3 kg), a body held to the ground by a torsion spring (k_t N m/rad, I = 0.05 kg m²)
 /// and six free disks, all above a floor, with the contact set `contact_set`.
 fn springs_and_free_disks(contact_set: &str, k_t: f64) -> Result<moreau_models::AnyModel> {
+    springs_in_units(contact_set, k_t, 1.0, 1.0, 0.4)
+}
+
+/// [`springs_and_free_disks`] with lengths times `s`, masses times `m` and times times √s (so
+/// that g stays 9.81), and a probe disk of radius 0.1 resting `probe` above the floor (before
+/// scaling).
+fn springs_in_units(
+    contact_set: &str,
+    k_t: f64,
+    s: f64,
+    m: f64,
+    probe: f64,
+) -> Result<moreau_models::AnyModel> {
+    let (l, time) = (|x: f64| x * s, |x: f64| x * s.sqrt());
+    let (mass, inertia) = (|x: f64| x * m, |x: f64| x * m * s * s);
     let text = format!(
         r#"
-dt = 0.001
-t_end = 0.01
+dt = {dt:e}
+t_end = {t_end:e}
 gravity = [0.0, -9.81]
 contact_set = "{contact_set}"
 
@@ -243,38 +258,46 @@ shapes = [{{ type = "half_plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}]
 [[bodies]]
 name = "a"
 type = "dynamic"
-mass = 2.0
-inertia = 0.1
-position = [0.0, 1.0]
-shapes = [{{ type = "disk", center = [0.0, 0.0], radius = 0.1 }}]
+mass = {m_a:e}
+inertia = {i_a:e}
+position = [0.0, {one:e}]
+shapes = [{{ type = "disk", center = [0.0, 0.0], radius = {r:e} }}]
 
 [[bodies]]
 name = "wheel"
 type = "dynamic"
-mass = 1.0
-inertia = 0.05
-position = [3.0, 1.0]
+mass = {m_w:e}
+inertia = {i_w:e}
+position = [{three:e}, {one:e}]
 angle = 0.2
-shapes = [{{ type = "disk", center = [0.0, 0.0], radius = 0.1 }}]
+shapes = [{{ type = "disk", center = [0.0, 0.0], radius = {r:e} }}]
+
+[[bodies]]
+name = "probe"
+type = "dynamic"
+mass = {m_w:e}
+inertia = {i_w:e}
+position = [{four:e}, {probe_y:e}]
+shapes = [{{ type = "disk", center = [0.0, 0.0], radius = {r:e} }}]
 
 [[fill]]
 name = "grain"
 pattern = "lattice"
 count = 6
 columns = 4
-origin = [5.0, 0.5]
-spacing = [0.3, 0.3]
-shape = {{ type = "disk", center = [0.0, 0.0], radius = 0.1 }}
-density = 100.0
+origin = [{five:e}, {half:e}]
+spacing = [{spacing:e}, {spacing:e}]
+shape = {{ type = "disk", center = [0.0, 0.0], radius = {r:e} }}
+density = {density:e}
 seed = 1
 
 [[bodies]]
 name = "b"
 type = "dynamic"
-mass = 3.0
-inertia = 0.2
-position = [1.5, 1.0]
-shapes = [{{ type = "disk", center = [0.0, 0.0], radius = 0.1 }}]
+mass = {m_b:e}
+inertia = {i_b:e}
+position = [{diagonal:e}, {above:e}]
+shapes = [{{ type = "disk", center = [0.0, 0.0], radius = {r:e} }}]
 
 [[forces]]
 type = "spring"
@@ -282,23 +305,83 @@ body_a = "a"
 anchor_a = [0.0, 0.0]
 body_b = "b"
 anchor_b = [0.0, 0.0]
-stiffness = 400.0
-rest_length = 1.5
+stiffness = {k:e}
+rest_length = {rest:e}
 
 [[forces]]
 type = "torsion"
 body_a = "ground"
 body_b = "wheel"
-stiffness = {k_t}
+stiffness = {k_t:e}
 rest_angle = 0.0
 
 [contacts_auto]
 eps_n = 0.0
 eps_t = 0.0
 mu = 0.3
-"#
+"#,
+        dt = time(0.001),
+        t_end = time(0.01),
+        m_a = mass(2.0),
+        i_a = inertia(0.1),
+        m_w = mass(1.0),
+        i_w = inertia(0.05),
+        m_b = mass(3.0),
+        i_b = inertia(0.2),
+        one = l(1.0),
+        three = l(3.0),
+        four = l(4.0),
+        five = l(5.0),
+        half = l(0.5),
+        r = l(0.1),
+        probe_y = l(0.1 + probe),
+        spacing = l(0.3),
+        rest = l(1.5),
+        diagonal = l(1.5 * std::f64::consts::FRAC_1_SQRT_2),
+        above = l(1.0 + 1.5 * std::f64::consts::FRAC_1_SQRT_2),
+        density = 100.0 * m / (s * s),
+        k = 400.0 * m / s,
+        k_t = k_t * m * s,
     );
     Ok(moreau_models::Scene::from_toml_str(&text)?.build()?)
+}
+
+#[test]
+fn a_declared_mechanism_is_guarded_alike_in_any_units() -> Result<()> {
+    // Lengths times s, masses times m, times times √s: ω scales as 1/√s, energies as m s,
+    // lengths as s, velocities as √s, and the gaps that count as touching as s. With the
+    // guards' constants in metres, seconds and joules, the mechanism of micrometres and
+    // milligrams had an energy bound of 1e-6 J (a floor a hundred thousand times its m |g| ℓ),
+    // velocity bounds of 1e8 m/s, and a probe disk 1e-7 of a micrometre above the floor
+    // counted as touching.
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+    let reference = springs_in_units("detected", 5.0, 1.0, 1.0, 1e-6)?;
+    let omega = guard::omega_max(&reference);
+    let bounds = guard::Bounds::of(&reference, 1e-3);
+    let (e0, e_max) = bounds.energy.context("no drives: the energy bound applies")?;
+    for (s, m) in [(1e-6, 1e-6), (1e-3, 1.0), (1e3, 1e6), (1.0, 1e-6)] {
+        let model = springs_in_units("detected", 5.0, s, m, 1e-6)?;
+        let w = guard::omega_max(&model);
+        ensure!((w * s.sqrt() - omega).abs() <= 1e-6 * omega, "{s} {m}: ω_max {w} vs {omega}");
+        let b = guard::Bounds::of(&model, 1e-3 * s.sqrt());
+        let (e, e_bound) = b.energy.context("energy bound")?;
+        ensure!(close(e_bound - e, (e_max - e0) * m * s), "{s} {m}: {e_bound} − {e}");
+        for (j, (x, x0)) in b.q.iter().zip(&bounds.q).enumerate() {
+            let unit = if j % 3 == 2 { 1.0 } else { s };
+            ensure!(close(*x, x0 * unit), "{s} {m}: q bound {j}: {x} vs {x0}");
+        }
+        for (j, (v, v0)) in b.u.iter().zip(&bounds.u).enumerate() {
+            let unit = if j % 3 == 2 { 1.0 / s.sqrt() } else { s.sqrt() };
+            ensure!(close(*v, v0 * unit), "{s} {m}: u bound {j}: {v} vs {v0}");
+        }
+        // The gaps of the contacts that a fixed contact set lists at the start.
+        let w = guard::gap_warnings(&springs_in_units("fixed", 5.0, s, m, 1e-6)?);
+        ensure!(w.is_empty(), "{s} {m}: {w:?}");
+        let touching = springs_in_units("fixed", 5.0, s, m, 1e-12)?;
+        let w = guard::gap_warnings(&touching);
+        ensure!(w.len() == 1 && w[0].contains("probe") && w[0].contains("touching"), "{w:?}");
+    }
+    Ok(())
 }
 
 #[test]

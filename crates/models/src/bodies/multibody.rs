@@ -84,17 +84,25 @@ pub struct Multibody {
 }
 
 impl Multibody {
+    /// The mechanism's size, in the length unit of its declaration: 0.6 times the diagonal of
+    /// the box around its bodies' origins and finite shapes at t = 0 (1 for a mechanism of no
+    /// size). What must not depend on the unit is measured against it: the tolerances below,
+    /// and the guards of a run.
+    pub fn size(&self) -> f64 {
+        self.extent.1
+    }
+
     /// The penetration that the contact projection leaves alone when this mechanism is
     /// stepped with the projection (`StepperOptions::projection_tolerance`): 1e-6 of the
-    /// mechanism's size, 0.6 times the diagonal of the box around its bodies' origins and
-    /// finite shapes at t = 0, so that a scene written in any length unit is projected alike.
+    /// mechanism's [size](Self::size), so that a scene written in any length unit is projected
+    /// alike.
     ///
     /// The projection moves q_E and leaves u_E, so a resting contact projected onto g_N = 0
     /// comes out slightly open and falls back within a few steps: it opens and closes every
     /// few steps. Left alone below this depth, it rests at the O(g Δt²) penetration of the
     /// scheme without projection.
     pub fn projection_tolerance(&self) -> f64 {
-        1e-6 * self.extent.1
+        1e-6 * self.size()
     }
 
     /// The drift of the joints that the correction of the positions leaves alone when this
@@ -103,7 +111,7 @@ impl Multibody {
     /// fraction of its length unit holds its joints as closely, relative to its size, as one of
     /// the unit's size.
     pub fn joint_tolerance(&self) -> f64 {
-        1e-12 * self.extent.1
+        1e-12 * self.size()
     }
 
     /// The declaration it was built from.
