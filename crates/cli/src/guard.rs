@@ -86,21 +86,29 @@ pub struct Scales {
 impl Scales {
     /// The scales of `model` run with the step `dt`.
     pub fn of(model: &AnyModel, dt: f64) -> Scales {
-        let AnyModel::Declared(m) = model else { return Scales { length: 1.0, time: 1.0 } };
-        let length = m.size();
+        let length = Self::length(model);
+        let AnyModel::Declared(m) = model else { return Scales { length, time: 1.0 } };
         let g = m.spec().gravity;
         let g = g[0].hypot(g[1]);
         let time = if g > 0.0 { (length / g).sqrt() } else { dt };
         Scales { length, time }
     }
 
-    /// Whether coordinate j of the model is a length (x or y of a declared mechanism's body;
-    /// every coordinate of a report model, whose constants are in metres and radians alike),
-    /// rather than an angle.
-    fn unit(&self, model: &AnyModel, j: usize) -> f64 {
+    /// The length unit alone: a declared mechanism's size, 1 (m) for a report model.
+    fn length(model: &AnyModel) -> f64 {
+        match model {
+            AnyModel::Declared(m) => m.size(),
+            _ => 1.0,
+        }
+    }
+
+    /// The unit of coordinate j: the length for x and y of a declared mechanism's body and 1
+    /// for its θ; 1 for every coordinate of a report model, whose constants are in metres and
+    /// radians alike.
+    fn coordinate(model: &AnyModel, j: usize) -> f64 {
         match model {
             AnyModel::Declared(_) if j % 3 == 2 => 1.0,
-            _ => self.length,
+            _ => Self::length(model),
         }
     }
 }
@@ -131,7 +139,7 @@ pub fn plan_steps(scene: &Scene, max_steps: u64) -> Result<u64, CliError> {
 pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
     let (q0, _) = model.initial_state();
     let names = model.contact_names();
-    let tolerance = GAP_TOLERANCE * Scales::of(model, 1.0).length;
+    let tolerance = GAP_TOLERANCE * Scales::length(model);
     let unit = match model {
         AnyModel::Declared(_) => {
             format!(" (1e-9 of the mechanism's size, {:.3e})", tolerance * 1e9)
@@ -241,18 +249,12 @@ struct Differences {
 impl Differences {
     fn new(model: &AnyModel, q0: &[f64]) -> Self {
         let f = q0.len();
-        let scales = Scales::of(model, 1.0);
-        let unit = (0..f).map(|j| scales.unit(model, j)).collect();
+        let unit = (0..f).map(|j| Scales::coordinate(model, j)).collect();
         Self { q: q0.to_vec(), hp: vec![0.0; f], hm: vec![0.0; f], unit }
     }
 
-    /// The finite-difference shift of coordinate j at q₀: 1e-6 (unit_j + |q₀_j|).
-    fn shift(&self, q0: &[f64], j: usize) -> f64 {
-        shift(self.unit[j], q0[j])
-    }
-
     /// h at (q₀ ± δ, u₀, t = 0) into `hp` and `hm`, where δ shifts each coordinate j of
-    /// `columns` by [`Self::shift`] · weight(j); q is left at q₀.
+    /// `columns` by [`shift`]`(unit_j, q₀_j) · weight(j)`; q is left at q₀.
     fn evaluate(
         &mut self,
         model: &AnyModel,
@@ -282,7 +284,7 @@ fn stiffness_columns(
     keep: &mut impl FnMut(usize, usize, f64),
 ) {
     for j in columns {
-        let d = diff.shift(q0, j);
+        let d = shift(diff.unit[j], q0[j]);
         diff.evaluate(model, q0, u0, j..j + 1, |_| 1.0);
         for (i, (p, m)) in diff.hp.iter().zip(&diff.hm).enumerate() {
             // Forces that do not depend on q_j are computed alike at both shifts, so that
