@@ -241,7 +241,20 @@ fn springs_in_units(
     probe: f64,
 ) -> Result<moreau_models::AnyModel> {
     let (l, time) = (|x: f64| x * s, |x: f64| x * s.sqrt());
-    let (mass, inertia) = (|x: f64| x * m, |x: f64| x * m * s * s);
+    // A dynamic disk of radius 0.1 (mass, inertia about its centre, position, angle).
+    let disk = |name: &str, mass: f64, inertia: f64, x: f64, y: f64, angle: f64| {
+        format!(
+            "[[bodies]]\nname = \"{name}\"\ntype = \"dynamic\"\nmass = {:e}\ninertia = {:e}\n\
+             position = [{:e}, {:e}]\nangle = {angle}\n\
+             shapes = [{{ type = \"disk\", center = [0.0, 0.0], radius = {:e} }}]\n",
+            mass * m,
+            inertia * m * s * s,
+            l(x),
+            l(y),
+            l(0.1),
+        )
+    };
+    let diagonal = 1.5 * std::f64::consts::FRAC_1_SQRT_2;
     let text = format!(
         r#"
 dt = {dt:e}
@@ -255,31 +268,9 @@ type = "fixed"
 position = [0.0, 0.0]
 shapes = [{{ type = "half_plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}]
 
-[[bodies]]
-name = "a"
-type = "dynamic"
-mass = {m_a:e}
-inertia = {i_a:e}
-position = [0.0, {one:e}]
-shapes = [{{ type = "disk", center = [0.0, 0.0], radius = {r:e} }}]
-
-[[bodies]]
-name = "wheel"
-type = "dynamic"
-mass = {m_w:e}
-inertia = {i_w:e}
-position = [{three:e}, {one:e}]
-angle = 0.2
-shapes = [{{ type = "disk", center = [0.0, 0.0], radius = {r:e} }}]
-
-[[bodies]]
-name = "probe"
-type = "dynamic"
-mass = {m_w:e}
-inertia = {i_w:e}
-position = [{four:e}, {probe_y:e}]
-shapes = [{{ type = "disk", center = [0.0, 0.0], radius = {r:e} }}]
-
+{a}
+{wheel}
+{probe}
 [[fill]]
 name = "grain"
 pattern = "lattice"
@@ -291,14 +282,7 @@ shape = {{ type = "disk", center = [0.0, 0.0], radius = {r:e} }}
 density = {density:e}
 seed = 1
 
-[[bodies]]
-name = "b"
-type = "dynamic"
-mass = {m_b:e}
-inertia = {i_b:e}
-position = [{diagonal:e}, {above:e}]
-shapes = [{{ type = "disk", center = [0.0, 0.0], radius = {r:e} }}]
-
+{b}
 [[forces]]
 type = "spring"
 body_a = "a"
@@ -322,23 +306,15 @@ mu = 0.3
 "#,
         dt = time(0.001),
         t_end = time(0.01),
-        m_a = mass(2.0),
-        i_a = inertia(0.1),
-        m_w = mass(1.0),
-        i_w = inertia(0.05),
-        m_b = mass(3.0),
-        i_b = inertia(0.2),
-        one = l(1.0),
-        three = l(3.0),
-        four = l(4.0),
+        a = disk("a", 2.0, 0.1, 0.0, 1.0, 0.0),
+        wheel = disk("wheel", 1.0, 0.05, 3.0, 1.0, 0.2),
+        probe = disk("probe", 1.0, 0.05, 4.0, 0.1 + probe, 0.0),
+        b = disk("b", 3.0, 0.2, diagonal, 1.0 + diagonal, 0.0),
         five = l(5.0),
         half = l(0.5),
         r = l(0.1),
-        probe_y = l(0.1 + probe),
         spacing = l(0.3),
         rest = l(1.5),
-        diagonal = l(1.5 * std::f64::consts::FRAC_1_SQRT_2),
-        above = l(1.0 + 1.5 * std::f64::consts::FRAC_1_SQRT_2),
         density = 100.0 * m / (s * s),
         k = 400.0 * m / s,
         k_t = k_t * m * s,
