@@ -102,14 +102,16 @@ impl Scales {
         }
     }
 
-    /// The unit of coordinate j: the length for x and y of a declared mechanism's body and 1
-    /// for its θ; 1 for every coordinate of a report model, whose constants are in metres and
-    /// radians alike.
+    /// Whether coordinate j is an angle measured in radians whatever the length unit: θ of a
+    /// declared mechanism's body (its coordinates are x, y, θ per body). A report model's
+    /// constants are in metres and radians alike, so none of its coordinates is told apart.
+    fn is_angle(model: &AnyModel, j: usize) -> bool {
+        matches!(model, AnyModel::Declared(_)) && j % 3 == 2
+    }
+
+    /// The unit of coordinate j: 1 for an angle ([`Self::is_angle`]), the length otherwise.
     fn coordinate(model: &AnyModel, j: usize) -> f64 {
-        match model {
-            AnyModel::Declared(_) if j % 3 == 2 => 1.0,
-            _ => Self::length(model),
-        }
+        if Self::is_angle(model, j) { 1.0 } else { Self::length(model) }
     }
 }
 
@@ -511,12 +513,17 @@ impl Bounds {
     /// [`MAGNITUDE_FACTOR`] (1 + max |θ₀|), velocities by [`MAGNITUDE_FACTOR`]
     /// (ℓ/τ + max |v₀|) and angular velocities by [`MAGNITUDE_FACTOR`] (1/τ + max |ω₀|).
     pub fn of(model: &AnyModel, dt: f64) -> Bounds {
+        let (q0, _) = model.initial_state();
+        Self::with_mass(model, dt, &mut Mass::new(model, &q0))
+    }
+
+    /// [`Self::of`] with the mass matrix of the energy test given (at q₀ or to be evaluated).
+    fn with_mass(model: &AnyModel, dt: f64, mass: &mut Mass) -> Bounds {
         let (q0, u0) = model.initial_state();
-        let mut mass = Mass::new(model, &q0);
         let energy = energy_bound_applies(model)
             .then(|| {
                 let v0 = model.potential_energy(&q0, 0.0)?;
-                let t0 = kinetic(model, &q0, &u0, 0.0, &mut mass);
+                let t0 = kinetic(model, &q0, &u0, 0.0, mass);
                 let e0 = t0 + v0;
                 Some((e0, e0 + ENERGY_GROWTH * energy_scale(model, t0, v0)))
             })
@@ -524,15 +531,16 @@ impl Bounds {
         let scales = Scales::of(model, dt);
         let (q, u) = if matches!(model, AnyModel::Declared(_)) {
             // Lengths and angles apart: the largest initial entry of each kind, and its unit.
-            let largest = |x: &[f64], angle: bool| {
+            let angle = |j: usize| Scales::is_angle(model, j);
+            let largest = |x: &[f64], of_angles: bool| {
                 x.iter()
                     .enumerate()
-                    .filter(|(j, _)| (j % 3 == 2) == angle)
+                    .filter(|&(j, _)| angle(j) == of_angles)
                     .fold(0.0f64, |m, (_, v)| m.max(v.abs()))
             };
             let bound = |x: &[f64], units: [f64; 2]| -> Vec<f64> {
                 let b = [largest(x, false) + units[0], largest(x, true) + units[1]];
-                (0..x.len()).map(|j| MAGNITUDE_FACTOR * b[usize::from(j % 3 == 2)]).collect()
+                (0..x.len()).map(|j| MAGNITUDE_FACTOR * b[usize::from(angle(j))]).collect()
             };
             let (l, t) = (scales.length, scales.time);
             (bound(&q0, [l, 1.0]), bound(&u0, [l / t, 1.0 / t]))
@@ -559,7 +567,9 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
     /// on to `inner`.
     pub fn new(model: &AnyModel, dt: f64, inner: &'a mut O) -> Self {
         let (q0, _) = model.initial_state();
-        Self { inner, bounds: Bounds::of(model, dt), mass: Mass::new(model, &q0), diverged: None }
+        let mut mass = Mass::new(model, &q0);
+        let bounds = Bounds::with_mass(model, dt, &mut mass);
+        Self { inner, bounds, mass, diverged: None }
     }
 
     fn check(&mut self, model: &AnyModel, r: &StepReport<'_>) -> Option<Divergence> {
