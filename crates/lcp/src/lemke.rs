@@ -127,7 +127,10 @@ impl LemkeOptions {
 /// whose row of `[q̄ | B^{-1}]` divided by the pivot entry is lexicographically smallest.
 /// These rows stay lexicographically positive and distinct, so no basis repeats and the
 /// method cannot cycle, whatever the zeros in q and ties in the ratios. When z_0 is among
-/// the tied rows it leaves at once.
+/// the tied rows it leaves at once. In floating point, round-off in the ratio test can still
+/// bring back a basis; the pivots would then go round the same bases up to the limit, so a
+/// basis seen again (found by a hash of the basic set, Brent's cycle detection) ends the
+/// method with [`Status::NumericalFailure`].
 ///
 /// **Accuracy.** After a complementary basis is reached, the tableau's basic values are
 /// taken as z (α = basic z), w is recomputed as `M z + q`, and the result is accepted
@@ -224,6 +227,8 @@ enum End {
     Complementary,
     Ray,
     Limit,
+    /// A basis came back: round-off made the pivots cycle.
+    Cycle,
 }
 
 impl Lemke {
@@ -319,6 +324,7 @@ impl Lemke {
             }
             End::Ray => out.status = status_for(out.residual, tol, Status::RayTermination),
             End::Limit => out.status = status_for(out.residual, tol, Status::IterationLimit),
+            End::Cycle => out.status = status_for(out.residual, tol, Status::NumericalFailure),
         }
         if !out.is_solved() {
             out.drop_non_finite(&ws.q);
