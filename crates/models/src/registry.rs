@@ -363,6 +363,10 @@ impl Mechanism for AnyModel {
         dispatch!(self, m => m.body_structure())
     }
     #[inline]
+    fn maximal_coordinates(&self) -> bool {
+        dispatch!(self, m => m.maximal_coordinates())
+    }
+    #[inline]
     fn num_bilaterals(&self) -> usize {
         dispatch!(self, m => m.num_bilaterals())
     }

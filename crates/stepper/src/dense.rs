@@ -328,6 +328,17 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// x ← m_k x_k body by body, for x = M⁻¹ w of a mechanism in maximal coordinates (M
+/// column-major f × f, block diagonal by 3 × 3 blocks whose first entry is the body's mass
+/// m_k): then x = G⁻¹ w in the metric G = M_k / m_k, in which every body weighs alike.
+pub(crate) fn weigh_bodies_alike(x: &mut [f64], mass: &[f64]) {
+    let f = x.len();
+    for (k, x_k) in x.chunks_exact_mut(3).enumerate() {
+        let m_k = mass[3 * k * (f + 1)];
+        x_k.iter_mut().for_each(|v| *v *= m_k);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -76,6 +76,18 @@ pub trait Mechanism: ContactKinematics {
         None
     }
 
+    /// Whether q holds rigid bodies in maximal coordinates, (x, y, θ) of one body after
+    /// another, so that M is block diagonal by 3 × 3 blocks M_k whose first entry is the
+    /// body's mass m_k: `false` by default. A mechanism with a [`BodyStructure`] is taken to
+    /// be so whatever this says.
+    ///
+    /// The contact projection ([`crate::StepperOptions::projection`]) then measures its
+    /// correction body by body in M_k / m_k instead of M: every body weighs alike, so that a
+    /// light body is not moved farther than a heavy one (docs/theory.md §4).
+    fn maximal_coordinates(&self) -> bool {
+        false
+    }
+
     /// The mechanism's [`BodyStructure`], when it is made of rigid bodies in maximal
     /// coordinates whose contacts are detected at each step: `None` by default. With it the
     /// stepper keeps M by 3 × 3 blocks and each contact's force directions by body, finds the

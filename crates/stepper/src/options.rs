@@ -156,7 +156,9 @@ pub struct StepperOptions {
     #[serde(default)]
     pub gap_tolerance: f64,
     /// Project the end positions q_E back onto g_N ≥ 0 after each step (along M⁻¹ W_N, the
-    /// smallest change in the kinetic metric), leaving the velocities alone. The scheme as
+    /// smallest change in the kinetic metric, or for rigid bodies in maximal coordinates in
+    /// the metric where every body weighs alike: see
+    /// [`crate::Mechanism::maximal_coordinates`]), leaving the velocities alone. The scheme as
     /// written has none (default `false`); the penetration it leaves is O(Δt) per impact and
     /// can accumulate as drift where contacts stay closed over long runs, e.g. a slider in a
     /// clearance of micrometres.

@@ -10,7 +10,7 @@ use moreau_lcp::{
     Auto, Enumeration, Lcp, LcpRef, Lemke, Method, Pgs, PgsOptions, Solution, Solver, Status,
 };
 
-use crate::dense::{Cholesky, dot, order};
+use crate::dense::{Cholesky, dot, order, weigh_bodies_alike};
 use crate::observer::{Observer, Recorder};
 pub use crate::report::{ContactReport, ContactState, LcpInfo, PhaseTimes, RunSummary, StepReport};
 use crate::{Mechanism, Record, SolverChoice, StepError, StepperOptions};

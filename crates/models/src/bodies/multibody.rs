@@ -405,6 +405,12 @@ impl Mechanism for Multibody {
         self.constant_mass
     }
 
+    /// Every body with coordinates is a rigid body in maximal coordinates, in either contact
+    /// set.
+    fn maximal_coordinates(&self) -> bool {
+        true
+    }
+
     /// Announced in the detected contact set only.
     fn body_structure(&self) -> Option<&dyn BodyStructure> {
         self.detector.as_ref().map(|_| self as &dyn BodyStructure)

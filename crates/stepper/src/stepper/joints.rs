@@ -14,7 +14,7 @@
 //! the contact impulses are.
 #![allow(non_snake_case)]
 
-use crate::dense::{Cholesky, dot, factor_small, solve_small};
+use crate::dense::{Cholesky, dot, factor_small, solve_small, weigh_bodies_alike};
 use crate::{BilateralPoint, Mechanism, StepError};
 
 /// Largest number of corrections of the positions per step (on both paths).
@@ -119,6 +119,26 @@ impl Joints {
             x.copy_from_slice(w);
             chol.solve(x);
         }
+        self.factor_s(t)
+    }
+
+    /// Forms M⁻¹ W_B and S again in the metric G = M_k / m_k body by body, in which every
+    /// body weighs alike, for the contact projection of a mechanism in maximal coordinates
+    /// (`mass` column-major M; see [`weigh_bodies_alike`]). [`Self::constrain`] then keeps
+    /// the constraints in G; the next step's [`Self::assemble`] forms them in M again.
+    ///
+    /// # Errors
+    /// [`StepError::RedundantConstraints`] when S is not positive definite.
+    pub(super) fn weigh_bodies_alike(&mut self, mass: &[f64], t: f64) -> Result<(), StepError> {
+        for x in self.x.chunks_exact_mut(self.f) {
+            weigh_bodies_alike(x, mass);
+        }
+        self.factor_s(t)
+    }
+
+    /// Forms S = W_Bᵀ X from W_B and X = `self.x`, and factorises it.
+    fn factor_s(&mut self, t: f64) -> Result<(), StepError> {
+        let (f, n) = (self.f, self.n);
         for c in 0..n {
             for r in c..n {
                 let v = dot(&self.w[r * f..][..f], &self.x[c * f..][..f]);

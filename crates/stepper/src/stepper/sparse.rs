@@ -31,6 +31,9 @@ pub(super) struct BodyPath {
     /// M_k at the midpoint and its inverse, one 3 × 3 block per body, column-major.
     mass: Vec<[f64; 9]>,
     inv: Vec<[f64; 9]>,
+    /// m_k M_k⁻¹, the inverse of M_k / m_k in which every body weighs alike: the contact
+    /// projection's metric (m_k the first entry of M_k, the body's mass).
+    alike: Vec<[f64; 9]>,
     /// Whether `inv` holds the inverse of a constant M.
     factored: bool,
     q_m: Vec<f64>,
@@ -244,6 +247,7 @@ impl BodyPath {
             nb,
             mass: vec![[0.0; 9]; nb],
             inv: vec![[0.0; 9]; nb],
+            alike: vec![[0.0; 9]; nb],
             factored: false,
             q_m: vec![0.0; f],
             h: vec![0.0; f],
@@ -370,7 +374,8 @@ impl Core {
         }
         if !(b.factored && mech.constant_mass_matrix()) {
             structure.mass_blocks(&b.q_m, t_m, &mut b.mass);
-            for (k, (m, inv)) in b.mass.iter().zip(b.inv.iter_mut()).enumerate() {
+            let blocks = b.mass.iter().zip(b.inv.iter_mut().zip(b.alike.iter_mut()));
+            for (k, (m, (inv, alike))) in blocks.enumerate() {
                 if let Some(index) = m.iter().position(|v| !v.is_finite()) {
                     return Err(StepError::NonFinite { what: "M", index: 9 * k + index, t: t_m });
                 }
@@ -378,6 +383,7 @@ impl Core {
                     t: t_m,
                     reason: format!("the block of body {k}: {reason}"),
                 })?;
+                *alike = inv.map(|v| v * m[0]);
             }
             b.factored = true;
         }
@@ -547,7 +553,7 @@ impl Core {
     /// Moves q_E back onto the joints and the admissible set, island by island, as the path
     /// of fixed contacts does (joints.rs, then its contact projection), each correction a
     /// problem solved by the step's solver as a frictional-contact problem with μ = 0 and
-    /// bilateral groups, and q_E += M⁻¹ W λ with the midpoint's M⁻¹:
+    /// bilateral groups, with the midpoint's blocks of M:
     /// 1. the joints, while g_B(q_E) exceeds [`drift_tolerance`] (at most
     ///    [`PROJECTION_ITERATIONS`] times): W_Bᵀ M⁻¹ W λ + g_B(q_E) = 0 with W = [W_B W_H],
     ///    where the held contacts H, those of the step that carried an impulse and touch a
@@ -556,10 +562,11 @@ impl Core {
     ///    simplified Newton method, as on the other path). When that problem has no solution
     ///    (held contacts that repeat each other or a joint), the contacts are not held. The
     ///    other contacts of the bodies it moves (a pile under a chain) are not held: a
-    ///    hyperstatic pile would make the problem singular;
+    ///    hyperstatic pile would make the problem singular; then q_E += M⁻¹ W λ;
     /// 2. the contacts, when one detected at q_E penetrates by more than the projection
-    ///    tolerance (at most four times): 0 ≤ λ_N ⊥ W_Nᵀ M⁻¹ W λ + g_N ≥ 0 with the joints'
-    ///    midpoint rows kept, W_Bᵀ M⁻¹ W λ = 0, as M̂⁻¹ keeps them on the other path.
+    ///    tolerance (at most four times): 0 ≤ λ_N ⊥ W_Nᵀ G⁻¹ W λ + g_N ≥ 0 with the joints'
+    ///    midpoint rows kept, W_Bᵀ G⁻¹ W λ = 0, and q_E += G⁻¹ W λ, in the metric
+    ///    G = M_k / m_k body by body in which every body weighs alike, as on the other path.
     ///
     /// A projection that cannot be computed leaves q_E as it is.
     fn project_bodies(
@@ -634,7 +641,7 @@ impl Core {
             for c in &mut b.detected {
                 c.w_t = [[0.0; 3]; 2];
             }
-            b.directions();
+            directions(&mut b.work, &b.alike, &b.detected, &b.groups);
             let nc = b.detected.len();
             for (c, w) in b.detected.iter().zip(b.work.iter_mut()) {
                 w.b = [c.point.g_n, 0.0];

@@ -229,6 +229,12 @@ impl Core {
     /// q_E ← q_E + M⁻¹ W_N λ with 0 ≤ λ ⊥ W_Nᵀ M⁻¹ W_N λ + g_N ≥ 0 over all contacts, when
     /// one penetrates by more than `projection_tolerance`, repeated (at most four times) while the linearisation leaves some
     /// penetration. Velocities are not changed, so kinetic energy is not changed.
+    ///
+    /// For bodies in maximal coordinates (`Mechanism::maximal_coordinates`), G = M_k / m_k
+    /// body by body takes M's place here, joints kept included, so that every body weighs
+    /// alike: in M, a body a million times lighter than its neighbours is a million times
+    /// cheaper to move, and a light box pinched between two heavy ones was pushed out
+    /// sideways along their faces, tilted by a thousandth, by tens of centimetres per step.
     pub(super) fn project<K: Mechanism>(&mut self, mech: &K, t_e: f64) -> Result<(), StepError> {
         let f = self.q.len();
         let ws = &mut self.ws;
@@ -252,6 +258,9 @@ impl Core {
                 self.options.joint_tolerance,
             )?;
         }
+        // Bodies in maximal coordinates are moved in the metric in which they weigh alike.
+        let alike = mech.maximal_coordinates();
+        let mut weighed = false;
         for _ in 0..4 {
             // Every contact enters the projection LCP once one penetrates: pushing a corner
             // out can push its neighbour on the same face in, and complementarity keeps the
@@ -271,11 +280,18 @@ impl Core {
             if !penetrating {
                 break;
             }
+            if alike && !weighed && ws.joints.n > 0 {
+                ws.joints.weigh_bodies_alike(&ws.mass[..f * f], t_e)?;
+                weighed = true;
+            }
             for (a, &i) in ws.proj_active.iter().enumerate() {
                 let (w_n, x) = (&mut ws.proj_w[a * f..][..f], &mut ws.proj_x[a * f..][..f]);
                 mech.contact(i, &self.q, t_e, w_n, &mut ws.tmp);
                 x.copy_from_slice(w_n);
                 ws.chol.solve(x);
+                if alike {
+                    weigh_bodies_alike(x, &ws.mass[..f * f]);
+                }
                 ws.joints.constrain(x, false);
             }
             for c in 0..k {
