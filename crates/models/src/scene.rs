@@ -301,9 +301,10 @@ impl Scene {
 
     /// The stepper's options: Δt, the solver and the projection; a declared mechanism stepped
     /// with the projection gets its projection tolerance
-    /// ([`crate::bodies::Multibody::projection_tolerance`]), which keeps resting contacts
-    /// closed, and its joint tolerance ([`crate::bodies::Multibody::joint_tolerance`]), both
-    /// relative to its size.
+    /// ([`crate::bodies::Multibody::projection_tolerance`]) and gap tolerance
+    /// ([`crate::bodies::Multibody::gap_tolerance`]), which keep resting contacts closed, and
+    /// its joint tolerance ([`crate::bodies::Multibody::joint_tolerance`]), all relative to
+    /// its size.
     pub fn stepper_options(&self) -> StepperOptions {
         let options = StepperOptions::new(self.dt)
             .with_solver(self.solver)
@@ -313,6 +314,7 @@ impl Scene {
             ModelParams::Declared(spec) if self.projection => match spec.build() {
                 Ok(m) => options
                     .with_projection_tolerance(m.projection_tolerance())
+                    .with_gap_tolerance(m.gap_tolerance())
                     .with_joint_tolerance(m.joint_tolerance()),
                 // The build's error surfaces where the scene is built.
                 Err(_) => options,

@@ -1,7 +1,8 @@
 //! The projection of a declared mechanism keeps resting contacts closed: the woodpecker's
 //! sleeve, pressed against the pole by the bird, closes its bore's edges about as often in
-//! 1.5 s as the hand-derived model's do, and its joints stay assembled. It weighs every body
-//! alike: a light box pinched between heavy ones stays in place.
+//! 1.5 s as the hand-derived model's do, and its joints stay assembled; a stack of boxes
+//! comes to rest on fixed contacts as on detected ones. It weighs every body alike: a light
+//! box pinched between heavy ones stays in place.
 
 use std::ops::ControlFlow;
 
@@ -93,5 +94,51 @@ fn a_light_box_pinched_between_heavy_ones_is_not_pushed_out() {
         assert!(x_light.abs() < 1e-6, "{contact_set}: light box moved {x_light:e} m sideways");
         assert!((lifted - 3e-4).abs() < 1e-6, "{contact_set}: high box lifted {lifted:e} m");
         assert!(tilt.abs() < 1e-6, "{contact_set}: high box tilted {tilt:e} rad");
+    }
+}
+
+/// Five boxes of 0.4 × 0.5 m, 1 kg/m², each 1 cm to the right of the one below and released
+/// 1 mm above it, μ = 0.5, 2 s at Δt = 1e-3 s: the positions and velocities at the end.
+fn stack(contact_set: &str) -> (Vec<f64>, Vec<f64>) {
+    let mut text = format!(
+        "dt = 1e-3\nt_end = 2.0\ngravity = [0.0, -9.81]\ncontact_set = \"{contact_set}\"\n\
+         [[bodies]]\nname = \"floor\"\ntype = \"fixed\"\nposition = [0.0, 0.0]\n\
+         shapes = [{{ type = \"half_plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }}]\n\
+         [contacts_auto]\neps_n = 0.0\neps_t = 0.0\nmu = 0.5\n"
+    );
+    for k in 0..5 {
+        let (x, y) = (0.01 * k as f64, 0.251 + 0.501 * k as f64);
+        text += &format!(
+            "[[bodies]]\nname = \"box{k}\"\ntype = \"dynamic\"\ndensity = 1.0\n\
+             position = [{x}, {y}]\nshapes = [{{ type = \"polygon\", vertices = \
+             [[-0.2, -0.25], [0.2, -0.25], [0.2, 0.25], [-0.2, 0.25]] }}]\n"
+        );
+    }
+    let scene = Scene::from_toml_str(&text).expect("scene reads");
+    let mut stepper = scene.stepper().expect("scene steps");
+    stepper.run_until(2.0, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).expect("run");
+    (stepper.q().to_vec(), stepper.u().to_vec())
+}
+
+#[test]
+fn a_stack_of_boxes_comes_to_rest_on_fixed_contacts_as_on_detected_ones() {
+    for contact_set in ["fixed", "detected"] {
+        let (q, u) = stack(contact_set);
+        // A contact the projection has pushed out is left open by round-off (a threshold of
+        // 1e-13 m keeps them all closed here); counted as open, it sat out the next step,
+        // and the box landing on the box above it pushed both down and set the stack rocking. On fixed contacts the top
+        // box ended 0.16 m right of where it landed and the stack was still moving; the gap
+        // tolerance of 1e-9 of the scene's size keeps such contacts closed.
+        for k in 0..5 {
+            let (x, y) = (0.01 * k as f64, 0.25 + 0.5 * k as f64);
+            let at = |v: f64, r: f64| (v - r).abs() < 1e-5;
+            assert!(
+                at(q[3 * k], x) && at(q[3 * k + 1], y) && at(q[3 * k + 2], 0.0),
+                "{contact_set}: box {k} at {:?}",
+                &q[3 * k..3 * k + 3]
+            );
+        }
+        let fastest = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(fastest < 1e-9, "{contact_set}: the stack still moves at {fastest:e}");
     }
 }
