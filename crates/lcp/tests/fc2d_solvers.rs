@@ -140,6 +140,47 @@ fn frictionless_contacts_are_the_normal_lcp() {
 }
 
 #[test]
+fn frictionless_contacts_without_tangential_rows_are_the_normal_lcp() {
+    // The contact projection's problems: μ = 0, W_T = 0 and q_T = 0, so that u_T = 0
+    // exactly. The cone of μ = 0 is the half-line r_T = 0 <= r_N, and an open contact
+    // (r_N = 0 < u_N) meets the law. The projection onto the cone took (x_N, 0) with
+    // x_N < 0 for a point of it (|0| <= 0 · x_N), so that every open contact counted u_N
+    // in the natural residual and Gauss-Seidel could leave r_N < 0.
+    let mut rng = Rng::new(12);
+    let mut open = 0;
+    for _ in 0..10 {
+        let n_c = 5;
+        let chain = chain_w(n_c, false, &mut rng);
+        let normal = |i: usize, j: usize| i.is_multiple_of(2) && j.is_multiple_of(2);
+        let w =
+            Mat::from_fn(2 * n_c, 2 * n_c, |i, j| if normal(i, j) { chain[(i, j)] } else { 0.0 });
+        let q: Vec<f64> = (0..2 * n_c)
+            .map(|k| if k.is_multiple_of(2) { rng.uniform(-1.0, 1.0) } else { 0.0 })
+            .collect();
+        let problem = Fc2d::from_dense(w.as_ref(), &q, &vec![0.0; n_c]).unwrap();
+        let wnn = Mat::from_fn(n_c, n_c, |i, j| w[(2 * i, 2 * j)]);
+        let lcp = moreau_lcp::Lcp::new(wnn, faer::Col::from_fn(n_c, |i| q[2 * i])).unwrap();
+        let z = moreau_lcp::Solver::solve(&mut moreau_lcp::Auto::default(), &lcp).unwrap().z;
+        let exact: Vec<f64> =
+            (0..2 * n_c).map(|k| if k % 2 == 0 { z[k / 2] } else { 0.0 }).collect();
+        let mut u = vec![0.0; 2 * n_c];
+        let residual = Fc2dResidual::compute(problem.view(), &exact, &mut u);
+        open += (0..n_c).filter(|&i| exact[2 * i] == 0.0 && u[2 * i] > 1e-3).count();
+        assert!(residual.natural <= 1e-14, "{residual:?}");
+        let route = LcpRoute::default().solve(&problem).unwrap();
+        let gs = nsgs(1e-12, 100_000).solve(&problem).unwrap();
+        for (name, s) in [("lcp route", &route), ("nsgs", &gs)] {
+            assert_eq!(s.status, Status::Solved, "{name}: {s:?}");
+            assert_in_cones(name, &problem, s);
+            for i in 0..n_c {
+                assert!((s.r[2 * i] - z[i]).abs() < 1e-9, "{name}: {} vs {}", s.r[2 * i], z[i]);
+            }
+        }
+    }
+    assert!(open >= 10, "only {open} open contacts");
+}
+
+#[test]
 fn bilateral_rows_hold_and_both_solvers_agree() {
     // Two contacts and a two-row joint sharing bodies, built from a random Jacobian.
     let mut rng = Rng::new(23);

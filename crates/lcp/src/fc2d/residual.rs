@@ -8,11 +8,13 @@ use super::{Fc2dRef, chunks};
 /// [`Fc2dResidual::round_off`].
 const ROUND_OFF_ULPS: f64 = 4.0;
 
-/// The projection of `(x_N, x_T)` onto the planar Coulomb cone `K = {|x_T| <= μ x_N}`.
+/// The projection of `(x_N, x_T)` onto the planar Coulomb cone
+/// `K = {x_N >= 0, |x_T| <= μ x_N}` (for μ = 0 the half-line x_T = 0 <= x_N).
 #[inline]
 pub(crate) fn project_cone(x_n: f64, x_t: f64, mu: f64) -> (f64, f64) {
     let abs_t = x_t.abs();
-    if abs_t <= mu * x_n {
+    // x_N >= 0 is tested apart: with μ = 0 and x_T = 0, |x_T| <= μ x_N holds for x_N < 0 too.
+    if x_n >= 0.0 && abs_t <= mu * x_n {
         (x_n, x_t)
     } else if mu * abs_t <= -x_n {
         // In the polar cone: the nearest point of K is its apex.
