@@ -86,9 +86,8 @@ fn a_light_box_pinched_between_heavy_ones_is_not_pushed_out() {
         // every body weighing alike, the projection lifts the high box by 3.0e-4 m and turns
         // it flat, and the light box moves by 3e-7 m. Measured in M, where the light box is
         // 10⁶ times cheaper to move, sliding it along the tilted face was the smaller change:
-        // on fixed contacts it slid 0.249 m sideways in this one step (the high box rose
-        // 2.6e-4 m and kept half its tilt); on detected contacts the projection's problem
-        // was not solved and the high box stayed 4.5e-4 m deep.
+        // on either path it slid 0.249 m sideways in this one step, while the high box rose
+        // 2.6e-4 m and kept half its tilt.
         let (x_light, y_high) = (q[3], q[7]);
         let (lifted, tilt) = (y_high - (1.25 - 3e-4), q[8]);
         assert!(x_light.abs() < 1e-6, "{contact_set}: light box moved {x_light:e} m sideways");
