@@ -124,10 +124,11 @@ fn a_stack_of_boxes_comes_to_rest_on_fixed_contacts_as_on_detected_ones() {
     for contact_set in ["fixed", "detected"] {
         let (q, u) = stack(contact_set);
         // A contact the projection has pushed out is left open by round-off (a threshold of
-        // 1e-13 m keeps them all closed here); counted as open, it sat out the next step,
-        // and the box landing on the box above it pushed both down and set the stack rocking. On fixed contacts the top
-        // box ended 0.16 m right of where it landed and the stack was still moving; the gap
-        // tolerance of 1e-9 of the scene's size keeps such contacts closed.
+        // 1e-13 m keeps them all closed here). Counted as open, it sat out the next step; a
+        // box landing on the box it supported then pushed both down and set the stack
+        // rocking. On fixed contacts the top box ended 0.16 m right of where it landed, the
+        // stack still moving; the gap tolerance of 1e-9 of the scene's size keeps such
+        // contacts closed.
         for k in 0..5 {
             let (x, y) = (0.01 * k as f64, 0.25 + 0.5 * k as f64);
             let at = |v: f64, r: f64| (v - r).abs() < 1e-5;
