@@ -513,17 +513,17 @@ impl Bounds {
     /// [`MAGNITUDE_FACTOR`] (1 + max |θ₀|), velocities by [`MAGNITUDE_FACTOR`]
     /// (ℓ/τ + max |v₀|) and angular velocities by [`MAGNITUDE_FACTOR`] (1/τ + max |ω₀|).
     pub fn of(model: &AnyModel, dt: f64) -> Bounds {
-        let (q0, _) = model.initial_state();
-        Self::with_mass(model, dt, &mut Mass::new(model, &q0))
+        let (q0, u0) = model.initial_state();
+        Self::with_mass(model, dt, &q0, &u0, &mut Mass::new(model, &q0))
     }
 
-    /// [`Self::of`] with the mass matrix of the energy test given (at q₀ or to be evaluated).
-    fn with_mass(model: &AnyModel, dt: f64, mass: &mut Mass) -> Bounds {
-        let (q0, u0) = model.initial_state();
+    /// [`Self::of`] from the initial state (q₀, u₀), with the mass matrix of the energy test
+    /// given (at q₀ or to be evaluated).
+    fn with_mass(model: &AnyModel, dt: f64, q0: &[f64], u0: &[f64], mass: &mut Mass) -> Bounds {
         let energy = energy_bound_applies(model)
             .then(|| {
-                let v0 = model.potential_energy(&q0, 0.0)?;
-                let t0 = kinetic(model, &q0, &u0, 0.0, mass);
+                let v0 = model.potential_energy(q0, 0.0)?;
+                let t0 = kinetic(model, q0, u0, 0.0, mass);
                 let e0 = t0 + v0;
                 Some((e0, e0 + ENERGY_GROWTH * energy_scale(model, t0, v0)))
             })
@@ -543,9 +543,9 @@ impl Bounds {
                 (0..x.len()).map(|j| MAGNITUDE_FACTOR * b[usize::from(angle(j))]).collect()
             };
             let (l, t) = (scales.length, scales.time);
-            (bound(&q0, [l, 1.0]), bound(&u0, [l / t, 1.0 / t]))
+            (bound(q0, [l, 1.0]), bound(u0, [l / t, 1.0 / t]))
         } else {
-            let largest = q0.iter().chain(&u0).fold(0.0f64, |m, x| m.max(x.abs()));
+            let largest = q0.iter().chain(u0).fold(0.0f64, |m, x| m.max(x.abs()));
             let b = MAGNITUDE_FACTOR * (1.0 + largest);
             (vec![b; q0.len()], vec![b; u0.len()])
         };
@@ -566,9 +566,9 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
     /// The guard of `model` at its initial state, run with the step `dt`, passing every step
     /// on to `inner`.
     pub fn new(model: &AnyModel, dt: f64, inner: &'a mut O) -> Self {
-        let (q0, _) = model.initial_state();
+        let (q0, u0) = model.initial_state();
         let mut mass = Mass::new(model, &q0);
-        let bounds = Bounds::with_mass(model, dt, &mut mass);
+        let bounds = Bounds::with_mass(model, dt, &q0, &u0, &mut mass);
         Self { inner, bounds, mass, diverged: None }
     }
 
