@@ -64,6 +64,13 @@ impl Default for NsgsOptions {
 /// tolerance. The sweep limit ends it with [`Status::IterationLimit`], non-finite
 /// iterates with [`Status::NumericalFailure`].
 ///
+/// **Convergence.** Coulomb's law is not associated, so no convergence is guaranteed even
+/// for a positive definite W: the iterates can settle into a cycle (two contacts, both
+/// slipping, can alternate between two points for ever), which the status reports as
+/// [`Status::IterationLimit`]. Under-relaxation (`omega < 1`) damps such cycles at the cost
+/// of slower sweeps; [`Fc2dAuto`](super::Fc2dAuto) hands the contacts where Gauss-Seidel
+/// stalls to pivoting instead.
+///
 /// A warm start gives the initial r (the cone does not need to hold; contacts are
 /// projected onto it); the default start is r = 0. The workspace is reused: repeated
 /// solves of problems of the same size allocate nothing.
