@@ -158,3 +158,29 @@ fn a_basis_seen_again_ends_the_pivots() {
     assert!(s.residual.relative <= 1e-12, "{:?}", s.residual);
     assert_solves(&lcp, &s.z, 1e-9);
 }
+
+/// A step LCP of a stack of boxes of masses 1 and 10⁻³ in turn (tests/data/moreau/README.md).
+/// With the unit covering, the tableau's z passes the tolerance but not the accuracy at which
+/// it is kept at once, and the basis cannot be factored to re-solve it. The failed
+/// factorisation used to leave the residual of the tableau's z beside the vectors of an
+/// earlier solve (here zeros): `Solved` with z = 0 and w = 0, where w = q has entries of
+/// −9.8e-3; in the stepper the stack's light boxes then spun at 92 rad/s. The solution
+/// returned must be the one its residual measures.
+#[test]
+fn a_basis_that_cannot_be_factored_again_keeps_the_tableau_solution() {
+    let text = include_str!("data/moreau/stack_mass_ratio_lcp.dat");
+    let lcp = Lcp::read_siconos(text.as_bytes()).expect("stack_mass_ratio_lcp.dat reads");
+    let n = lcp.n();
+    let s = Lemke::default().solve(&lcp).unwrap();
+    assert_eq!(s.status, Status::Solved);
+    assert!(s.z.iter().any(|&z| z > 1e-3), "{:?}", s.z);
+    let w: Vec<f64> = (0..n)
+        .map(|i| lcp.q()[i] + (0..n).map(|j| lcp.m()[(i, j)] * s.z[j]).sum::<f64>())
+        .collect();
+    for (mine, theirs) in w.iter().zip(&s.w) {
+        assert!((mine - theirs).abs() <= 1e-14, "{mine} vs {theirs}");
+    }
+    let again = moreau_lcp::Residual::compute(lcp.view(), &s.z, &s.w);
+    assert_eq!(again.relative, s.residual.relative);
+    assert_solves(&lcp, &s.z, 1e-9);
+}

@@ -391,12 +391,15 @@ impl Workspace {
 
     /// Solves `M_αα z_α = −q_α` for the basis in `alpha` (z_i = 0 off α) by LU, with a
     /// step of iterative refinement when the residual is above [`REFINE_ABOVE`], and
-    /// returns whether the result passes `tol`; `out` holds it (status `Solved` if so).
+    /// returns whether the result passes `tol`; `out` holds it (status `Solved` if so). A
+    /// basis that cannot be factored leaves `out`'s vectors as they were and its residual
+    /// infinite, so that no caller takes them for this basis' solution.
     pub(super) fn solve_alpha(&mut self, out: &mut Solution, tol: f64) -> bool {
         let n = self.n;
         let k = self.alpha.len();
         let (m, alpha) = (&self.m_rows, &self.alpha);
         if !self.lu.factor_with(k, |i, j| m[alpha[i] * n + alpha[j]]) {
+            out.residual = Residual::INFINITE;
             return false;
         }
         for (t, &i) in self.alpha.iter().enumerate() {
