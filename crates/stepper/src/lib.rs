@@ -84,7 +84,8 @@
 //! 1e-10 beyond, within 5,000 sweeps; and for any island still unsolved, to 1e-10, nonsmooth
 //! Newton started cold, the proximal point method, 100,000 more sweeps, and pivoting for
 //! islands of up to 300 contacts, straight after the sweeps for a frictionless one of that
-//! size or one with joints; islands of bodies far from 1 kg in scaled units),
+//! size or one with joints, its candidate finished by Newton when it falls short; islands of
+//! bodies far from 1 kg in scaled units),
 //! [`SolverChoice::Pgs`] by
 //! `Nsgs` with its options, [`SolverChoice::Lemke`] and [`SolverChoice::Enumeration`] by the
 //! exact `LcpRoute` with that pivoting solver. Every contact is warm-started from the impulses

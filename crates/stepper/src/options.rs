@@ -21,10 +21,12 @@ pub enum SolverChoice {
     /// z = 0 when b ≥ 0, the complementary basis named by the previous step's impulses
     /// (solved directly, taken when its residual passes), Lemke, Lemke with other covering
     /// vectors, then enumeration for small problems. Steps with more than 24 closed contacts
-    /// go to `moreau_lcp::fc2d::Fc2dAuto` on the equivalent frictional-contact problem
-    /// instead (block Gauss-Seidel warm-started from the previous impulses, exact solves of
-    /// the clusters that stall), whose cost grows with the contacts' couplings rather than as
-    /// the cube of the LCP's size.
+    /// go to the equivalent frictional-contact problem instead, solved as an island of
+    /// detected contacts is (`moreau_lcp::fc2d::Fc2dAuto`, block Gauss-Seidel warm-started
+    /// from the previous impulses with exact solves of the clusters that stall; then
+    /// nonsmooth Newton, the proximal point method and pivoting), whose cost grows with the
+    /// contacts' couplings rather than as the cube of the LCP's size; so do steps whose LCP
+    /// pivoting leaves unsolved (bodies whose masses differ by orders of magnitude).
     #[default]
     Auto,
     /// Lemke's complementary pivoting alone.

@@ -3,9 +3,7 @@
 
 use faer::{ColRef, MatRef};
 use moreau_kinematics::ContactPoint;
-use moreau_lcp::fc2d::{
-    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dRef, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions,
-};
+use moreau_lcp::fc2d::{Fc2d, Fc2dRef, Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions};
 use moreau_lcp::{
     Auto, Enumeration, Lcp, LcpRef, Lemke, Method, Pgs, PgsOptions, Solution, Solver, Status,
 };
@@ -20,6 +18,7 @@ mod joints;
 mod solve;
 mod sparse;
 mod step;
+use islands::{IslandSolver, Purpose};
 use joints::Joints;
 use solve::{
     FC2D_ROUTE_CONTACTS, Fc2dRoute, closed_form_residual, frictional_contact,
@@ -123,8 +122,10 @@ struct Workspace {
     fc_warm: Vec<f64>,
     fc: Fc2d,
     nsgs: Option<Nsgs>,
-    /// The default choice's solver of many contacts.
-    fc_auto: Option<Fc2dAuto>,
+    /// The default choice's solver of the contact problem (that of the islands of detected
+    /// contacts): for many contacts, and where pivoting on eq. 7.41 fails. Built on its first
+    /// use, which most mechanisms never make.
+    fc_auto: Option<IslandSolver>,
     fc_solution: Fc2dSolution,
     /// The LCP (A column-major, b).
     a: Vec<f64>,
@@ -359,13 +360,7 @@ impl<M: Mechanism> Stepper<M> {
                 }
                 _ => None,
             },
-            fc_auto: match &options.solver {
-                SolverChoice::Auto => Some(Fc2dAuto::new(Fc2dAutoOptions {
-                    tolerance: FC2D_TOLERANCE,
-                    ..Fc2dAutoOptions::default()
-                })?),
-                _ => None,
-            },
+            fc_auto: None,
             fc_solution: Fc2dSolution::new(),
             a: vec![0.0; 9 * n * n],
             b: vec![0.0; 3 * n],

@@ -20,6 +20,7 @@ use rayon::prelude::*;
 
 pub(super) use self::batch::IslandFailure;
 use self::batch::{Batch, Shared, worse};
+pub(super) use self::solver::IslandSolver;
 use crate::bodies::{BodyContact, NO_BODY};
 use crate::stepper::StepError;
 use crate::{LcpInfo, SolverChoice};

@@ -94,8 +94,9 @@ pub(super) fn one_contact_closed_form(
 }
 
 /// Contacts above which the default solver hands a step to the planar frictional-contact
-/// solvers (`Fc2dAuto`: block Gauss-Seidel, with exact solves of the clusters that stall)
-/// rather than to the dense LCP of eq. 7.41, whose pivoting costs O((3 n)³).
+/// solvers (the islands' chain: `Fc2dAuto`, block Gauss-Seidel with exact solves of the
+/// clusters that stall, then Newton, the proximal point method and pivoting) rather than to
+/// the dense LCP of eq. 7.41, whose pivoting costs O((3 n)³).
 pub(super) const FC2D_ROUTE_CONTACTS: usize = 24;
 
 /// Which solver of planar frictional contact a step uses.
@@ -103,7 +104,8 @@ pub(super) const FC2D_ROUTE_CONTACTS: usize = 24;
 pub(super) enum Fc2dRoute {
     /// The nonsmooth Gauss-Seidel of the Gauss-Seidel choice.
     GaussSeidel,
-    /// `Fc2dAuto`, for the default choice beyond [`FC2D_ROUTE_CONTACTS`].
+    /// The islands' chain of the default choice, beyond [`FC2D_ROUTE_CONTACTS`] and where
+    /// pivoting on eq. 7.41 fails.
     Auto,
 }
 
@@ -194,15 +196,19 @@ pub(super) fn frictional_contact(
     ws.fc
         .set_dense(MatRef::from_column_major_slice(w, n, n), &ws.fc_q[..n], &ws.fc_mu[..na])
         .map_err(LcpFailure::Input)?;
-    let warm = Some(&ws.fc_warm[..n]);
+    let warm = &ws.fc_warm[..n];
+    if route == Fc2dRoute::Auto && ws.fc_auto.is_none() {
+        ws.fc_auto = Some(IslandSolver::new(&SolverChoice::Auto).map_err(LcpFailure::Solver)?);
+    }
     match route {
         Fc2dRoute::GaussSeidel => {
             let nsgs = ws.nsgs.as_mut().expect("the Gauss-Seidel choice holds its solver");
-            nsgs.solve_into(ws.fc.view(), warm, &mut ws.fc_solution)
+            nsgs.solve_into(ws.fc.view(), Some(warm), &mut ws.fc_solution)
         }
         Fc2dRoute::Auto => {
-            let auto = ws.fc_auto.as_mut().expect("the default choice holds its solver");
-            auto.solve_into(ws.fc.view(), warm, &mut ws.fc_solution)
+            let chain = ws.fc_auto.as_mut().expect("built above");
+            let step = Purpose::Step { inexact: 0.0 };
+            chain.solve(ws.fc.view(), warm, step, &mut ws.fc_solution).map(|_| ())
         }
     }
     .map_err(LcpFailure::Solver)?;

@@ -493,14 +493,30 @@ impl Core {
                 None
             };
             solver.solve(lcp, warm, &mut ws.solution).map_err(LcpFailure::Solver)?;
-            if ws.solution.status != Status::Solved {
+            if ws.solution.status == Status::Solved {
+                LcpInfo {
+                    method: ws.solution.method,
+                    status: ws.solution.status,
+                    iterations: ws.solution.iterations,
+                    residual: ws.solution.residual.relative,
+                }
+            } else if matches!(options.solver, SolverChoice::Auto)
+                && ws.solution.status != Status::NoSolution
+            {
+                // Pivoting on eq. 7.41 fails where the bodies' masses differ by orders of
+                // magnitude (a stack of boxes of densities 1 and 10⁻⁶: every covering ends in
+                // a ray or a basis that round-off spoils); the solvers of the equivalent
+                // contact problem, which does not mix P_N with P_R, solve it. An LCP that
+                // enumeration proved to have no solution is not tried again, and a failure
+                // reports the LCP's status.
+                let status = ws.solution.status;
+                let info = frictional_contact(ws, laws, Fc2dRoute::Auto)?;
+                if info.status != Status::Solved {
+                    return Err(LcpFailure::Status(status));
+                }
+                info
+            } else {
                 return Err(LcpFailure::Status(ws.solution.status));
-            }
-            LcpInfo {
-                method: ws.solution.method,
-                status: ws.solution.status,
-                iterations: ws.solution.iterations,
-                residual: ws.solution.residual.relative,
             }
         };
 
