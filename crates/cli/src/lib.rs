@@ -21,6 +21,8 @@
 //! too, located on their bodies ([`contacts`]: the force network of a pile at each recorded
 //! step). Records stream to disk in batches; sweep rows are written as members finish, each
 //! sweep part names its sweep, and [`parts::merge`] refuses mixed, incomplete or damaged sets.
+//! A run that stops on a step problem its solver leaves unsolved writes that problem in
+//! Siconos' format ([`failed`]).
 //!
 //! # Example
 //! ```
@@ -47,6 +49,7 @@ pub mod analysis;
 pub mod cli;
 pub mod contacts;
 mod error;
+pub mod failed;
 pub mod grid;
 pub mod guard;
 pub mod keys;

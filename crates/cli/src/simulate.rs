@@ -12,6 +12,7 @@ use moreau_stepper::{Observer, Record, Recorder, StepReport};
 
 use crate::contacts::ContactLog;
 use crate::error::CliError;
+use crate::failed::{self, failed_problem_path};
 use crate::guard::{self, DEFAULT_MAX_STEPS};
 use crate::runs::{RunResult, RunSpec, run_info};
 
@@ -393,7 +394,9 @@ fn publish(partial: &Path, path: &Path) -> Result<()> {
 /// The scene and its step plan are checked, and `<out>.partial` is created, before the first
 /// step; the rows go there in batches of a few thousand, and the file is renamed to `out`
 /// once the run has ended at t_end (or its stop rule). A run that fails or diverges leaves
-/// `<out>.partial` for inspection and no `out`. `warn` receives the warnings about the
+/// `<out>.partial` for inspection and no `out`; one that stops on a step problem that its
+/// solver leaves unsolved writes that problem to `<out>.failed.dat` as well
+/// ([`failed::keep_failed_problem`]). `warn` receives the warnings about the
 /// initial gaps before the run. With [`SimulateOptions::contacts`], the located contacts of
 /// the recorded steps go to that file in the same way ([`crate::contacts`]).
 ///
@@ -435,6 +438,16 @@ pub fn run_to_csv(
         }
     };
     let (partial, mut out_w) = create_partial(out)?;
+    // The problem an earlier run of the same output stopped on is not this run's.
+    if let Err(e) = std::fs::remove_file(failed_problem_path(out))
+        && e.kind() != std::io::ErrorKind::NotFound
+    {
+        return Err(CliError::Output {
+            path: failed_problem_path(out),
+            reason: format!("is left from an earlier run and cannot be removed: {e}"),
+        }
+        .into());
+    }
     let warnings = guard::gap_warnings(&model);
     for w in &warnings {
         warn(w);
@@ -470,7 +483,13 @@ pub fn run_to_csv(
     if let Some(e) = streamer.error.take() {
         return Err(e.context(format!("writing {}", partial.display())));
     }
-    let run = run.with_context(|| format!("the rows so far are in {}", partial.display()))?;
+    let run = run.map_err(|e| {
+        let e = match failed::keep_failed_problem(&e, &failed_problem_path(out)) {
+            Some(note) => e.context(note),
+            None => e,
+        };
+        e.context(format!("the rows so far are in {}", partial.display()))
+    })?;
     streamer.drain()?;
     streamer.out.flush()?;
     drop(streamer.out);

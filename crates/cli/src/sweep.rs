@@ -11,6 +11,7 @@ use moreau_models::{AnyModel, Scene};
 use rayon::prelude::*;
 
 use crate::error::CliError;
+use crate::failed::{self, failed_problem_path};
 use crate::grid::{Axis, Grid, Progress, Shard};
 use crate::guard::{self, DEFAULT_MAX_STEPS};
 use crate::keys;
@@ -127,13 +128,16 @@ fn member_scene(base: &Scene, grid: &Grid, i: u64, max_steps: u64) -> Result<Sce
 
 /// Runs one member and returns its row (without the check); `columns` are the key-number
 /// columns of the base scene, which a declared member must keep (a member that changes the
-/// contact list or the bodies fails rather than shifting its numbers under other names).
+/// contact list or the bodies fails rather than shifting its numbers under other names). A
+/// member that stops on a step problem writes it to `<out>.member-<i>.failed.dat`
+/// ([`failed::keep_failed_problem`]), and its error says so.
 fn member_row(
     scene: &Scene,
     columns: &[String],
     grid: &Grid,
     i: u64,
     max_steps: u64,
+    out: &Path,
 ) -> (Vec<String>, &'static str) {
     let kind = scene.kind();
     let mut row = vec![i.to_string(), grid.len().to_string()];
@@ -165,6 +169,13 @@ fn member_row(
             let status = match e.downcast_ref::<CliError>() {
                 Some(CliError::Diverged { .. }) => "diverged",
                 _ => "failed",
+            };
+            let mut member = out.as_os_str().to_owned();
+            member.push(format!(".member-{i}"));
+            let e = match failed::keep_failed_problem(&e, &failed_problem_path(Path::new(&member)))
+            {
+                Some(note) => e.context(note),
+                None => e,
             };
             empty(&mut row);
             row.extend([String::new(), String::new(), String::new()]);
@@ -289,7 +300,7 @@ pub fn run_with_warnings(
             return;
         }
         let row = member_scene(&base, &grid, i, max_steps).map(|scene| {
-            let (mut row, status) = member_row(&scene, &key_columns, &grid, i, max_steps);
+            let (mut row, status) = member_row(&scene, &key_columns, &grid, i, max_steps, out);
             row.push(row_check(&row));
             (row, status)
         });

@@ -1,0 +1,89 @@
+//! The step problem of a run that stopped on it, written to a file so that it can be examined,
+//! solved by other solvers (Siconos reads the same formats) or sent with a report.
+//!
+//! A run stops with [`StepError::LcpFailed`] when no solver of the chosen kind solves a step's
+//! LCP of eq. 7.41, and with [`StepError::IslandFailed`] when an island's planar
+//! frictional-contact problem stays unsolved; both errors keep the problem. `simulate` writes
+//! it to `<out>.failed.dat` and `sweep` to `<out>.member-<i>.failed.dat`, and the error says
+//! where.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use moreau_lcp::fc2d::SiconosStorage;
+use moreau_models::ModelError;
+use moreau_stepper::StepError;
+
+/// `<path>.failed.dat`: the file that receives the problem of the step a run stopped on.
+pub fn failed_problem_path(path: &Path) -> PathBuf {
+    let mut s = path.as_os_str().to_owned();
+    s.push(".failed.dat");
+    PathBuf::from(s)
+}
+
+/// The step error inside `error`, if the run stopped on one.
+fn step_error(error: &anyhow::Error) -> Option<&StepError> {
+    error.chain().find_map(|cause| {
+        cause.downcast_ref::<StepError>().or_else(|| match cause.downcast_ref::<ModelError>() {
+            Some(ModelError::Step(step)) => Some(step),
+            _ => None,
+        })
+    })
+}
+
+/// Writes the problem of the step that `error` stopped a run on to `path`: the LCP of eq.
+/// 7.41 in Siconos' LCP format (dense), or an island's contact problem in Siconos' FC2D format
+/// (W by sparse 2 × 2 blocks, q, μ; Moreau's `moreau_lcp::Lcp::read_siconos` and
+/// `moreau_lcp::fc2d::Fc2d::read_siconos` read them back).
+///
+/// Returns `None` when `error` is not such a stop, otherwise a sentence to add to the error:
+/// where the problem is, or why it could not be written (an island with joints, whose bilateral
+/// rows Siconos' FC2D format cannot hold; a file that cannot be created).
+pub fn keep_failed_problem(error: &anyhow::Error, path: &Path) -> Option<String> {
+    let shown = path.display();
+    let written = match step_error(error)? {
+        StepError::LcpFailed { lcp, step, .. } => write_to(path, |w| Ok(lcp.write_siconos(w)?))
+            .map(|()| {
+                format!(
+                    "the LCP of step {step} ({} rows) is in {shown}, in Siconos' LCP format",
+                    lcp.n()
+                )
+            }),
+        StepError::IslandFailed { problem, step, .. } => {
+            let bilateral = problem.view().n_bilateral();
+            if bilateral > 0 {
+                return Some(format!(
+                    "the island's problem of step {step} has {bilateral} bilateral rows (joints), \
+                     which Siconos' FC2D format cannot hold; it was not written"
+                ));
+            }
+            write_to(path, |w| Ok(problem.write_siconos(w, SiconosStorage::SparseBlock)?)).map(
+                |()| {
+                    format!(
+                        "the island's contact problem of step {step} ({} contacts) is in {shown}, \
+                         in Siconos' FC2D format",
+                        problem.n_contacts()
+                    )
+                },
+            )
+        }
+        _ => return None,
+    };
+    Some(
+        written
+            .unwrap_or_else(|e| format!("the failed step's problem could not be written: {e:#}")),
+    )
+}
+
+/// Creates `path` and writes it with `write`.
+fn write_to(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let mut w =
+        BufWriter::new(File::create(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?);
+    write(&mut w)?;
+    w.flush()?;
+    Ok(())
+}
