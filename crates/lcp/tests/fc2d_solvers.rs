@@ -6,7 +6,7 @@ use common::{Rng, chain_w, fc2d_collection, planted_fc2d};
 use faer::Mat;
 use moreau_lcp::fc2d::{
     Fc2d, Fc2dAuto, Fc2dBuilder, Fc2dResidual, Fc2dSolution, Fc2dSolver, LcpRoute, LcpRouteOptions,
-    LcpRouteSolver, Nsgs, NsgsOptions,
+    LcpRouteSolver, Newton, Nsgs, NsgsOptions,
 };
 use moreau_lcp::{Method, Status};
 
@@ -311,6 +311,46 @@ fn lcp_route_reports_size_and_certified_infeasibility() {
     assert_eq!(s.status, Status::NoSolution);
     let s = nsgs(1e-8, 50).solve(&problem).unwrap();
     assert_ne!(s.status, Status::Solved);
+}
+
+/// An island of 10 contacts of a stack of boxes of 0.2 and 2e5 kg in turn
+/// (tests/data/moreau/README.md): impulses of about 2,000 N s cancel through the light boxes.
+/// Pivoting ends 5.7e-6 off, Gauss-Seidel and Newton started cold stall far from a solution,
+/// and Newton's polish from pivoting's candidate solves it in one iteration; `Fc2dAuto` gets
+/// there through the LCP route.
+#[test]
+fn the_lcp_routes_polish_finishes_a_candidate_that_pivoting_leaves_short() {
+    let text = include_str!("data/moreau/stack_mass_ratio_island.dat");
+    let problem = Fc2d::read_siconos(text.as_bytes()).unwrap();
+    assert_eq!(problem.n_contacts(), 10);
+    let route = |polish_iterations| {
+        let options = LcpRouteOptions { tolerance: 1e-10, polish_iterations, ..Default::default() };
+        LcpRoute::new(options).unwrap().solve(&problem).unwrap()
+    };
+    let pivoted = route(0);
+    assert_eq!(pivoted.status, Status::NumericalFailure);
+    assert!(pivoted.residual.natural > 1e-6 && pivoted.residual.natural < 1e-5, "{pivoted:?}");
+    let cold = Newton::default().solve(&problem).unwrap();
+    assert!(cold.residual.natural > 1e-3, "{:?}", cold.residual);
+    assert!(nsgs(1e-10, 10_000).solve(&problem).unwrap().residual.natural > 1e-3);
+
+    let polished = route(20);
+    assert_eq!((polished.status, polished.method), (Status::Solved, Method::LcpRoute));
+    assert_eq!(polished.iterations, pivoted.iterations + 1);
+    assert_in_cones("polished", &problem, &polished);
+    // The residual recomputed from r alone.
+    let mut u = vec![0.0; problem.n_rows()];
+    let again = Fc2dResidual::compute(problem.view(), &polished.r, &mut u);
+    assert!(again.natural <= 1e-10, "{again:?}");
+    // Reactions of thousands of N s, agreeing with pivoting's to its residual's order.
+    let largest = polished.r.iter().fold(0.0f64, |m, r| m.max(r.abs()));
+    assert!(largest > 1e3, "{largest}");
+    for (a, b) in polished.r.iter().zip(&pivoted.r) {
+        assert!((a - b).abs() <= 1e-2 * largest, "{a} vs {b}");
+    }
+
+    let auto = Fc2dAuto::default().solve(&problem).unwrap();
+    assert_eq!((auto.status, auto.method), (Status::Solved, Method::LcpRoute));
 }
 
 /// A planted chain of two contacts, both slipping in the planted solution, found by the

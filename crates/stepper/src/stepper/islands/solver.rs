@@ -67,8 +67,6 @@ pub(in crate::stepper) struct AutoChain {
     lcp: LcpRoute,
     /// The iterate a later stage starts from.
     start: Vec<f64>,
-    /// Pivoting's candidate while Newton refines it.
-    pivoted: Fc2dSolution,
 }
 
 /// The solver of the islands' problems, from the stepper's [`SolverChoice`].
@@ -76,9 +74,9 @@ pub(in crate::stepper) enum IslandSolver {
     /// The default choice: one `Fc2dAuto` for small islands and one for large ones, then,
     /// for the islands that Gauss-Seidel and its cluster solves leave unsolved,
     /// nonsmooth Newton, the proximal point method, Gauss-Seidel resumed with the full
-    /// budget from the proximal iterate, and pivoting, its candidate finished by Newton when
-    /// it falls short; with an inexact residual, a large island's Gauss-Seidel runs in
-    /// chunks.
+    /// budget from the proximal iterate, and pivoting (whose candidate Newton finishes when
+    /// it falls short: `LcpRoute`'s polish); with an inexact residual, a large island's
+    /// Gauss-Seidel runs in chunks.
     Auto(Box<AutoChain>),
     Nsgs(Nsgs),
     Lcp(Box<LcpRoute>),
@@ -139,7 +137,6 @@ impl IslandSolver {
                     ..LcpRouteOptions::default()
                 })?,
                 start: Vec::new(),
-                pivoted: Fc2dSolution::new(),
             })),
             SolverChoice::Pgs { tolerance, omega, max_iterations } => {
                 Self::Nsgs(Nsgs::new(NsgsOptions {
@@ -188,7 +185,6 @@ impl IslandSolver {
                     proximal,
                     lcp,
                     start,
-                    pivoted,
                 } = &mut **s;
                 let joints = match purpose {
                     Purpose::Step { .. } => Some(step_joints),
@@ -273,18 +269,6 @@ impl IslandSolver {
                     }
                     if !acceptable(out) && problem.n_groups() <= PIVOTING_ISLAND {
                         lcp.solve_into(problem, None, out)?;
-                        if !acceptable(out) && out.r.iter().all(|v| v.is_finite()) {
-                            // Pivoting on an ill-conditioned basis can end a few digits short
-                            // (5.7e-6 on an island of 10 contacts of a stack of boxes of 0.2 and
-                            // 2e5 kg in turn, whose impulses of 2,000 cancel through the light
-                            // boxes); its candidate has the cases right, and Newton's step
-                            // from there finishes it. The better of the two is kept.
-                            std::mem::swap(pivoted, out);
-                            newton.solve_into(problem, Some(&pivoted.r), out)?;
-                            if !(out.residual.natural <= pivoted.residual.natural) {
-                                std::mem::swap(pivoted, out);
-                            }
-                        }
                     }
                 }
             }
