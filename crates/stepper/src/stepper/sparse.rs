@@ -23,6 +23,10 @@ use super::*;
 use crate::bodies::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
 use crate::report::{MassView, PhaseTimes};
 
+/// Most passes of the contact projection of detected contacts (each a detection at q_E and a
+/// frictionless problem over what it finds).
+const CONTACT_PROJECTION_PASSES: usize = 4;
+
 /// The state and buffers of the many-body path, sized by the bodies and by the most
 /// contacts detected at once; nothing is allocated per step once they are large enough.
 pub(super) struct BodyPath {
@@ -564,9 +568,13 @@ impl Core {
     ///    other contacts of the bodies it moves (a pile under a chain) are not held: a
     ///    hyperstatic pile would make the problem singular; then q_E += M⁻¹ W λ;
     /// 2. the contacts, when one detected at q_E penetrates by more than the projection
-    ///    tolerance (at most four times): 0 ≤ λ_N ⊥ W_Nᵀ G⁻¹ W λ + g_N ≥ 0 with the joints'
-    ///    midpoint rows kept, W_Bᵀ G⁻¹ W λ = 0, and q_E += G⁻¹ W λ, in the metric
-    ///    G = M_k / m_k body by body in which every body weighs alike, as on the other path.
+    ///    tolerance (at most [`CONTACT_PROJECTION_PASSES`] times): 0 ≤ λ_N ⊥ W_Nᵀ G⁻¹ W λ +
+    ///    g_N ≥ 0 with the joints' midpoint rows kept, W_Bᵀ G⁻¹ W λ = 0, and
+    ///    q_E += G⁻¹ W λ, in the metric G = M_k / m_k body by body in which every body
+    ///    weighs alike, as on the other path. The problem holds the contacts detected at q_E
+    ///    only, and a correction can push bodies into others: one that leaves a deeper
+    ///    penetration than it found is undone, and the projection ends there, as it does
+    ///    after a correction that does not halve the penetration.
     ///
     /// A projection that cannot be computed leaves q_E as it is.
     fn project_bodies(
@@ -630,14 +638,30 @@ impl Core {
             }
             b.groups.truncate(n_joints);
         }
-        for _ in 0..4 {
+        // The deepest penetration before the last correction, whose positions `b.q_e` keeps
+        // (q_A's buffer, free until the next step). On a dense packing each pass pushes
+        // bodies into contacts it did not pose: a correction that leaves a deeper penetration
+        // than it found is undone, and one that does not halve it is the last. Keeping every
+        // pass, a column of 1,000 disks reached 4.8e-2 m within 1 s against 2.8e-3 m without
+        // the projection; now 2.9e-3 m.
+        let tolerance = self.options.projection_tolerance;
+        let mut before = f64::INFINITY;
+        for pass in 0..=CONTACT_PROJECTION_PASSES {
             b.detected.clear();
             structure.detect(&self.q, t_e, gap_tolerance, &mut b.detected);
-            check_contacts(&mut b.detected, b.nb, gap_tolerance, t_e)?;
-            let tolerance = self.options.projection_tolerance;
-            if !b.detected.iter().any(|c| c.point.g_n < -tolerance) {
+            let depth = check_contacts(&mut b.detected, b.nb, gap_tolerance, t_e)?;
+            if depth <= tolerance {
                 break;
             }
+            if depth >= before {
+                std::mem::swap(&mut self.q, &mut b.q_e);
+                break;
+            }
+            if pass == CONTACT_PROJECTION_PASSES || depth > 0.5 * before {
+                break;
+            }
+            b.q_e.copy_from_slice(&self.q);
+            before = depth;
             for c in &mut b.detected {
                 c.w_t = [[0.0; 3]; 2];
             }
