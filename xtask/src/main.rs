@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use moreau_cli::cli::{self, MergeArgs, SimulateArgs, SweepArgs};
+use moreau_cli::cli::{self, MergeArgs, SimulateArgs, SolveArgs, SweepArgs};
 use xtask::scene_frames::FramesArgs;
 use xtask::{reproduce, scale, tradeoff};
 
@@ -67,6 +67,9 @@ enum Command {
     },
     /// Join the CSV parts of a sharded sweep (the `moreau merge` command).
     Merge(MergeArgs),
+    /// Solve one LCP or planar frictional-contact problem from a file in Siconos' format (the
+    /// `moreau solve` command).
+    Solve(SolveArgs),
     /// Pictures of any scene: a strip of frames (SVG, PNG) and an animated SVG of the run.
     Frames(FramesArgs),
 }
@@ -126,6 +129,7 @@ fn run(command: Command) -> Result<()> {
             }
         }
         Command::Merge(args) => cli::Command::Merge(args).run()?,
+        Command::Solve(args) => cli::Command::Solve(args).run()?,
         Command::Frames(args) => args.run()?,
     }
     Ok(())

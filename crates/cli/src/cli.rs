@@ -1,5 +1,5 @@
-//! The command-line interface: the `simulate`, `sweep` and `merge` subcommands with their
-//! arguments, shared by the `moreau` binary and the repository's `cargo xtask`.
+//! The command-line interface: the `simulate`, `sweep`, `merge` and `solve` subcommands with
+//! their arguments, shared by the `moreau` binary and the repository's `cargo xtask`.
 
 use std::path::PathBuf;
 
@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 
 use crate::grid::{Axis, Shard};
-use crate::{parts, simulate, sweep};
+use crate::{parts, simulate, solve, sweep};
 
 /// Arguments of `simulate`.
 #[derive(Args, Clone, Debug)]
@@ -80,6 +80,28 @@ pub struct MergeArgs {
     pub parts: Vec<PathBuf>,
 }
 
+/// Arguments of `solve`.
+#[derive(Args, Clone, Debug)]
+pub struct SolveArgs {
+    /// The problem file, in Siconos' LCP or FC2D format (as `simulate` writes the problem
+    /// of a step it stopped on).
+    pub file: PathBuf,
+    /// The kind of problem, lcp or fc2d, when the file reads as both.
+    #[arg(long)]
+    pub problem: Option<String>,
+    /// The solver: auto, lemke, pgs or enum for an LCP; auto, nsgs, newton, proximal or
+    /// lcp-route for an FC2D problem.
+    #[arg(long)]
+    pub solver: Option<String>,
+    /// The solver's tolerance (its default otherwise).
+    #[arg(long)]
+    pub tolerance: Option<f64>,
+    /// Output CSV file of the solution: i,z,w or contact,r_n,r_t,u_n,u_t (OUT.partial when
+    /// the solver misses its tolerance).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
 /// The subcommands.
 #[derive(Subcommand, Clone, Debug)]
 pub enum Command {
@@ -89,6 +111,8 @@ pub enum Command {
     Sweep(SweepArgs),
     /// Join the CSV parts of a sharded sweep, sorted by member.
     Merge(MergeArgs),
+    /// Solve one LCP or planar frictional-contact problem from a file in Siconos' format.
+    Solve(SolveArgs),
 }
 
 impl Command {
@@ -101,6 +125,7 @@ impl Command {
             Self::Simulate(a) => a.run(),
             Self::Sweep(a) => a.run(),
             Self::Merge(a) => a.run(),
+            Self::Solve(a) => a.run(),
         }
     }
 }
@@ -182,6 +207,38 @@ impl MergeArgs {
     pub fn run(self) -> Result<()> {
         let rows = parts::merge(&self.out, &self.parts)?;
         println!("merged {rows} members into {}", self.out.display());
+        Ok(())
+    }
+}
+
+impl SolveArgs {
+    /// Runs `solve`.
+    ///
+    /// # Errors
+    /// As [`solve::run`].
+    pub fn run(self) -> Result<()> {
+        let s = solve::run(
+            &self.file,
+            self.problem.as_deref(),
+            self.solver.as_deref(),
+            self.tolerance,
+            self.out.as_deref(),
+        )?;
+        let size = match s.kind {
+            "lcp" => format!("LCP of {} rows", s.size),
+            _ => format!("FC2D problem of {} contacts", s.size),
+        };
+        let method = match s.lcp_method {
+            Some(lcp) => format!("{} ({lcp})", s.method),
+            None => s.method.to_string(),
+        };
+        println!(
+            "{size}: {} by {method} in {} iterations, residual {:.3e}",
+            s.status, s.iterations, s.residual
+        );
+        if let Some(out) = &self.out {
+            println!("wrote {} rows to {}", s.rows.len(), out.display());
+        }
         Ok(())
     }
 }

@@ -196,4 +196,46 @@ pub enum CliError {
         /// What is wrong.
         reason: String,
     },
+    /// A problem file that cannot be read as the problem asked for.
+    #[error("problem file {path} {reason}")]
+    Problem {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A kind of problem other than `lcp` and `fc2d`.
+    #[error("unknown kind of problem '{kind}'; the kinds are lcp and fc2d")]
+    UnknownProblemKind {
+        /// The kind given.
+        kind: String,
+    },
+    /// A solver name that is not a solver of the problem's kind.
+    #[error("unknown {kind} solver '{name}'; the {kind} solvers are {accepted}")]
+    UnknownSolver {
+        /// The name given.
+        name: String,
+        /// `lcp` or `fc2d`.
+        kind: &'static str,
+        /// The accepted names.
+        accepted: String,
+    },
+    /// A solve that missed its tolerance.
+    #[error(
+        "{solver} did not solve the problem: status {status} after {iterations} iterations, \
+         residual {residual:e}{}",
+        partial.as_ref().map(|p| format!("; its last iterate is in {}", p.display())).unwrap_or_default()
+    )]
+    NotSolved {
+        /// The solver's name.
+        solver: String,
+        /// How it ended.
+        status: moreau_lcp::Status,
+        /// Its residual at the end (dimensionless).
+        residual: f64,
+        /// Its iterations.
+        iterations: usize,
+        /// Where its last iterate was written, if it was.
+        partial: Option<PathBuf>,
+    },
 }

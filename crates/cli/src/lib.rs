@@ -22,7 +22,8 @@
 //! step). Records stream to disk in batches; sweep rows are written as members finish, each
 //! sweep part names its sweep, and [`parts::merge`] refuses mixed, incomplete or damaged sets.
 //! A run that stops on a step problem its solver leaves unsolved writes that problem in
-//! Siconos' format ([`failed`]).
+//! Siconos' format ([`failed`]), and [`solve`] solves such a file (or any LCP or FC2D file of
+//! Siconos' collection) with any of `moreau-lcp`'s solvers.
 //!
 //! # Example
 //! ```
@@ -56,6 +57,7 @@ pub mod keys;
 pub mod parts;
 pub mod runs;
 pub mod simulate;
+pub mod solve;
 pub mod sweep;
 pub mod table;
 

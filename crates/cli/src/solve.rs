@@ -1,0 +1,295 @@
+//! `moreau solve`: one step problem from a file in Siconos' format, solved by one of
+//! `moreau-lcp`'s solvers: the problem a run stopped on (`simulate` writes it, see
+//! [`crate::failed`]), a problem of Siconos' collection, or one of your own.
+//!
+//! Two kinds of problems are read: an LCP (`0 ≤ z ⊥ w = M z + q ≥ 0`, Siconos' LCP format,
+//! as the LCP of eq. 7.41 is written) and a planar frictional-contact problem (`u = W r + q`,
+//! Coulomb's law at each contact, Siconos' FC2D format, as an island's problem is written).
+//! The kind is told from the file when only one reader accepts it, or given. The solution goes
+//! to a CSV file, `i,z,w` for an LCP and `contact,r_n,r_t,u_n,u_t` for a contact problem; a
+//! solve that misses its tolerance is an error, and its last iterate goes to `<out>.partial`.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use moreau_lcp::fc2d::{
+    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dSolution, Fc2dSolver, LcpRoute, LcpRouteOptions, Newton,
+    NewtonOptions, Nsgs, NsgsOptions, Proximal, ProximalOptions,
+};
+use moreau_lcp::{
+    Auto, AutoOptions, Enumeration, EnumerationOptions, Lcp, Lemke, LemkeOptions, Method, Pgs,
+    PgsOptions, Solution, Solver, Status,
+};
+
+use crate::error::CliError;
+use crate::simulate::partial_path;
+
+/// The solvers of an LCP, by name; the first is the default.
+pub const LCP_SOLVERS: [&str; 4] = ["auto", "lemke", "pgs", "enum"];
+
+/// The solvers of a planar frictional-contact problem, by name; the first is the default.
+pub const FC2D_SOLVERS: [&str; 5] = ["auto", "nsgs", "newton", "proximal", "lcp-route"];
+
+/// A problem read from a file.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Problem {
+    /// A linear complementarity problem.
+    Lcp(Lcp),
+    /// A planar frictional-contact problem.
+    Fc2d(Fc2d),
+}
+
+impl Problem {
+    /// `lcp` or `fc2d`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::Lcp(_) => "lcp",
+            Self::Fc2d(_) => "fc2d",
+        }
+    }
+
+    /// Its size: the rows n of an LCP, the contacts n_c of a contact problem.
+    pub fn size(&self) -> usize {
+        match self {
+            Self::Lcp(lcp) => lcp.n(),
+            Self::Fc2d(p) => p.n_contacts(),
+        }
+    }
+}
+
+/// Reads the problem in `path`: as `kind` (`lcp` or `fc2d`) when given, otherwise as whichever
+/// of the two formats accepts the file.
+///
+/// # Errors
+/// [`CliError::Problem`] when the file cannot be read, is not of the kind given, is of
+/// neither kind (with both readers' reasons) or of both; [`CliError::UnknownProblemKind`] for
+/// another kind.
+pub fn read(path: &Path, kind: Option<&str>) -> Result<Problem> {
+    let refuse = |reason: String| CliError::Problem { path: path.to_owned(), reason };
+    let text = std::fs::read_to_string(path).map_err(|e| refuse(format!("cannot be read: {e}")))?;
+    let lcp = || Lcp::read_siconos(text.as_bytes()).map(Problem::Lcp);
+    let fc2d = || Fc2d::read_siconos(text.as_bytes()).map(Problem::Fc2d);
+    match kind {
+        Some("lcp") => Ok(lcp().map_err(|e| refuse(format!("is not an LCP file: {e}")))?),
+        Some("fc2d") => Ok(fc2d().map_err(|e| refuse(format!("is not an FC2D file: {e}")))?),
+        Some(other) => Err(CliError::UnknownProblemKind { kind: other.to_owned() }.into()),
+        None => match (lcp(), fc2d()) {
+            (Ok(p), Err(_)) | (Err(_), Ok(p)) => Ok(p),
+            (Ok(_), Ok(_)) => Err(refuse(
+                "reads both as an LCP and as an FC2D file; say which with --problem".into(),
+            )
+            .into()),
+            (Err(a), Err(b)) => {
+                Err(refuse(format!("is neither an LCP file ({a}) nor an FC2D file ({b})")).into())
+            }
+        },
+    }
+}
+
+/// What a solve found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solved {
+    /// `lcp` or `fc2d`.
+    pub kind: &'static str,
+    /// The problem's size: rows of an LCP, contacts of a contact problem.
+    pub size: usize,
+    /// The solver's name, as given or defaulted.
+    pub solver: String,
+    /// How the solve ended; [`Status::Solved`] only when the residual meets the tolerance.
+    pub status: Status,
+    /// The method that produced the solution.
+    pub method: Method,
+    /// For a contact problem solved through the LCP route, the LCP solver's own method.
+    pub lcp_method: Option<Method>,
+    /// Pivots or sweeps or Newton iterations, as the method counts them.
+    pub iterations: usize,
+    /// The residual the solver is judged by (dimensionless): `Residual::relative` of an
+    /// LCP, `Fc2dResidual::natural` of a contact problem.
+    pub residual: f64,
+    /// The CSV columns of the solution.
+    pub columns: Vec<&'static str>,
+    /// The solution's rows: (i, z_i, w_i), or (contact, r_N, r_T, u_N, u_T).
+    pub rows: Vec<Vec<f64>>,
+}
+
+/// Solves `problem` with the solver named `solver` (the first of [`LCP_SOLVERS`] or
+/// [`FC2D_SOLVERS`] when `None`), to `tolerance` when given (the solver's default otherwise).
+///
+/// # Errors
+/// [`CliError::UnknownSolver`] for a name that is not a solver of the problem's kind; a
+/// tolerance the solver refuses.
+pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) -> Result<Solved> {
+    let unknown = |name: &str, accepted: &[&str]| CliError::UnknownSolver {
+        name: name.to_owned(),
+        kind: problem.kind(),
+        accepted: accepted.join(", "),
+    };
+    match problem {
+        Problem::Lcp(lcp) => {
+            let name = solver.unwrap_or(LCP_SOLVERS[0]);
+            let lemke = |t: Option<f64>| {
+                let d = LemkeOptions::default();
+                LemkeOptions { tolerance: t.unwrap_or(d.tolerance), ..d }
+            };
+            let mut solver: Box<dyn Solver> = match name {
+                "auto" => {
+                    let enumeration = EnumerationOptions::default();
+                    let enumeration = EnumerationOptions {
+                        tolerance: tolerance.unwrap_or(enumeration.tolerance),
+                        ..enumeration
+                    };
+                    Box::new(Auto::new(AutoOptions {
+                        lemke: lemke(tolerance),
+                        enumeration,
+                        ..AutoOptions::default()
+                    })?)
+                }
+                "lemke" => Box::new(Lemke::new(lemke(tolerance))?),
+                "pgs" => {
+                    let d = PgsOptions::default();
+                    Box::new(Pgs::new(PgsOptions {
+                        tolerance: tolerance.unwrap_or(d.tolerance),
+                        ..d
+                    })?)
+                }
+                "enum" => {
+                    let d = EnumerationOptions::default();
+                    Box::new(Enumeration::new(EnumerationOptions {
+                        tolerance: tolerance.unwrap_or(d.tolerance),
+                        ..d
+                    })?)
+                }
+                other => return Err(unknown(other, &LCP_SOLVERS).into()),
+            };
+            let s: Solution = solver.solve(lcp)?;
+            let rows = (0..lcp.n()).map(|i| vec![i as f64, s.z[i], s.w[i]]).collect();
+            Ok(Solved {
+                kind: "lcp",
+                size: lcp.n(),
+                solver: name.to_owned(),
+                status: s.status,
+                method: s.method,
+                lcp_method: None,
+                iterations: s.iterations,
+                residual: s.residual.relative,
+                columns: vec!["i", "z", "w"],
+                rows,
+            })
+        }
+        Problem::Fc2d(p) => {
+            let name = solver.unwrap_or(FC2D_SOLVERS[0]);
+            let mut solver: Box<dyn Fc2dSolver> = match name {
+                "auto" => {
+                    let d = Fc2dAutoOptions::default();
+                    let tolerance = tolerance.unwrap_or(d.tolerance);
+                    Box::new(Fc2dAuto::new(Fc2dAutoOptions { tolerance, ..d })?)
+                }
+                "nsgs" => {
+                    let d = NsgsOptions::default();
+                    let tolerance = tolerance.unwrap_or(d.tolerance);
+                    Box::new(Nsgs::new(NsgsOptions { tolerance, ..d })?)
+                }
+                "newton" => {
+                    let d = NewtonOptions::default();
+                    let tolerance = tolerance.unwrap_or(d.tolerance);
+                    Box::new(Newton::new(NewtonOptions { tolerance, ..d })?)
+                }
+                "proximal" => {
+                    let d = ProximalOptions::default();
+                    let tolerance = tolerance.unwrap_or(d.tolerance);
+                    Box::new(Proximal::new(ProximalOptions { tolerance, ..d })?)
+                }
+                "lcp-route" => {
+                    let d = LcpRouteOptions::default();
+                    let tolerance = tolerance.unwrap_or(d.tolerance);
+                    Box::new(LcpRoute::new(LcpRouteOptions { tolerance, ..d })?)
+                }
+                other => return Err(unknown(other, &FC2D_SOLVERS).into()),
+            };
+            let s: Fc2dSolution = solver.solve(p)?;
+            let rows = (0..p.n_contacts())
+                .map(|c| vec![c as f64, s.r[2 * c], s.r[2 * c + 1], s.u[2 * c], s.u[2 * c + 1]])
+                .collect();
+            Ok(Solved {
+                kind: "fc2d",
+                size: p.n_contacts(),
+                solver: name.to_owned(),
+                status: s.status,
+                method: s.method,
+                lcp_method: s.lcp_method,
+                iterations: s.iterations,
+                residual: s.residual.natural,
+                columns: vec!["contact", "r_n", "r_t", "u_n", "u_t"],
+                rows,
+            })
+        }
+    }
+}
+
+/// Writes a solution as CSV (numbers in shortest round-trip form, indices as integers).
+fn write_csv(solved: &Solved, path: &Path) -> Result<()> {
+    let create = File::create(path).map_err(|e| CliError::Output {
+        path: path.to_owned(),
+        reason: format!("cannot be created: {e}"),
+    })?;
+    let mut w = BufWriter::new(create);
+    writeln!(w, "{}", solved.columns.join(","))?;
+    for row in &solved.rows {
+        write!(w, "{}", row[0] as usize)?;
+        for x in &row[1..] {
+            write!(w, ",{x}")?;
+        }
+        writeln!(w)?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// Reads the problem in `path` (see [`read`]), solves it (see [`solve`]) and, with `out`,
+/// writes its solution there as CSV.
+///
+/// # Errors
+/// Those of [`read`] and [`solve`]; an unwritable output; [`CliError::NotSolved`] when the
+/// solver misses its tolerance, after writing its last iterate to `<out>.partial` (nothing is
+/// written to `out`).
+pub fn run(
+    path: &Path,
+    kind: Option<&str>,
+    solver: Option<&str>,
+    tolerance: Option<f64>,
+    out: Option<&Path>,
+) -> Result<Solved> {
+    let problem = read(path, kind)?;
+    let solved = solve(&problem, solver, tolerance)?;
+    let Some(out) = out else {
+        return if solved.status == Status::Solved {
+            Ok(solved)
+        } else {
+            Err(not_solved(&solved, None).into())
+        };
+    };
+    if out.is_dir() {
+        return Err(CliError::Output { path: out.to_owned(), reason: "is a folder".into() }.into());
+    }
+    if solved.status == Status::Solved {
+        write_csv(&solved, out)?;
+        Ok(solved)
+    } else {
+        let partial = partial_path(out);
+        write_csv(&solved, &partial)?;
+        Err(not_solved(&solved, Some(partial)).into())
+    }
+}
+
+/// The error of a solve that missed its tolerance.
+fn not_solved(solved: &Solved, partial: Option<PathBuf>) -> CliError {
+    CliError::NotSolved {
+        solver: solved.solver.clone(),
+        status: solved.status,
+        residual: solved.residual,
+        iterations: solved.iterations,
+        partial,
+    }
+}

@@ -1,0 +1,164 @@
+//! `solve`: problems read from Siconos' formats, told apart, solved by each solver to a
+//! planted solution or checked against the problem, and the refusals.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use moreau_cli::CliError;
+use moreau_cli::solve::{FC2D_SOLVERS, LCP_SOLVERS, Problem, read, run, solve};
+use moreau_lcp::fc2d::{Fc2d, Fc2dResidual};
+use moreau_lcp::{Lcp, Status};
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../lcp/tests/data/moreau").join(name)
+}
+
+fn cli_error(e: &anyhow::Error) -> Option<&CliError> {
+    e.chain().find_map(|c| c.downcast_ref::<CliError>())
+}
+
+/// The rows of a CSV file of numbers, after its header.
+fn numbers(path: &Path) -> Result<(String, Vec<Vec<f64>>)> {
+    let text = std::fs::read_to_string(path)?;
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or_default().to_owned();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| Ok(x.parse::<f64>()?)).collect::<Result<Vec<f64>>>())
+        .collect::<Result<_>>()?;
+    Ok((header, rows))
+}
+
+#[test]
+fn every_lcp_solver_finds_a_planted_solution() -> Result<()> {
+    // M symmetric positive definite, z* = (1, 0, 2), w* = (0, 3, 0): q = w* - M z*.
+    let m = [[4.0, 1.0, 0.0], [1.0, 3.0, 1.0], [0.0, 1.0, 2.0]];
+    let (z, w) = ([1.0, 0.0, 2.0], [0.0, 3.0, 0.0]);
+    let q: Vec<f64> = (0..3).map(|i| w[i] - (0..3).map(|j| m[i][j] * z[j]).sum::<f64>()).collect();
+    let rows: Vec<Vec<f64>> = m.iter().map(|r| r.to_vec()).collect();
+    let dir = tempfile::tempdir()?;
+    let file = dir.path().join("planted.dat");
+    Lcp::from_rows(&rows, &q)?.write_siconos(std::fs::File::create(&file)?)?;
+    for solver in LCP_SOLVERS {
+        let out = dir.path().join(format!("{solver}.csv"));
+        let s = run(&file, None, Some(solver), Some(1e-12), Some(&out))?;
+        assert_eq!((s.kind, s.size, s.status), ("lcp", 3, Status::Solved), "{solver}");
+        let (header, rows) = numbers(&out)?;
+        assert_eq!(header, "i,z,w");
+        for (i, row) in rows.iter().enumerate() {
+            assert_eq!(row[0], i as f64);
+            assert!(
+                (row[1] - z[i]).abs() < 1e-9 && (row[2] - w[i]).abs() < 1e-9,
+                "{solver}: {row:?}"
+            );
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn every_contact_solver_answers_for_the_solution_it_writes() -> Result<()> {
+    // The island of a stack of boxes of 0.2 and 2e5 kg in turn (moreau-lcp's test data), which
+    // pivoting alone leaves 5.7e-6 off.
+    let file = data("stack_mass_ratio_island.dat");
+    let Problem::Fc2d(problem) = read(&file, None)? else { panic!("an FC2D file") };
+    let dir = tempfile::tempdir()?;
+    let mut solved = 0;
+    for solver in FC2D_SOLVERS {
+        let out = dir.path().join(format!("{solver}.csv"));
+        let result = run(&file, None, Some(solver), Some(1e-10), Some(&out));
+        let written = match &result {
+            Ok(s) => {
+                assert_eq!(s.status, Status::Solved);
+                solved += 1;
+                out.clone()
+            }
+            Err(e) => {
+                let Some(CliError::NotSolved { partial: Some(p), .. }) = cli_error(e) else {
+                    panic!("{solver}: {e:#}");
+                };
+                assert!(!out.exists());
+                p.clone()
+            }
+        };
+        // The written reactions give the reported residual again, and u = W r + q.
+        let (header, rows) = numbers(&written)?;
+        assert_eq!(header, "contact,r_n,r_t,u_n,u_t");
+        let r: Vec<f64> = rows.iter().flat_map(|row| [row[1], row[2]]).collect();
+        let mut u = vec![0.0; problem.n_rows()];
+        let again = Fc2dResidual::compute(problem.view(), &r, &mut u);
+        let reported = match &result {
+            Ok(s) => s.residual,
+            Err(e) => match cli_error(e) {
+                Some(CliError::NotSolved { residual, .. }) => *residual,
+                _ => unreachable!(),
+            },
+        };
+        assert!((again.natural - reported).abs() <= 1e-12 + 1e-9 * reported, "{solver}");
+        for (row, u) in rows.iter().zip(u.chunks(2)) {
+            assert!((row[3] - u[0]).abs() <= 1e-9 && (row[4] - u[1]).abs() <= 1e-9, "{solver}");
+        }
+    }
+    // The default chain and the LCP route (through its polish) solve it.
+    assert!(solved >= 2, "{solved} solvers");
+    assert_eq!(solve(&Problem::Fc2d(problem), None, Some(1e-10))?.status, Status::Solved);
+    Ok(())
+}
+
+#[test]
+fn the_kind_of_problem_is_told_from_the_file_or_given() -> Result<()> {
+    let lcp = data("stack_mass_ratio_lcp.dat");
+    let fc2d = data("stack_mass_ratio_island.dat");
+    assert!(matches!(read(&lcp, None)?, Problem::Lcp(ref p) if p.n() == 27));
+    assert!(matches!(read(&fc2d, None)?, Problem::Fc2d(ref p) if p.n_contacts() == 10));
+    assert!(matches!(read(&fc2d, Some("fc2d"))?, Problem::Fc2d(_)));
+    let e = read(&lcp, Some("fc2d")).unwrap_err();
+    assert!(matches!(cli_error(&e), Some(CliError::Problem { .. })), "{e:#}");
+    assert!(format!("{e:#}").contains("is not an FC2D file"));
+    let e = read(&lcp, Some("qp")).unwrap_err();
+    assert!(matches!(cli_error(&e), Some(CliError::UnknownProblemKind { .. })), "{e:#}");
+    // A file of neither kind names both readers' complaints.
+    let dir = tempfile::tempdir()?;
+    let bad = dir.path().join("bad.dat");
+    std::fs::write(&bad, "3\n1 2\n")?;
+    let e = read(&bad, None).unwrap_err();
+    let message = format!("{e:#}");
+    assert!(message.contains("neither an LCP file (") && message.contains("nor an FC2D file ("));
+    let e = read(&dir.path().join("missing.dat"), None).unwrap_err();
+    assert!(format!("{e:#}").contains("cannot be read"));
+    // An FC2D problem read back equals the one written.
+    let again = Fc2d::read_siconos(std::fs::File::open(&fc2d)?)?;
+    assert_eq!(read(&fc2d, None)?, Problem::Fc2d(again));
+    Ok(())
+}
+
+#[test]
+fn a_solver_of_the_other_kind_or_a_bad_tolerance_is_refused() {
+    let lcp = data("stack_mass_ratio_lcp.dat");
+    let e = run(&lcp, None, Some("nsgs"), None, None).unwrap_err();
+    let Some(CliError::UnknownSolver { kind, accepted, .. }) = cli_error(&e) else {
+        panic!("{e:#}");
+    };
+    assert_eq!((*kind, accepted.as_str()), ("lcp", "auto, lemke, pgs, enum"));
+    let island = data("stack_mass_ratio_island.dat");
+    let e = run(&island, None, Some("lemke"), None, None).unwrap_err();
+    assert!(matches!(cli_error(&e), Some(CliError::UnknownSolver { kind: "fc2d", .. })));
+    for tolerance in [0.0, -1.0, f64::NAN] {
+        assert!(run(&island, None, None, Some(tolerance), None).is_err(), "{tolerance}");
+    }
+}
+
+#[test]
+fn an_lcp_without_solution_is_an_error_with_its_certificate() -> Result<()> {
+    // A 1 × 1 LCP with M = -1 and q = -1: w = -z - 1 < 0 for every z >= 0.
+    let dir = tempfile::tempdir()?;
+    let file = dir.path().join("none.dat");
+    Lcp::from_rows(&[vec![-1.0]], &[-1.0])?.write_siconos(std::fs::File::create(&file)?)?;
+    let out = dir.path().join("z.csv");
+    let e = run(&file, None, Some("auto"), None, Some(&out)).unwrap_err();
+    let Some(CliError::NotSolved { status, partial, .. }) = cli_error(&e) else {
+        panic!("{e:#}");
+    };
+    assert_eq!(*status, Status::NoSolution);
+    assert!(!out.exists() && partial.as_ref().is_some_and(|p| p.exists()));
+    Ok(())
+}
