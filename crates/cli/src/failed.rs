@@ -7,6 +7,7 @@
 //! it to `<out>.failed.dat` and `sweep` to `<out>.member-<i>.failed.dat`, and the error says
 //! where.
 
+use std::borrow::Cow;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -37,9 +38,11 @@ fn step_error(error: &anyhow::Error) -> Option<&StepError> {
 /// (W by sparse 2 × 2 blocks, q, μ; Moreau's `moreau_lcp::Lcp::read_siconos` and
 /// `moreau_lcp::fc2d::Fc2d::read_siconos` read them back).
 ///
-/// Returns `None` when `error` is not such a stop, otherwise a sentence to add to the error:
-/// where the problem is, or why it could not be written (an island with joints, whose bilateral
-/// rows Siconos' FC2D format cannot hold; a file that cannot be created).
+/// An island with joints is written as the equivalent problem of its contacts alone (its
+/// bilateral rows eliminated by their Schur complement, `Fc2dRef::without_bilateral`), since
+/// the format has no bilateral rows. Returns `None` when `error` is not such a stop, otherwise
+/// a sentence to add to the error: where the problem is, or why it could not be written
+/// (joints whose rows repeat each other; a file that cannot be created).
 pub fn keep_failed_problem(error: &anyhow::Error, path: &Path) -> Option<String> {
     let shown = path.display();
     let written = match step_error(error)? {
@@ -51,18 +54,34 @@ pub fn keep_failed_problem(error: &anyhow::Error, path: &Path) -> Option<String>
                 )
             }),
         StepError::IslandFailed { problem, step, .. } => {
+            // Siconos' FC2D format has no bilateral rows: an island with joints is written as
+            // the equivalent problem of its contacts alone.
             let bilateral = problem.view().n_bilateral();
-            if bilateral > 0 {
-                return Some(format!(
-                    "the island's problem of step {step} has {bilateral} bilateral rows (joints), \
-                     which Siconos' FC2D format cannot hold; it was not written"
-                ));
-            }
-            write_to(path, |w| Ok(problem.write_siconos(w, SiconosStorage::SparseBlock)?)).map(
+            let (contacts, joints) = if bilateral > 0 {
+                match problem.view().without_bilateral() {
+                    Ok(alone) => (
+                        Cow::Owned(alone),
+                        format!(
+                            ", its {bilateral} bilateral rows (joints) eliminated by their \
+                             Schur complement"
+                        ),
+                    ),
+                    Err(e) => {
+                        return Some(format!(
+                            "the island's problem of step {step} was not written: Siconos' FC2D \
+                             format has no bilateral rows, and its {bilateral} cannot be \
+                             eliminated ({e})"
+                        ));
+                    }
+                }
+            } else {
+                (Cow::Borrowed(&**problem), String::new())
+            };
+            write_to(path, |w| Ok(contacts.write_siconos(w, SiconosStorage::SparseBlock)?)).map(
                 |()| {
                     format!(
-                        "the island's contact problem of step {step} ({} contacts) is in {shown}, \
-                         in Siconos' FC2D format",
+                        "the island's contact problem of step {step} ({} contacts{joints}) is in \
+                         {shown}, in Siconos' FC2D format",
                         problem.n_contacts()
                     )
                 },

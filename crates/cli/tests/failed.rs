@@ -9,7 +9,7 @@ use moreau_cli::failed::failed_problem_path;
 use moreau_cli::grid::Axis;
 use moreau_cli::simulate::{SimulateOptions, run_to_csv, scene};
 use moreau_cli::sweep::{SweepOptions, run};
-use moreau_lcp::fc2d::{Fc2d, Fc2dAuto, Fc2dSolver};
+use moreau_lcp::fc2d::{Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dSolver, LcpRoute};
 use moreau_lcp::{Enumeration, Lcp, Status};
 use moreau_models::ModelError;
 use moreau_stepper::StepError;
@@ -60,6 +60,48 @@ fn an_island_left_unsolved_is_written_as_the_stepper_holds_it() -> Result<()> {
     // A later run of the same output that succeeds does not leave the old problem beside it.
     run_to_csv(&pile(100_000), &out, &mut |_| {})?;
     assert!(out.exists() && !failed.exists());
+    Ok(())
+}
+
+#[test]
+fn an_island_with_a_joint_is_written_as_its_contacts_alone() -> Result<()> {
+    // The pendulum striking a wall, its contact detected: the bob's island holds the wall
+    // contact and the hinge's two bilateral rows, which Siconos' FC2D format cannot hold.
+    let options = SimulateOptions {
+        scene: Some(scene_path("bodies/pendulum-wall.toml")),
+        sets: vec![
+            "contact_set=detected".into(),
+            "solver=pgs".into(),
+            "solver.max_iterations=1".into(),
+            "solver.tolerance=1e-14".into(),
+        ],
+        ..Default::default()
+    };
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("pendulum.csv");
+    let e = run_to_csv(&options, &out, &mut |_| {}).unwrap_err();
+    assert!(
+        format!("{e:#}").contains(
+            "(1 contacts, its 2 bilateral rows (joints) eliminated by their Schur complement)"
+        ),
+        "{e:#}"
+    );
+    let written = Fc2d::read_siconos(std::fs::File::open(failed_problem_path(&out))?)?;
+    let error = scene(&options)?.run().unwrap_err();
+    let ModelError::Step(StepError::IslandFailed { problem, .. }) = error else {
+        panic!("expected an island's failure, got {error}");
+    };
+    assert_eq!(problem.view().n_bilateral(), 2);
+    assert_eq!(written, problem.view().without_bilateral()?);
+    // The contact's reaction is the same solved alone as with the joint's rows.
+    let tight = Fc2dAutoOptions { tolerance: 1e-13, ..Default::default() };
+    let alone = Fc2dAuto::new(tight)?.solve(&written)?;
+    let whole = LcpRoute::default().solve(&problem)?;
+    assert_eq!((alone.status, whole.status), (Status::Solved, Status::Solved));
+    assert!(alone.r[0] > 0.0, "{:?}", alone.r);
+    for k in 0..2 {
+        assert!((alone.r[k] - whole.r[k]).abs() <= 1e-12 * alone.r[0], "{alone:?} vs {whole:?}");
+    }
     Ok(())
 }
 

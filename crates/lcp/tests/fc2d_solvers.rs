@@ -6,9 +6,9 @@ use common::{Rng, chain_w, fc2d_collection, planted_fc2d};
 use faer::Mat;
 use moreau_lcp::fc2d::{
     Fc2d, Fc2dAuto, Fc2dBuilder, Fc2dResidual, Fc2dSolution, Fc2dSolver, LcpRoute, LcpRouteOptions,
-    LcpRouteSolver, Newton, Nsgs, NsgsOptions,
+    LcpRouteSolver, Newton, Nsgs, NsgsOptions, SiconosStorage,
 };
-use moreau_lcp::{Method, Status};
+use moreau_lcp::{LcpError, Method, Status};
 
 /// Sweep limit within which NSGS reaches 1e-4 on every file (the most measured: 628
 /// sweeps, on 7,002 contacts).
@@ -210,6 +210,18 @@ fn bilateral_rows_hold_and_both_solvers_agree() {
         assert!(gs.u[4].abs() < 1e-10 && gs.u[5].abs() < 1e-10);
         let diff = gs.r.iter().zip(&lcp.r).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         assert!(diff < 1e-6, "{:?} vs {:?}", gs.r, lcp.r);
+        // The contacts alone, the joint eliminated: the same contact reactions, by
+        // Gauss-Seidel on the reduced problem, which Siconos' format can hold.
+        let reduced = problem.view().without_bilateral().unwrap();
+        assert_eq!((reduced.n_contacts(), reduced.n_rows()), (2, 4));
+        let mut text = Vec::new();
+        reduced.write_siconos(&mut text, SiconosStorage::SparseBlock).unwrap();
+        assert_eq!(Fc2d::read_siconos(&text[..]).unwrap(), reduced);
+        let alone = nsgs(1e-11, 100_000).solve(&reduced).unwrap();
+        assert_eq!(alone.status, Status::Solved);
+        for (a, b) in alone.r.iter().zip(&gs.r[..4]) {
+            assert!((a - b).abs() < 1e-6, "{:?} vs {:?}", alone.r, gs.r);
+        }
     }
 }
 
@@ -237,6 +249,7 @@ fn redundant_bilateral_rows_end_the_lcp_route_as_a_numerical_failure() {
     let problem = b.build(&q, &[0.3, 0.6]).unwrap();
     let s = LcpRoute::default().solve(&problem).unwrap();
     assert_eq!(s.status, Status::NumericalFailure);
+    assert!(matches!(problem.view().without_bilateral(), Err(LcpError::Structure(_))));
     // With the repeated row dropped the same problem is regular and solved.
     w[(5, 5)] += 0.1;
     let mut b = Fc2dBuilder::new(2);

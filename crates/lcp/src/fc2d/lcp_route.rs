@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::solution::check_warm_start;
-use super::{Fc2dRef, Fc2dSolution, Fc2dSolver, Newton, NewtonOptions};
+use super::{Fc2d, Fc2dRef, Fc2dSolution, Fc2dSolver, Newton, NewtonOptions};
 use crate::dense::Lu;
 use crate::error::rules;
 use crate::{Auto, Enumeration, LcpError, LcpRef, Lemke, Method, Solution, Solver, Status};
@@ -216,6 +216,34 @@ impl Reduced {
             q[i] + coupled
         }));
         true
+    }
+}
+
+impl Fc2dRef<'_> {
+    /// The equivalent problem of the contacts alone: the bilateral rows eliminated by their
+    /// Schur complement, as [`LcpRoute`] does, with `W_cc - W_cb W_bb⁻¹ W_bc` (dense) and
+    /// `q_c - W_cb W_bb⁻¹ q_b`. Its solutions are this problem's contact reactions, the
+    /// multipliers following as `λ = -W_bb⁻¹ (W_bc r_c + q_b)`. A problem with bilateral rows
+    /// can thus be written in Siconos' FC2D format, which has none; one without is copied.
+    ///
+    /// # Errors
+    /// [`LcpError::Structure`] when W_bb is numerically singular (redundant constraints, a
+    /// pivot of its LU below 1e-13 of its column) or the result is not finite.
+    pub fn without_bilateral(&self) -> Result<Fc2d, LcpError> {
+        let mut reduced = Reduced::default();
+        if !reduced.eliminate(*self) {
+            return Err(LcpError::Structure(
+                "the bilateral rows cannot be eliminated: W_bb is singular or the result is not \
+                 finite"
+                    .into(),
+            ));
+        }
+        let nc2 = 2 * self.n_contacts();
+        Fc2d::from_dense(
+            faer::MatRef::from_column_major_slice(&reduced.w, nc2, nc2),
+            &reduced.q,
+            self.mu(),
+        )
     }
 }
 
