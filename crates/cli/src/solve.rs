@@ -261,6 +261,9 @@ pub fn run(
     tolerance: Option<f64>,
     out: Option<&Path>,
 ) -> Result<Solved> {
+    if let Some(out) = out.filter(|out| out.is_dir()) {
+        return Err(CliError::Output { path: out.to_owned(), reason: "is a folder".into() }.into());
+    }
     let problem = read(path, kind)?;
     let solved = solve(&problem, solver, tolerance)?;
     let Some(out) = out else {
@@ -270,9 +273,6 @@ pub fn run(
             Err(not_solved(&solved, None).into())
         };
     };
-    if out.is_dir() {
-        return Err(CliError::Output { path: out.to_owned(), reason: "is a folder".into() }.into());
-    }
     if solved.status == Status::Solved {
         write_csv(&solved, out)?;
         Ok(solved)

@@ -145,6 +145,9 @@ fn a_solver_of_the_other_kind_or_a_bad_tolerance_is_refused() {
     for tolerance in [0.0, -1.0, f64::NAN] {
         assert!(run(&island, None, None, Some(tolerance), None).is_err(), "{tolerance}");
     }
+    let e =
+        run(&island, None, None, None, Some(Path::new(env!("CARGO_MANIFEST_DIR")))).unwrap_err();
+    assert!(matches!(cli_error(&e), Some(CliError::Output { .. })), "{e:#}");
 }
 
 #[test]
