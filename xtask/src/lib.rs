@@ -2,7 +2,7 @@
 //! project's own simulations, and runs the speed/accuracy study.
 //!
 //! **For**: `cargo xtask reproduce` and `tradeoff` (see `main.rs`), `cargo xtask
-//! simulate|sweep|merge`, which run the `moreau` command's code from the `moreau-cli` crate,
+//! simulate|sweep|merge|solve`, which run the `moreau` command's code from the `moreau-cli` crate,
 //! and `cargo xtask frames`, which draws any scene ([`scene_frames`]).
 //! **Not for**: use as a library by other crates; the package is not published. Users who
 //! simulate install the `moreau` command instead (`cargo install --path crates/cli`).

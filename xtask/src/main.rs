@@ -1,5 +1,5 @@
-//! `cargo xtask`: reproduce the report and run the speed/accuracy study; `simulate`, `sweep`
-//! and `merge` run the `moreau` command's code; `frames` draws any scene.
+//! `cargo xtask`: reproduce the report and run the speed/accuracy study; `simulate`, `sweep`,
+//! `merge` and `solve` run the `moreau` command's code; `frames` draws any scene.
 
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -5,8 +5,9 @@
 //!
 //! **For**: users who simulate the models and scene files of `moreau-models` from the command
 //! line or a job script (`cargo install --path crates/cli`, then `moreau simulate|sweep|merge`,
-//! with a model name or `--scene FILE`), and programs that want the same runs, key numbers and
-//! sweep files as a library ([`simulate`], [`sweep`], [`parts`], [`keys`], [`analysis`]).
+//! with a model name or `--scene FILE`, and `moreau solve` for a step problem), and programs
+//! that want the same runs, key numbers and sweep files as a library ([`simulate`], [`sweep`],
+//! [`parts`], [`keys`], [`analysis`], [`solve`]).
 //! **Not for**: figures and the reproduction report (the repository's `cargo xtask reproduce`
 //! and `cargo xtask frames`), or hand-derived mechanisms that no scene file can hold (run them
 //! with `moreau-stepper` directly).
