@@ -114,6 +114,15 @@ pub struct Solved {
     pub rows: Vec<Vec<f64>>,
 }
 
+/// The default options of type `$options` with their `tolerance` replaced by `$tolerance`
+/// (an `Option<f64>`) when it is given.
+macro_rules! options {
+    ($options:ident, $tolerance:expr) => {{
+        let default = $options::default();
+        $options { tolerance: $tolerance.unwrap_or(default.tolerance), ..default }
+    }};
+}
+
 /// Solves `problem` with the solver named `solver` (the first of [`LCP_SOLVERS`] or
 /// [`FC2D_SOLVERS`] when `None`), to `tolerance` when given (the solver's default otherwise).
 ///
@@ -129,38 +138,15 @@ pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) ->
     match problem {
         Problem::Lcp(lcp) => {
             let name = solver.unwrap_or(LCP_SOLVERS[0]);
-            let lemke = |t: Option<f64>| {
-                let d = LemkeOptions::default();
-                LemkeOptions { tolerance: t.unwrap_or(d.tolerance), ..d }
-            };
             let mut solver: Box<dyn Solver> = match name {
-                "auto" => {
-                    let enumeration = EnumerationOptions::default();
-                    let enumeration = EnumerationOptions {
-                        tolerance: tolerance.unwrap_or(enumeration.tolerance),
-                        ..enumeration
-                    };
-                    Box::new(Auto::new(AutoOptions {
-                        lemke: lemke(tolerance),
-                        enumeration,
-                        ..AutoOptions::default()
-                    })?)
-                }
-                "lemke" => Box::new(Lemke::new(lemke(tolerance))?),
-                "pgs" => {
-                    let d = PgsOptions::default();
-                    Box::new(Pgs::new(PgsOptions {
-                        tolerance: tolerance.unwrap_or(d.tolerance),
-                        ..d
-                    })?)
-                }
-                "enum" => {
-                    let d = EnumerationOptions::default();
-                    Box::new(Enumeration::new(EnumerationOptions {
-                        tolerance: tolerance.unwrap_or(d.tolerance),
-                        ..d
-                    })?)
-                }
+                "auto" => Box::new(Auto::new(AutoOptions {
+                    lemke: options!(LemkeOptions, tolerance),
+                    enumeration: options!(EnumerationOptions, tolerance),
+                    ..AutoOptions::default()
+                })?),
+                "lemke" => Box::new(Lemke::new(options!(LemkeOptions, tolerance))?),
+                "pgs" => Box::new(Pgs::new(options!(PgsOptions, tolerance))?),
+                "enum" => Box::new(Enumeration::new(options!(EnumerationOptions, tolerance))?),
                 other => return Err(unknown(other, &LCP_SOLVERS).into()),
             };
             let s: Solution = solver.solve(lcp)?;
@@ -181,31 +167,11 @@ pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) ->
         Problem::Fc2d(p) => {
             let name = solver.unwrap_or(FC2D_SOLVERS[0]);
             let mut solver: Box<dyn Fc2dSolver> = match name {
-                "auto" => {
-                    let d = Fc2dAutoOptions::default();
-                    let tolerance = tolerance.unwrap_or(d.tolerance);
-                    Box::new(Fc2dAuto::new(Fc2dAutoOptions { tolerance, ..d })?)
-                }
-                "nsgs" => {
-                    let d = NsgsOptions::default();
-                    let tolerance = tolerance.unwrap_or(d.tolerance);
-                    Box::new(Nsgs::new(NsgsOptions { tolerance, ..d })?)
-                }
-                "newton" => {
-                    let d = NewtonOptions::default();
-                    let tolerance = tolerance.unwrap_or(d.tolerance);
-                    Box::new(Newton::new(NewtonOptions { tolerance, ..d })?)
-                }
-                "proximal" => {
-                    let d = ProximalOptions::default();
-                    let tolerance = tolerance.unwrap_or(d.tolerance);
-                    Box::new(Proximal::new(ProximalOptions { tolerance, ..d })?)
-                }
-                "lcp-route" => {
-                    let d = LcpRouteOptions::default();
-                    let tolerance = tolerance.unwrap_or(d.tolerance);
-                    Box::new(LcpRoute::new(LcpRouteOptions { tolerance, ..d })?)
-                }
+                "auto" => Box::new(Fc2dAuto::new(options!(Fc2dAutoOptions, tolerance))?),
+                "nsgs" => Box::new(Nsgs::new(options!(NsgsOptions, tolerance))?),
+                "newton" => Box::new(Newton::new(options!(NewtonOptions, tolerance))?),
+                "proximal" => Box::new(Proximal::new(options!(ProximalOptions, tolerance))?),
+                "lcp-route" => Box::new(LcpRoute::new(options!(LcpRouteOptions, tolerance))?),
                 other => return Err(unknown(other, &FC2D_SOLVERS).into()),
             };
             let s: Fc2dSolution = solver.solve(p)?;
