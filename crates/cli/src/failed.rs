@@ -16,11 +16,11 @@ use moreau_lcp::fc2d::SiconosStorage;
 use moreau_models::ModelError;
 use moreau_stepper::StepError;
 
+use crate::simulate::suffixed;
+
 /// `<path>.failed.dat`: the file that receives the problem of the step a run stopped on.
 pub fn failed_problem_path(path: &Path) -> PathBuf {
-    let mut s = path.as_os_str().to_owned();
-    s.push(".failed.dat");
-    PathBuf::from(s)
+    suffixed(path, ".failed.dat")
 }
 
 /// The step error inside `error`, if the run stopped on one.
@@ -40,10 +40,19 @@ fn step_error(error: &anyhow::Error) -> Option<&StepError> {
 ///
 /// An island with joints is written as the equivalent problem of its contacts alone (its
 /// bilateral rows eliminated by their Schur complement, `Fc2dRef::without_bilateral`), since
-/// the format has no bilateral rows. Returns `None` when `error` is not such a stop, otherwise
-/// a sentence to add to the error: where the problem is, or why it could not be written
+/// the format has no bilateral rows. Returns `error` as it is when it is not such a stop,
+/// otherwise with a sentence added: where the problem is, or why it could not be written
 /// (joints whose rows repeat each other; a file that cannot be created).
-pub fn keep_failed_problem(error: &anyhow::Error, path: &Path) -> Option<String> {
+pub fn with_failed_problem(error: anyhow::Error, path: &Path) -> anyhow::Error {
+    match failed_problem(&error, path) {
+        Some(note) => error.context(note),
+        None => error,
+    }
+}
+
+/// Writes the problem of [`with_failed_problem`] and returns its sentence, or `None` when
+/// `error` is not a stop on a step problem.
+fn failed_problem(error: &anyhow::Error, path: &Path) -> Option<String> {
     let shown = path.display();
     let written = match step_error(error)? {
         StepError::LcpFailed { lcp, step, .. } => write_to(path, |w| Ok(lcp.write_siconos(w)?))

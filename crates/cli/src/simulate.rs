@@ -364,8 +364,13 @@ pub struct Simulated {
 
 /// The file a run writes to until it succeeds: `<out>.partial`.
 pub fn partial_path(out: &Path) -> PathBuf {
-    let mut s = out.as_os_str().to_owned();
-    s.push(".partial");
+    suffixed(out, ".partial")
+}
+
+/// `path` with `suffix` appended to its file name (`out.csv` → `out.csv.partial`).
+pub(crate) fn suffixed(path: &Path, suffix: &str) -> PathBuf {
+    let mut s = path.as_os_str().to_owned();
+    s.push(suffix);
     PathBuf::from(s)
 }
 
@@ -396,7 +401,7 @@ fn publish(partial: &Path, path: &Path) -> Result<()> {
 /// once the run has ended at t_end (or its stop rule). A run that fails or diverges leaves
 /// `<out>.partial` for inspection and no `out`; one that stops on a step problem that its
 /// solver leaves unsolved writes that problem to `<out>.failed.dat` as well
-/// ([`failed::keep_failed_problem`]). `warn` receives the warnings about the
+/// ([`failed::with_failed_problem`]). `warn` receives the warnings about the
 /// initial gaps before the run. With [`SimulateOptions::contacts`], the located contacts of
 /// the recorded steps go to that file in the same way ([`crate::contacts`]).
 ///
@@ -484,11 +489,8 @@ pub fn run_to_csv(
         return Err(e.context(format!("writing {}", partial.display())));
     }
     let run = run.map_err(|e| {
-        let e = match failed::keep_failed_problem(&e, &failed_problem_path(out)) {
-            Some(note) => e.context(note),
-            None => e,
-        };
-        e.context(format!("the rows so far are in {}", partial.display()))
+        failed::with_failed_problem(e, &failed_problem_path(out))
+            .context(format!("the rows so far are in {}", partial.display()))
     })?;
     streamer.drain()?;
     streamer.out.flush()?;

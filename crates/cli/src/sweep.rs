@@ -17,7 +17,9 @@ use crate::guard::{self, DEFAULT_MAX_STEPS};
 use crate::keys;
 use crate::parts::{self, PartHeader, fnv64, row_check};
 use crate::runs::{RunResult, RunSpec, run_info};
-use crate::simulate::{apply_sets, base_scene, check_record_every, partial_path, run_scene};
+use crate::simulate::{
+    apply_sets, base_scene, check_record_every, partial_path, run_scene, suffixed,
+};
 
 /// What to sweep.
 #[derive(Clone, Debug)]
@@ -130,7 +132,7 @@ fn member_scene(base: &Scene, grid: &Grid, i: u64, max_steps: u64) -> Result<Sce
 /// columns of the base scene, which a declared member must keep (a member that changes the
 /// contact list or the bodies fails rather than shifting its numbers under other names). A
 /// member that stops on a step problem writes it to `<out>.member-<i>.failed.dat`
-/// ([`failed::keep_failed_problem`]), and its error says so.
+/// ([`failed::with_failed_problem`]), and its error says so.
 fn member_row(
     scene: &Scene,
     columns: &[String],
@@ -170,13 +172,8 @@ fn member_row(
                 Some(CliError::Diverged { .. }) => "diverged",
                 _ => "failed",
             };
-            let mut member = out.as_os_str().to_owned();
-            member.push(format!(".member-{i}"));
-            let e = match failed::keep_failed_problem(&e, &failed_problem_path(Path::new(&member)))
-            {
-                Some(note) => e.context(note),
-                None => e,
-            };
+            let member = suffixed(out, &format!(".member-{i}"));
+            let e = failed::with_failed_problem(e, &failed_problem_path(&member));
             empty(&mut row);
             row.extend([String::new(), String::new(), String::new()]);
             row.push(format!("{:.6}", start.elapsed().as_secs_f64()));
