@@ -5,7 +5,7 @@
 //! LCP of eq. 7.41, and with [`StepError::IslandFailed`] when an island's planar
 //! frictional-contact problem stays unsolved; both errors keep the problem. `simulate` writes
 //! it to `<out>.failed.dat` and `sweep` to `<out>.member-<i>.failed.dat`, and the error says
-//! where.
+//! where; `moreau solve` ([`crate::solve`]) tries any solver on it.
 
 use std::borrow::Cow;
 use std::fs::File;
