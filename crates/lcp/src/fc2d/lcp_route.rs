@@ -224,7 +224,8 @@ impl Fc2dRef<'_> {
     /// Schur complement, as [`LcpRoute`] does, with `W_cc - W_cb W_bb⁻¹ W_bc` (dense) and
     /// `q_c - W_cb W_bb⁻¹ q_b`. Its solutions are this problem's contact reactions, the
     /// multipliers following as `λ = -W_bb⁻¹ (W_bc r_c + q_b)`. A problem with bilateral rows
-    /// can thus be written in Siconos' FC2D format, which has none; one without is copied.
+    /// can thus be written in Siconos' FC2D format, which has none; one without comes back
+    /// with the same W, q and μ. The result is dense: 4 n_c² entries of W.
     ///
     /// # Errors
     /// [`LcpError::Structure`] when W_bb is numerically singular (redundant constraints, a
