@@ -83,14 +83,14 @@ pub struct MergeArgs {
 /// Arguments of `solve`.
 #[derive(Args, Clone, Debug)]
 pub struct SolveArgs {
-    /// The problem file, in Siconos' LCP or FC2D format (as `simulate` writes the problem
-    /// of a step it stopped on).
+    /// The problem file, in Siconos' LCP, FC2D or GFC2D format (`simulate` writes the
+    /// problem of a step it stopped on as LCP or FC2D).
     pub file: PathBuf,
-    /// The kind of problem, lcp or fc2d, when the file reads as both.
+    /// The kind of problem, lcp, fc2d or gfc2d, when the file reads as more than one.
     #[arg(long)]
     pub problem: Option<String>,
     /// The solver: auto, lemke, pgs or enum for an LCP; auto, nsgs, newton, proximal or
-    /// lcp-route for an FC2D problem.
+    /// lcp-route for an FC2D or GFC2D problem.
     #[arg(long)]
     pub solver: Option<String>,
     /// The solver's tolerance (its default otherwise).
@@ -111,7 +111,8 @@ pub enum Command {
     Sweep(SweepArgs),
     /// Join the CSV parts of a sharded sweep, sorted by member.
     Merge(MergeArgs),
-    /// Solve one LCP or planar frictional-contact problem from a file in Siconos' format.
+    /// Solve one LCP or planar frictional-contact problem (local or global) from a file in
+    /// Siconos' format.
     Solve(SolveArgs),
 }
 
@@ -226,6 +227,7 @@ impl SolveArgs {
         )?;
         let size = match s.kind {
             "lcp" => format!("LCP of {} rows", s.size),
+            "gfc2d" => format!("GFC2D problem of {} contacts (reduced to W = Hᵀ M⁻¹ H)", s.size),
             _ => format!("FC2D problem of {} contacts", s.size),
         };
         let method = match s.lcp_method {

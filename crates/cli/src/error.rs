@@ -204,8 +204,8 @@ pub enum CliError {
         /// What is wrong.
         reason: String,
     },
-    /// A kind of problem other than `lcp` and `fc2d`.
-    #[error("unknown kind of problem '{kind}'; the kinds are lcp and fc2d")]
+    /// A kind of problem other than `lcp`, `fc2d` and `gfc2d`.
+    #[error("unknown kind of problem '{kind}'; the kinds are lcp, fc2d and gfc2d")]
     UnknownProblemKind {
         /// The kind given.
         kind: String,
@@ -215,7 +215,7 @@ pub enum CliError {
     UnknownSolver {
         /// The name given.
         name: String,
-        /// `lcp` or `fc2d`.
+        /// `lcp`, `fc2d` or `gfc2d`.
         kind: &'static str,
         /// The accepted names.
         accepted: String,

@@ -2,12 +2,14 @@
 //! `moreau-lcp`'s solvers: the problem a run stopped on (`simulate` writes it, see
 //! [`crate::failed`]), a problem of Siconos' collection, or one of your own.
 //!
-//! Two kinds of problems are read: an LCP (`0 ≤ z ⊥ w = M z + q ≥ 0`, Siconos' LCP format,
-//! as the LCP of eq. 7.41 is written) and a planar frictional-contact problem (`u = W r + q`,
-//! Coulomb's law at each contact, Siconos' FC2D format, as an island's problem is written).
-//! The kind is told from the file when only one reader accepts it, or given. The solution goes
-//! to a CSV file, `i,z,w` for an LCP and `contact,r_n,r_t,u_n,u_t` for a contact problem; a
-//! solve that misses its tolerance is an error, and its last iterate goes to `<out>.partial`.
+//! Three kinds of problems are read: an LCP (`0 ≤ z ⊥ w = M z + q ≥ 0`, Siconos' LCP format,
+//! as the LCP of eq. 7.41 is written), a planar frictional-contact problem (`u = W r + q`,
+//! Coulomb's law at each contact, Siconos' FC2D format, as an island's problem is written),
+//! and a global one (`M v = H r + q`, `u = Hᵀ v + b`, Siconos' GFC2D format), which is
+//! reduced to the contacts' problem with `W = Hᵀ M⁻¹ H` and solved as such. The kind is told
+//! from the file when only one reader accepts it, or given. The solution goes to a CSV file,
+//! `i,z,w` for an LCP and `contact,r_n,r_t,u_n,u_t` for a contact problem; a solve that misses
+//! its tolerance is an error, and its last iterate goes to `<out>.partial`.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -15,8 +17,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use moreau_lcp::fc2d::{
-    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dSolution, Fc2dSolver, LcpRoute, LcpRouteOptions, Newton,
-    NewtonOptions, Nsgs, NsgsOptions, Proximal, ProximalOptions,
+    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dSolution, Fc2dSolver, Gfc2d, LcpRoute, LcpRouteOptions,
+    Newton, NewtonOptions, Nsgs, NsgsOptions, Proximal, ProximalOptions,
 };
 use moreau_lcp::{
     Auto, AutoOptions, Enumeration, EnumerationOptions, Lcp, Lemke, LemkeOptions, Method, Pgs,
@@ -39,14 +41,18 @@ pub enum Problem {
     Lcp(Lcp),
     /// A planar frictional-contact problem.
     Fc2d(Fc2d),
+    /// A global planar frictional-contact problem, held as the contacts' problem it reduces
+    /// to (`Gfc2d::reduce`).
+    Gfc2d(Fc2d),
 }
 
 impl Problem {
-    /// `lcp` or `fc2d`.
+    /// `lcp`, `fc2d` or `gfc2d`.
     pub fn kind(&self) -> &'static str {
         match self {
             Self::Lcp(_) => "lcp",
             Self::Fc2d(_) => "fc2d",
+            Self::Gfc2d(_) => "gfc2d",
         }
     }
 
@@ -54,44 +60,59 @@ impl Problem {
     pub fn size(&self) -> usize {
         match self {
             Self::Lcp(lcp) => lcp.n(),
-            Self::Fc2d(p) => p.n_contacts(),
+            Self::Fc2d(p) | Self::Gfc2d(p) => p.n_contacts(),
         }
     }
 }
 
-/// Reads the problem in `path`: as `kind` (`lcp` or `fc2d`) when given, otherwise as whichever
-/// of the two formats accepts the file.
+/// Reads the problem in `path`: as `kind` (`lcp`, `fc2d` or `gfc2d`) when given, otherwise as
+/// whichever of the three formats accepts the file. A global problem is reduced on reading.
 ///
 /// # Errors
-/// [`CliError::Problem`] when the file cannot be read, is not of the kind given, is of
-/// neither kind (with both readers' reasons) or of both; [`CliError::UnknownProblemKind`] for
-/// another kind.
+/// [`CliError::Problem`] when the file cannot be read, is not of the kind given, is of no
+/// kind (with each reader's reason) or of more than one, or is a global problem whose M
+/// cannot be factored; [`CliError::UnknownProblemKind`] for another kind.
 pub fn read(path: &Path, kind: Option<&str>) -> Result<Problem> {
     let refuse = |reason: String| CliError::Problem { path: path.to_owned(), reason };
     let text = std::fs::read_to_string(path).map_err(|e| refuse(format!("cannot be read: {e}")))?;
-    let lcp = || Lcp::read_siconos(text.as_bytes()).map(Problem::Lcp);
-    let fc2d = || Fc2d::read_siconos(text.as_bytes()).map(Problem::Fc2d);
-    match kind {
-        Some("lcp") => Ok(lcp().map_err(|e| refuse(format!("is not an LCP file: {e}")))?),
-        Some("fc2d") => Ok(fc2d().map_err(|e| refuse(format!("is not an FC2D file: {e}")))?),
-        Some(other) => Err(CliError::UnknownProblemKind { kind: other.to_owned() }.into()),
-        None => match (lcp(), fc2d()) {
-            (Ok(p), Err(_)) | (Err(_), Ok(p)) => Ok(p),
-            (Ok(_), Ok(_)) => Err(refuse(
-                "reads both as an LCP and as an FC2D file; say which with --problem".into(),
-            )
-            .into()),
-            (Err(a), Err(b)) => {
-                Err(refuse(format!("is neither an LCP file ({a}) nor an FC2D file ({b})")).into())
-            }
-        },
+    let readers = [
+        ("lcp", "an LCP file", Lcp::read_siconos(text.as_bytes()).map(Problem::Lcp)),
+        ("fc2d", "an FC2D file", Fc2d::read_siconos(text.as_bytes()).map(Problem::Fc2d)),
+        (
+            "gfc2d",
+            "a GFC2D file",
+            Gfc2d::read_siconos(text.as_bytes())
+                .and_then(|g| g.reduce())
+                .map(|r| Problem::Gfc2d(r.problem)),
+        ),
+    ];
+    if let Some(kind) = kind {
+        let Some((_, name, read)) = readers.into_iter().find(|(k, _, _)| *k == kind) else {
+            return Err(CliError::UnknownProblemKind { kind: kind.to_owned() }.into());
+        };
+        return Ok(read.map_err(|e| refuse(format!("is not {name}: {e}")))?);
+    }
+    let (read, refused): (Vec<_>, Vec<_>) = readers.into_iter().partition(|(_, _, r)| r.is_ok());
+    let mut read = read.into_iter().filter_map(|(k, _, r)| r.ok().map(|p| (k, p)));
+    match (read.next(), read.next()) {
+        (Some((_, problem)), None) => Ok(problem),
+        (Some((a, _)), Some((b, _))) => {
+            Err(refuse(format!("reads both as {a} and as {b}; say which with --problem")).into())
+        }
+        (None, _) => {
+            let reasons: Vec<String> = refused
+                .into_iter()
+                .filter_map(|(_, name, r)| r.err().map(|e| format!("{name} ({e})")))
+                .collect();
+            Err(refuse(format!("is not {}", reasons.join(", nor "))).into())
+        }
     }
 }
 
 /// What a solve found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solved {
-    /// `lcp` or `fc2d`.
+    /// `lcp`, `fc2d` or `gfc2d`.
     pub kind: &'static str,
     /// The problem's size: rows of an LCP, contacts of a contact problem.
     pub size: usize,
@@ -164,7 +185,7 @@ pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) ->
                 rows,
             })
         }
-        Problem::Fc2d(p) => {
+        Problem::Fc2d(p) | Problem::Gfc2d(p) => {
             let name = solver.unwrap_or(FC2D_SOLVERS[0]);
             let mut solver: Box<dyn Fc2dSolver> = match name {
                 "auto" => Box::new(Fc2dAuto::new(options!(Fc2dAutoOptions, tolerance))?),
@@ -179,7 +200,7 @@ pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) ->
                 .map(|c| vec![c as f64, s.r[2 * c], s.r[2 * c + 1], s.u[2 * c], s.u[2 * c + 1]])
                 .collect();
             Ok(Solved {
-                kind: "fc2d",
+                kind: problem.kind(),
                 size: p.n_contacts(),
                 solver: name.to_owned(),
                 status: s.status,

@@ -122,12 +122,44 @@ fn the_kind_of_problem_is_told_from_the_file_or_given() -> Result<()> {
     std::fs::write(&bad, "3\n1 2\n")?;
     let e = read(&bad, None).unwrap_err();
     let message = format!("{e:#}");
-    assert!(message.contains("neither an LCP file (") && message.contains("nor an FC2D file ("));
+    assert!(
+        message.contains("is not an LCP file (")
+            && message.contains(", nor an FC2D file (")
+            && message.contains(", nor a GFC2D file ("),
+        "{message}"
+    );
     let e = read(&dir.path().join("missing.dat"), None).unwrap_err();
     assert!(format!("{e:#}").contains("cannot be read"));
     // An FC2D problem read back equals the one written.
     let again = Fc2d::read_siconos(std::fs::File::open(&fc2d)?)?;
     assert_eq!(read(&fc2d, None)?, Problem::Fc2d(again));
+    Ok(())
+}
+
+#[test]
+fn a_global_problem_is_solved_through_its_reduction() -> Result<()> {
+    // A granular flow on a wall from Siconos' collection (moreau-lcp's test data): 69
+    // contacts, M and H given. Reduced on reading, it is the same problem as the one
+    // moreau-lcp's reader and reduction give, and its solution reaches the tolerance.
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../lcp/tests/data/siconos/fc2d/gfc2d_granularflowonwall_00069_00350.dat");
+    let Problem::Gfc2d(reduced) = read(&file, None)? else { panic!("a GFC2D file") };
+    let global = moreau_lcp::fc2d::Gfc2d::read_siconos(std::fs::File::open(&file)?)?;
+    assert_eq!(reduced, global.reduce()?.problem);
+    assert_eq!((reduced.n_contacts(), global.n_contacts()), (69, 69));
+    assert!(matches!(read(&file, Some("gfc2d"))?, Problem::Gfc2d(_)));
+    let e = read(&file, Some("fc2d")).unwrap_err();
+    assert!(format!("{e:#}").contains("is not an FC2D file"), "{e:#}");
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("r.csv");
+    let s = run(&file, None, None, Some(1e-8), Some(&out))?;
+    assert_eq!((s.kind, s.size, s.status), ("gfc2d", global.n_contacts(), Status::Solved));
+    let (header, rows) = numbers(&out)?;
+    assert_eq!(header, "contact,r_n,r_t,u_n,u_t");
+    let r: Vec<f64> = rows.iter().flat_map(|row| [row[1], row[2]]).collect();
+    assert!(r.iter().any(|&r| r > 0.0));
+    let mut u = vec![0.0; reduced.n_rows()];
+    assert!(Fc2dResidual::compute(reduced.view(), &r, &mut u).natural <= 1e-8);
     Ok(())
 }
 
