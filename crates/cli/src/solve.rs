@@ -75,23 +75,20 @@ impl Problem {
 pub fn read(path: &Path, kind: Option<&str>) -> Result<Problem> {
     let refuse = |reason: String| CliError::Problem { path: path.to_owned(), reason };
     let text = std::fs::read_to_string(path).map_err(|e| refuse(format!("cannot be read: {e}")))?;
-    let readers = [
-        ("lcp", "an LCP file", Lcp::read_siconos(text.as_bytes()).map(Problem::Lcp)),
-        ("fc2d", "an FC2D file", Fc2d::read_siconos(text.as_bytes()).map(Problem::Fc2d)),
-        (
-            "gfc2d",
-            "a GFC2D file",
-            Gfc2d::read_siconos(text.as_bytes())
-                .and_then(|g| g.reduce())
-                .map(|r| Problem::Gfc2d(r.problem)),
-        ),
-    ];
+    let bytes = text.as_bytes();
+    let read_as = |kind: &str| match kind {
+        "lcp" => Lcp::read_siconos(bytes).map(Problem::Lcp),
+        "fc2d" => Fc2d::read_siconos(bytes).map(Problem::Fc2d),
+        _ => Gfc2d::read_siconos(bytes).and_then(|g| g.reduce()).map(|r| Problem::Gfc2d(r.problem)),
+    };
+    let kinds = [("lcp", "an LCP file"), ("fc2d", "an FC2D file"), ("gfc2d", "a GFC2D file")];
     if let Some(kind) = kind {
-        let Some((_, name, read)) = readers.into_iter().find(|(k, _, _)| *k == kind) else {
+        let Some(&(_, name)) = kinds.iter().find(|(k, _)| *k == kind) else {
             return Err(CliError::UnknownProblemKind { kind: kind.to_owned() }.into());
         };
-        return Ok(read.map_err(|e| refuse(format!("is not {name}: {e}")))?);
+        return Ok(read_as(kind).map_err(|e| refuse(format!("is not {name}: {e}")))?);
     }
+    let readers = kinds.map(|(kind, name)| (kind, name, read_as(kind)));
     let (read, refused): (Vec<_>, Vec<_>) = readers.into_iter().partition(|(_, _, r)| r.is_ok());
     let mut read = read.into_iter().filter_map(|(k, _, r)| r.ok().map(|p| (k, p)));
     match (read.next(), read.next()) {
