@@ -427,3 +427,30 @@ mod properties {
         }
     }
 }
+
+/// An island of 43 contacts of the granular flow (tests/data/moreau/README.md), where the
+/// basis pivoting ends on lets some contacts slide with normal impulses of 1e-17 to 1e-16
+/// N s. Coulomb's law puts a sliding contact's reaction on its cone's edge, P_T = -μ P_N
+/// sign(u_T), which the natural map checks only to its own absolute scale. Taken from the
+/// LCP's P_R - μ P_N, P_T carried the solve's error on P_R: 4.07e-17 for μ P_N = 4.23e-17,
+/// 4 % inside the cone, and the step's LCP (where w_L = 2 μ P_N - P_R) read 1e-2 off.
+#[test]
+fn a_contact_the_lcp_route_leaves_sliding_lies_on_its_cones_edge_exactly() {
+    let text = include_str!("data/moreau/flow_sliding_island.dat");
+    let problem = Fc2d::read_siconos(text.as_bytes()).unwrap();
+    assert_eq!(problem.n_contacts(), 43);
+    let s = LcpRoute::default().solve(&problem).unwrap();
+    assert_eq!(s.status, Status::Solved);
+    assert!(s.residual.natural <= 1e-14, "{:?}", s.residual);
+    assert_in_cones("lcp route", &problem, &s);
+    let (mut sliding, mut small) = (0, 0);
+    for (i, &mu) in problem.view().mu().iter().enumerate() {
+        let (r_n, r_t, u_t) = (s.r[2 * i], s.r[2 * i + 1], s.u[2 * i + 1]);
+        if r_n > 0.0 && u_t.abs() > 1e-9 {
+            sliding += 1;
+            small += usize::from(r_n < 1e-12);
+            assert_eq!(r_t, -(mu * r_n).copysign(u_t), "contact {i}: r_N {r_n:e}, u_T {u_t:e}");
+        }
+    }
+    assert!(sliding >= 2 && small >= 1, "{sliding} sliding, {small} of them with r_N < 1e-12");
+}

@@ -315,7 +315,12 @@ impl Fc2dSolver for LcpRoute {
             for i in 0..n_c {
                 let r_n = sol.z[i];
                 out.r[2 * i] = r_n;
-                out.r[2 * i + 1] = sol.z[n_c + i] - mu[i] * r_n;
+                // A contact whose ξ_L the basis takes (its w_L = 2 μ P_N - P_R is 0 there)
+                // slides, with P_T = μ P_N on the cone's edge exactly; P_R - μ P_N would carry
+                // the solve's error on P_R, relative to P_N's own size when P_N is small.
+                let l = 2 * n_c + i;
+                out.r[2 * i + 1] =
+                    if sol.z[l] > sol.w[l] { mu[i] * r_n } else { sol.z[n_c + i] - mu[i] * r_n };
             }
             sol.status
         };
