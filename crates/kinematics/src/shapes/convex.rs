@@ -325,6 +325,10 @@ fn vertex_on_face(
     })
 }
 
+/// The cosine of the largest angle between an incident face and the reversed reference
+/// normal at which the reference face's ends are taken on the incident face (60°).
+const FACING: f64 = 0.5;
+
 /// The contact points of two cores of at least two vertices each (segments, polygons) whose
 /// gaps are at most `margin`, passed to `emit`: the vertex-on-edge points of the pair of faces
 /// that separates them most (two for a face on a face), the closest pair when they are apart,
@@ -377,9 +381,19 @@ pub(crate) fn polygon_contacts(
             emit_new(p, &mut found);
         }
     }
-    for v in [r0, r1] {
-        if let Some(p) = vertex_on_face(incident, inc_face, reference, v, !ref_is_a, open, margin) {
-            emit_new(p, &mut found);
+    // Only a face that faces the reference face can be met by its ends (two faces on each
+    // other). Behind a face at an angle θ from facing it, the reference's end can lie as deep as
+    // the cores' overlap over cos θ: a profile's side (a one-sided segment, which may even
+    // face away) or a segment standing upright would count a box's corner 1 m away as 1 m deep.
+    // Within 60° of facing it, that depth is at most twice the overlap; a corner on a steeper
+    // face is the incident face's end on the reference face, found above.
+    if incident.face(inc_face).2.dot(&normal) <= -FACING {
+        for v in [r0, r1] {
+            if let Some(p) =
+                vertex_on_face(incident, inc_face, reference, v, !ref_is_a, open, margin)
+            {
+                emit_new(p, &mut found);
+            }
         }
     }
     // Cores that overlap with no vertex inside the other's face: the deepest pair of closest

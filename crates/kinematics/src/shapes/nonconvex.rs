@@ -85,7 +85,7 @@ pub(crate) fn convex_chain(
                 },
                 Feature::Vertex(local) => {
                     let v = k + local;
-                    if !local_minimum(x, &cp, v, &point, p, closed) {
+                    if !kept(x, &cp, v, k + 1 - local, &point, p, closed) {
                         return;
                     }
                     vertex_id(v)
@@ -106,36 +106,50 @@ pub(crate) fn convex_chain(
     }
 }
 
-/// Whether chain point v, in contact `cp` with the convex core `x` (which is A), is a local
-/// minimum of the distance to it, so that its point is not a repeat of a neighbouring
-/// segment's. For a disk: the centre does not project inside a segment next to v. For a
-/// polygon or capsule: no neighbour of v lies closer to x along the normal.
-fn local_minimum(
+/// Whether chain point v, in contact `cp` with the convex core `x` (which is A) through the
+/// segment from v to `u`, is kept: when it is a local minimum of the distance to x, and, for
+/// a polygon or capsule, also when it is the far end of the chord that lies on x's face at a
+/// local minimum u (the flatter of u's two chords, to rounding). A flat face of x meets a
+/// chain as it meets a polygon, on both ends of that chord: the far end closes as soon as x
+/// turns onto the chord, and a box declared as a profile then rests on both corners, as the
+/// same box declared as a polygon does.
+fn kept(
     x: &Core<'_>,
     cp: &CorePoint,
     v: usize,
+    u: usize,
     point: &impl Fn(usize) -> V,
     p: usize,
     closed: bool,
 ) -> bool {
-    let here = point(v);
-    let neighbours =
-        [(closed || v > 0).then(|| point(v + p - 1)), (closed || v + 1 < p).then(|| point(v + 1))];
+    let neighbours = |w: usize| {
+        let w = w % p;
+        [(closed || w > 0).then(|| (w + p - 1) % p), (closed || w + 1 < p).then(|| (w + 1) % p)]
+    };
     if x.len() == 1 {
-        let c = x.vertex(0);
-        neighbours.into_iter().flatten().all(|q| {
-            let e = q - here;
-            let t = (c - here).dot(&e) / e.norm_squared();
-            t <= 0.0
-        })
-    } else {
-        // A neighbour level with v to rounding (both ends of a chord that lies flat on a
-        // face) does not disqualify it: the flat chord touches at both ends.
-        neighbours.into_iter().flatten().all(|q| {
-            let e = q - here;
-            cp.normal.dot(&e) >= -LEVEL * e.norm()
-        })
+        // A disk: the centre does not project inside a segment next to v.
+        let (c, here) = (x.vertex(0), point(v));
+        return neighbours(v).into_iter().flatten().all(|w| {
+            let e = point(w) - here;
+            (c - here).dot(&e) / e.norm_squared() <= 0.0
+        });
     }
+    // The rise of chain point w over chain point `from` along the normal, per unit length.
+    let n = cp.normal;
+    let rise = |from: usize, w: usize| {
+        let e = point(w) - point(from);
+        n.dot(&e) / e.norm()
+    };
+    // A neighbour level with its point to rounding (both ends of a chord that lies flat on a
+    // face) does not disqualify it.
+    let minimum = |w: usize| neighbours(w).into_iter().flatten().all(|q| rise(w, q) >= -LEVEL);
+    minimum(v)
+        || (minimum(u)
+            && neighbours(u)
+                .into_iter()
+                .flatten()
+                .filter(|&w| w != v % p)
+                .all(|w| rise(u, v) <= rise(u, w) + LEVEL))
 }
 
 /// Whether the world point `c` lies inside the closed chain through `points` at `frame`, by
@@ -170,17 +184,30 @@ pub(crate) fn half_plane_chain(
     let p = points.len();
     let point = |v: usize| frame.point(points[v % p]);
     let height = |v: usize| n.dot(&(point(v) - origin));
-    // As low as neighbour w, or level with it to rounding.
-    let not_above =
-        |v: usize, h: f64, w: usize| h <= height(w) + LEVEL * (point(w) - point(v)).norm();
+    let neighbours = |w: usize| {
+        [(closed || w > 0).then(|| (w + p - 1) % p), (closed || w + 1 < p).then(|| (w + 1) % p)]
+    };
+    // The rise of point w over point `from` above the boundary, per unit length.
+    let rise = |from: usize, w: usize| (height(w) - height(from)) / (point(w) - point(from)).norm();
+    // As low as its neighbours, or level with them to rounding.
+    let minimum = |w: usize| neighbours(w).into_iter().flatten().all(|q| rise(w, q) >= -LEVEL);
+    // The far end of the chord that lies on the boundary at a local minimum u (the flatter of
+    // u's two chords, to rounding), which closes as soon as the chain turns onto it: a box
+    // declared as a profile rests on both corners, as the same box declared as a polygon does.
+    let on_chord = |v: usize, u: usize| {
+        minimum(u)
+            && neighbours(u)
+                .into_iter()
+                .flatten()
+                .filter(|&w| w != v)
+                .all(|w| rise(u, v) <= rise(u, w) + LEVEL)
+    };
     for v in 0..p {
         let h = height(v);
         if h > margin {
             continue;
         }
-        let lower_than_previous = !(closed || v > 0) || not_above(v, h, v + p - 1);
-        let lower_than_next = !(closed || v + 1 < p) || not_above(v, h, v + 1);
-        if lower_than_previous && lower_than_next {
+        if minimum(v) || neighbours(v).into_iter().flatten().any(|u| on_chord(v, u)) {
             let w = frame.point(points[v]);
             let cp = CorePoint {
                 on_a: Feature::Edge(0),
