@@ -85,6 +85,21 @@ pub enum KinematicsError {
         /// The name of shape B.
         b: &'static str,
     },
+    /// A pair of shapes neither of which has an inside or a thickness: a point (a disk of
+    /// radius 0), a segment (a capsule of radius 0) or a polyline against another of these.
+    /// Their distance never changes sign, so a crossing between two steps is not seen and one
+    /// would pass through the other.
+    #[error(
+        "no contact method for the pair ({a}, {b}): neither has an inside or a thickness, so \
+         their distance has no sign and one would pass through the other between two steps; \
+         give one of them a radius or an area"
+    )]
+    NoThickness {
+        /// The name of shape A.
+        a: &'static str,
+        /// The name of shape B.
+        b: &'static str,
+    },
     /// A mass property asked of a shape that has none: a half-plane (infinite) or a polyline
     /// (no area).
     #[error("a {shape} has no {what}")]

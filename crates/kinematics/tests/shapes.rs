@@ -389,6 +389,24 @@ fn unsupported_pairs_and_bad_margins_are_refused() {
     let err = collide(&zigzag(), &o, &cam(), &o, 0.0, &mut out).unwrap_err();
     assert_eq!(err, KinematicsError::UnsupportedPair { a: "polyline", b: "profile" });
     assert_eq!(max_points(&zigzag(), &cam()), 0);
+    // Points, segments and polylines have no inside: two of them are refused, in either order.
+    let point = disk(0.0, 0.0, 0.0);
+    let segment = Shape::Capsule { a: [-1.0, 0.0], b: [1.0, 0.0], radius: 0.0 };
+    for (a, b) in
+        [(&point, &zigzag()), (&segment, &zigzag()), (&point, &segment), (&segment, &point)]
+    {
+        for (x, y) in [(a, b), (b, a)] {
+            let err = collide(x, &o, y, &o, 0.01, &mut out).unwrap_err();
+            assert_eq!(err, KinematicsError::NoThickness { a: x.name(), b: y.name() });
+            assert!(err.to_string().contains("give one of them a radius or an area"), "{err}");
+            assert_eq!(max_points(x, y), 0);
+        }
+    }
+    // A point against a shape with an inside, or a disk against a polyline, is a contact.
+    for other in [cam(), rect(0.4, 0.2), floor(), disk(0.0, -1.0, 1.0)] {
+        assert!(collide(&point, &o, &other, &o, 0.01, &mut out).is_ok());
+    }
+    assert!(collide(&disk(0.0, 0.0, 0.1), &o, &zigzag(), &o, 0.01, &mut out).is_ok());
     let empty = Shape::Polygon { vertices: vec![] };
     assert!(matches!(
         collide(&empty, &o, &floor(), &o, 0.0, &mut out),

@@ -28,6 +28,7 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
     };
     match (a, b) {
         (HalfPlane { .. }, HalfPlane { .. }) => 0,
+        _ if thin(a) && thin(b) => 0,
         (HalfPlane { .. }, other) | (other, HalfPlane { .. }) => match chain(other) {
             Some((_, points)) => points,
             None => core_len(other),
@@ -66,7 +67,8 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
 ///
 /// # Errors
 /// [`KinematicsError::UnsupportedPair`] for two half-planes, or two shapes among polylines
-/// and profiles; [`KinematicsError::InvalidOption`] for a negative or NaN margin;
+/// and profiles; [`KinematicsError::NoThickness`] for two shapes among points (disks of radius
+/// 0), segments (capsules of radius 0) and polylines; [`KinematicsError::InvalidOption`] for a negative or NaN margin;
 /// [`KinematicsError::InvalidShape`] for a shape with too few points, a capsule whose ends
 /// coincide or a half-plane with a zero normal (the checks that cost nothing; the others are
 /// [`Shape::validate`]'s).
@@ -106,6 +108,7 @@ pub fn collide_placed(
     match (a, b) {
         (HalfPlane { .. }, HalfPlane { .. }) => Err(unsupported()),
         (Polyline { .. } | Profile { .. }, Polyline { .. } | Profile { .. }) => Err(unsupported()),
+        _ if thin(a) && thin(b) => Err(KinematicsError::NoThickness { a: a.name(), b: b.name() }),
         (HalfPlane { point, normal }, other) => {
             half_plane(point, normal, place_a, other, place_b, true, margin, out);
             Ok(())
@@ -260,5 +263,15 @@ fn half_plane(
                 }
             }
         }),
+    }
+}
+
+/// Whether a shape has neither an inside nor a thickness: a point, a segment or a polyline,
+/// whose distance to another such shape never changes sign.
+fn thin(shape: &Shape) -> bool {
+    match shape {
+        Shape::Disk { radius, .. } | Shape::Capsule { radius, .. } => *radius == 0.0,
+        Shape::Polyline { .. } => true,
+        _ => false,
     }
 }

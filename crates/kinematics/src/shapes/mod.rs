@@ -34,6 +34,10 @@
 //! The table is symmetric; "—" marks the pairs that [`collide`] refuses with
 //! [`KinematicsError::UnsupportedPair`](crate::KinematicsError::UnsupportedPair): two unbounded or
 //! non-convex surfaces, whose contact a mechanism declares with a simpler shape on one side.
+//! Points (disks of radius 0), segments (capsules of radius 0) and polylines have neither an
+//! inside nor a thickness: two of them are refused with
+//! [`KinematicsError::NoThickness`](crate::KinematicsError::NoThickness), since their distance
+//! never changes sign and one would pass through the other between two steps.
 //!
 //! # Where the geometry comes from
 //! The broad phase is a uniform grid written here: parry2d-f64's bounding-volume hierarchy,
