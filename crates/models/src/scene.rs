@@ -229,12 +229,20 @@ impl Scene {
         let table: toml::Table = toml::from_str(text).map_err(|e| parse_error(text, &e))?;
         // Each form is read from the text itself, so that the reader's errors keep their
         // positions in the file.
+        // The text's reader takes the first entries of a longer array for a field of fixed
+        // length (a position of three numbers); the same table read again as a value refuses
+        // it, as `--set` does.
+        let value = || toml::Value::Table(table.clone());
         let scene: Scene = if table.contains_key("params") {
-            toml::from_str::<BuiltinFile>(text).map_err(|e| parse_error(text, &e))?.into()
+            let file = toml::from_str::<BuiltinFile>(text).map_err(|e| parse_error(text, &e))?;
+            BuiltinFile::deserialize(value()).map_err(|e| parse_error(text, &e))?;
+            file.into()
         } else {
-            toml::from_str::<DeclaredFile>(text)
-                .map_err(|e| declared_parse_error(text, &table, &e))?
-                .into()
+            let file = toml::from_str::<DeclaredFile>(text)
+                .map_err(|e| declared_parse_error(text, &table, &e))?;
+            DeclaredFile::deserialize(value())
+                .map_err(|e| declared_parse_error(text, &table, &e))?;
+            file.into()
         };
         scene.validate()?;
         Ok(scene)
@@ -247,7 +255,7 @@ impl Scene {
     /// [`Self::from_toml_str`] (with the file's path).
     pub fn from_path(path: &Path) -> Result<Scene, ModelError> {
         let text = std::fs::read_to_string(path)
-            .map_err(|source| ModelError::Io { path: path.to_owned(), source })?;
+            .map_err(|cause| ModelError::Io { path: path.to_owned(), cause })?;
         Self::from_toml_str(&text).map_err(|e| match e {
             ModelError::Parse { field, message, .. } => {
                 ModelError::Parse { path: Some(path.to_owned()), field, message }

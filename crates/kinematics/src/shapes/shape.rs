@@ -65,7 +65,7 @@ impl Placement {
 /// Build it as a literal or with [`Shape::profile_from_curve`] and [`Shape::profile_polar`], and
 /// check it once with [`Shape::validate`]; [`crate::collide`] assumes valid shapes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case")]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Shape {
     /// A disk of centre `center` and radius `radius` ≥ 0; radius 0 is a point.
     Disk {

@@ -234,8 +234,9 @@ impl BodySpec {
 
 /// A load as a function of time: a constant, or A sin(Ω t + φ) + offset, or (builder only)
 /// any closure. In a scene file `fx = 2.0` or
-/// `fx = { amplitude = 1.0, omega = 6.28, phase = 0.0, offset = 0.0 }`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// `fx = { amplitude = 1.0, omega = 6.28, phase = 0.0, offset = 0.0 }`; a table with any
+/// other field is refused by name.
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum TimeFunction {
     /// A constant value.
@@ -247,15 +248,56 @@ pub enum TimeFunction {
         /// Angular frequency Ω (rad/s).
         omega: f64,
         /// Phase φ (rad); default 0.
-        #[serde(default)]
         phase: f64,
         /// Offset (the load's unit); default 0.
-        #[serde(default)]
         offset: f64,
     },
     /// Any function of time (builder only).
     #[serde(skip)]
     Custom(Closure<f64>),
+}
+
+impl<'de> Deserialize<'de> for TimeFunction {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        use serde::de::{Error, MapAccess, Visitor};
+        const FIELDS: &[&str] = &["amplitude", "omega", "phase", "offset"];
+        struct Read;
+        impl<'de> Visitor<'de> for Read {
+            type Value = TimeFunction;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a number, or a table { amplitude, omega, phase, offset }")
+            }
+            fn visit_f64<E: Error>(self, v: f64) -> Result<TimeFunction, E> {
+                Ok(TimeFunction::Constant(v))
+            }
+            fn visit_i64<E: Error>(self, v: i64) -> Result<TimeFunction, E> {
+                Ok(TimeFunction::Constant(v as f64))
+            }
+            fn visit_u64<E: Error>(self, v: u64) -> Result<TimeFunction, E> {
+                Ok(TimeFunction::Constant(v as f64))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<TimeFunction, A::Error> {
+                let mut values = [None; 4];
+                while let Some(key) = map.next_key::<String>()? {
+                    let Some(i) = FIELDS.iter().position(|f| *f == key) else {
+                        return Err(A::Error::unknown_field(&key, FIELDS));
+                    };
+                    if values[i].is_some() {
+                        return Err(A::Error::duplicate_field(FIELDS[i]));
+                    }
+                    values[i] = Some(map.next_value::<f64>()?);
+                }
+                let [amplitude, omega, phase, offset] = values;
+                Ok(TimeFunction::Sine {
+                    amplitude: amplitude.ok_or_else(|| A::Error::missing_field("amplitude"))?,
+                    omega: omega.ok_or_else(|| A::Error::missing_field("omega"))?,
+                    phase: phase.unwrap_or(0.0),
+                    offset: offset.unwrap_or(0.0),
+                })
+            }
+        }
+        deserializer.deserialize_any(Read)
+    }
 }
 
 impl TimeFunction {

@@ -253,6 +253,46 @@ fn unknown_field_name(message: &str) -> Option<String> {
     Some(rest[..rest.find('`')?].to_owned())
 }
 
+/// The key of `item` (a table that does not read as a `T`, with the reader's `message`) at
+/// fault: the one whose removal lets the rest read, or leaves only that key missing; then, in
+/// an array of tables, the element whose removal lets it read. Empty when the message names a
+/// missing field itself, or no single key is at fault. A tagged table's `type` is read before
+/// its other keys, so its removal always leaves it missing: it is at fault only for an
+/// unknown variant.
+fn culprit<T: serde::de::DeserializeOwned>(item: &toml::Value, message: &str) -> Vec<String> {
+    let Some(table) = item.as_table() else { return Vec::new() };
+    if message.trim_start().starts_with("missing field") {
+        return Vec::new();
+    }
+    let reads = |t: toml::Table| T::deserialize(toml::Value::Table(t));
+    for (k, v) in table {
+        if k == "type" && !message.contains("unknown variant") {
+            continue;
+        }
+        let mut without = table.clone();
+        without.remove(k);
+        let mended = match reads(without) {
+            Ok(_) => true,
+            Err(e) => e.message().trim() == format!("missing field `{k}`"),
+        };
+        if !mended {
+            continue;
+        }
+        let mut path = vec![k.clone()];
+        if let Some(items) = v.as_array().filter(|a| a.iter().all(toml::Value::is_table)) {
+            let bad = (0..items.len()).find(|&i| {
+                let (mut t, mut rest) = (table.clone(), items.clone());
+                rest.remove(i);
+                t.insert(k.clone(), toml::Value::Array(rest));
+                reads(t).is_ok()
+            });
+            path.extend(bad.map(|i| i.to_string()));
+        }
+        return path;
+    }
+    Vec::new()
+}
+
 /// Turns the TOML reader's error on a declared scene into a [`ModelError::Parse`] that names
 /// the field by its `--set` path: each element of the arrays of tables is read again alone to
 /// find the one at fault (the reader's positions name the array, not the element, and the
@@ -272,11 +312,14 @@ pub(super) fn declared_parse_error(
             let name = item.get("name").and_then(toml::Value::as_str);
             let element = name.map_or_else(|| i.to_string(), str::to_owned);
             let message = e.message().to_owned();
-            let field = match unknown_field_name(&message) {
-                Some(f) => format!("{key}.{element}.{f}"),
-                None => format!("{key}.{element}"),
-            };
-            Some((field, message))
+            let mut field = vec![key.to_owned(), element];
+            field.extend(culprit::<T>(item, &message));
+            if let Some(f) = unknown_field_name(&message)
+                && field.last() != Some(&f)
+            {
+                field.push(f);
+            }
+            Some((field.join("."), message))
         })
     }
     let found = first_error::<BodySpec>(table, "bodies")

@@ -122,7 +122,11 @@ impl Scene {
         }
         let scene: Scene =
             doc.try_into().map_err(|e: toml::de::Error| bad(e.message().to_owned()))?;
-        scene.validate().map_err(|e| bad(e.to_string()))?;
+        // A refusal that already names a key and its value is given as it is.
+        scene.validate().map_err(|e| match e {
+            ModelError::BadValue { .. } => e,
+            other => bad(other.to_string()),
+        })?;
         *self = scene;
         Ok(())
     }
@@ -183,9 +187,12 @@ fn parse_like(like: &toml::Value, text: &str) -> Result<toml::Value, String> {
         toml::Value::Float(_) | toml::Value::Integer(_)
             if matches!(like, toml::Value::Float(_)) =>
         {
-            text.parse::<f64>()
-                .map(toml::Value::Float)
-                .map_err(|_| format!("expected a number, got `{text}`"))
+            text.parse::<f64>().map(toml::Value::Float).or_else(|_| match parse_any(text) {
+                // A table where a field takes a number or a table (a load, constant or a
+                // sine); the scene's typed reading decides.
+                table @ toml::Value::Table(_) => Ok(table),
+                _ => Err(format!("expected a number, got `{text}`")),
+            })
         }
         toml::Value::Integer(_) => text
             .parse::<i64>()
@@ -196,14 +203,20 @@ fn parse_like(like: &toml::Value, text: &str) -> Result<toml::Value, String> {
             .map(toml::Value::Boolean)
             .map_err(|_| format!("expected true or false, got `{text}`")),
         toml::Value::String(_) => Ok(toml::Value::String(text.to_owned())),
-        toml::Value::Array(_) | toml::Value::Table(_) => {
-            let value = parse_any(text);
-            if value.type_str() == like.type_str() {
-                Ok(value)
-            } else {
-                Err(format!("expected {} such as [0.0, 1.0], got `{text}`", like.type_str()))
+        toml::Value::Array(_) | toml::Value::Table(_) => match parse_any(text) {
+            // A number where a field takes a table or a number (a load given as a sine, set
+            // to a constant); the scene's typed reading decides.
+            value @ (toml::Value::Array(_)
+            | toml::Value::Table(_)
+            | toml::Value::Float(_)
+            | toml::Value::Integer(_)) => Ok(value),
+            _ if like.is_array() => {
+                Err(format!("expected an array such as [0.0, 1.0], got `{text}`"))
             }
-        }
+            _ => Err(format!(
+                "expected a table such as {{ amplitude = 1.0, omega = 6.28 }}, got `{text}`"
+            )),
+        },
         other => Err(format!("cannot set a value of type {}", other.type_str())),
     }
 }
