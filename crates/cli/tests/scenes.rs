@@ -241,3 +241,27 @@ fn a_declared_step_above_the_stability_limit_is_refused() -> Result<()> {
     }
     Ok(())
 }
+
+/// Each cause is said once: a scene file that cannot be read names the operating system's
+/// reason once, and a `--set` that the scene's checks refuse names its key and value once.
+#[test]
+fn a_refusal_says_its_cause_once() {
+    let missing = std::env::temp_dir().join("moreau-no-such-scene.toml");
+    let out = moreau(&["simulate", "--scene", missing.to_str().unwrap(), "--out", "unused.csv"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("cannot read scene file"), "{stderr}");
+    assert_eq!(stderr.matches("(os error").count(), 1, "{stderr}");
+    let scene = pendulum();
+    let out = moreau(&[
+        "simulate",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--set",
+        "bodies.bob.density=100",
+        "--out",
+        "unused.csv",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("not instead"), "{stderr}");
+    assert_eq!(stderr.matches("bad value `100` for `bodies.bob.density`").count(), 1, "{stderr}");
+}

@@ -35,12 +35,13 @@ pub enum ModelError {
         message: String,
     },
     /// A scene file that could not be read.
-    #[error("cannot read scene file {}: {source}", path.display())]
+    #[error("cannot read scene file {}: {cause}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
-        /// The operating system's error.
-        source: std::io::Error,
+        /// The operating system's error, which the message includes (it is not also given as
+        /// the error's source, so that a report of the chain says it once).
+        cause: std::io::Error,
     },
     /// A `--set key=value` whose key the scene does not have.
     #[error("unknown key `{key}`; the scene's keys: {}{}", accepted.join(", "),

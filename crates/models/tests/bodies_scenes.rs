@@ -131,14 +131,18 @@ fn malformed_declared_scenes_name_the_field() {
     }
     let dangling = text.replace("body_b = \"bob\"\nanchor_b", "body_b = \"bobby\"\nanchor_b");
     match Scene::from_toml_str(&dangling) {
-        Err(ModelError::BadValue { key, value, .. }) => {
-            assert_eq!((key.as_str(), value.as_str()), ("joints.hinge.body_b", "bobby"))
+        Err(ModelError::BadValue { key, value, reason }) => {
+            assert_eq!((key.as_str(), value.as_str()), ("joints.hinge.body_b", "bobby"));
+            // The bodies, then the world apart.
+            assert!(reason.ends_with("bodies: wall, bob (or `ground` for the world)"), "{reason}");
         }
         other => panic!("{other:?}"),
     }
     let joint_type = text.replace("type = \"revolute\"", "type = \"hinge\"");
     match Scene::from_toml_str(&joint_type) {
-        Err(ModelError::Parse { field, .. }) => assert_eq!(field.as_deref(), Some("joints.hinge")),
+        Err(ModelError::Parse { field, .. }) => {
+            assert_eq!(field.as_deref(), Some("joints.hinge.type"))
+        }
         other => panic!("{other:?}"),
     }
     let no_density_shape =
@@ -200,5 +204,99 @@ fn a_missing_field_is_named_once() {
             assert_eq!(message.trim(), "missing field `position`");
         }
         other => panic!("{other:?}"),
+    }
+}
+
+/// Nothing in a scene file is read silently otherwise than written: a misspelled field of a
+/// shape or of a load, and an array longer than its field, are refused, each naming the
+/// field by its path.
+#[test]
+fn misspelled_fields_and_long_arrays_are_refused_by_their_path() {
+    let text = pendulum_wall();
+    let push = "\n[[forces]]\ntype = \"force\"\nname = \"push\"\nbody = \"bob\"\npoint = [0.0, 0.0]\n\
+                fx = { amplitude = 5.0, omega = 5.0, offset = 10.0 }\nfy = 0.0\n";
+    let with_push = format!("{text}{push}");
+    let cases = [
+        (
+            text.replace("radius = 0.05 }", "radius = 0.05, denisty = 7.0 }"),
+            "bodies.bob.shapes.0.denisty",
+            "unknown field `denisty`",
+        ),
+        (text.replace("mass = 1.0 ", "mass = \"1.0\" "), "bodies.bob.mass", "invalid type: string"),
+        (
+            with_push.replace("offset = 10.0", "ofset = 10.0"),
+            "forces.push.fx.ofset",
+            "unknown field `ofset`",
+        ),
+        (
+            text.replace(
+                "position = [-0.479425538604203, -0.8775825618903728]",
+                "position = [-0.479425538604203, -0.8775825618903728, 9.0]",
+            ),
+            "bodies.bob.position",
+            "invalid length 3",
+        ),
+    ];
+    for (text, at, why) in cases {
+        match Scene::from_toml_str(&text) {
+            Err(ModelError::Parse { field, message, .. }) => {
+                assert_eq!(field.as_deref(), Some(at), "{message}");
+                assert!(message.contains(why), "{message}");
+            }
+            other => panic!("{at}: {other:?}"),
+        }
+    }
+    let gravity = text.replace("gravity = [0.0, -9.81]", "gravity = [0.0, -9.81, 0.0]");
+    let message = Scene::from_toml_str(&gravity).unwrap_err().to_string();
+    assert!(message.contains("gravity") && message.contains("invalid length 3"), "{message}");
+
+    // A load's constant and its sine stand for each other under `--set`; a misspelling does
+    // not pass there either.
+    let mut scene = Scene::from_toml_str(&with_push).unwrap();
+    scene.set("forces.push.fx", "2.5").unwrap();
+    scene.set("forces.push.fy", "{ amplitude = 1.0, omega = 2.0 }").unwrap();
+    assert!(scene.set("forces.push.fy", "{ amplitude = 1.0, omga = 2.0 }").is_err());
+    assert!(scene.set("bodies.bob.position", "3").is_err());
+    let spec = spec(&scene);
+    let moreau_models::bodies::ForceSpec::Force { fx, fy, .. } = &spec.forces[0] else {
+        panic!("a force")
+    };
+    assert_eq!(fx.at(0.3), 2.5);
+    assert_eq!(fy.at(0.3), (2.0f64 * 0.3).sin());
+}
+
+/// A load on a body that cannot move, and a spring or torsion between a body and itself or
+/// between two bodies that cannot move, are refused by the field at fault.
+#[test]
+fn loads_that_move_nothing_are_refused() {
+    let text = pendulum_wall();
+    let cases = [
+        (
+            "type = \"force\"\nbody = \"wall\"\npoint = [0.0, 0.0]\nfx = 1.0\nfy = 0.0",
+            "forces.0.body",
+            "wall",
+        ),
+        ("type = \"torque\"\nbody = \"ground\"\ntorque = 1.0", "forces.0.body", "ground"),
+        (
+            "type = \"spring\"\nbody_a = \"bob\"\nanchor_a = [0.0, 0.0]\nbody_b = \"bob\"\n\
+             anchor_b = [0.1, 0.0]\nstiffness = 10.0\nrest_length = 0.0",
+            "forces.0.body_b",
+            "bob",
+        ),
+        (
+            "type = \"torsion\"\nbody_a = \"wall\"\nbody_b = \"ground\"\nstiffness = 1.0\nrest_angle = 0.0",
+            "forces.0.body_b",
+            "ground",
+        ),
+    ];
+    for (force, key, value) in cases {
+        let text = format!("{text}\n[[forces]]\n{force}\n");
+        match Scene::from_toml_str(&text).and_then(|s| s.build()) {
+            Err(ModelError::BadValue { key: k, value: v, reason }) => {
+                assert_eq!((k.as_str(), v.as_str()), (key, value), "{reason}");
+                assert!(reason.contains("nothing") || reason.contains("no force"), "{reason}");
+            }
+            other => panic!("{force}: {other:?}"),
+        }
     }
 }

@@ -60,7 +60,9 @@ pub(crate) fn resolve(
         });
         return Ok(bodies.len() - 1);
     }
-    let known: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
+    // The world, added when a joint or force first names it, is named apart.
+    let known: Vec<&str> =
+        bodies.iter().map(|b| b.name.as_str()).filter(|n| *n != GROUND).collect();
     Err(bad(
         field.to_owned(),
         name,
@@ -316,6 +318,36 @@ fn joint(
 fn force(spec: &ForceSpec, index: usize, bodies: &mut Vec<Body>) -> Result<Force, ModelError> {
     let path = format!("forces.{}", spec.name().map_or_else(|| index.to_string(), str::to_owned));
     let field = |f: &str| format!("{path}.{f}");
+    // An element must be able to move something: a load on a dynamic body, a spring or
+    // torsion between two bodies of which one at least is dynamic.
+    let loaded = |bodies: &[Body], body: usize, name: &str| {
+        if bodies[body].is_dynamic() {
+            Ok(())
+        } else {
+            Err(bad(field("body"), name, "not a dynamic body: a load on it moves nothing".into()))
+        }
+    };
+    let pair = |bodies: &[Body], a: usize, b: usize, name_b: &str| {
+        if a == b {
+            Err(bad(
+                field("body_b"),
+                name_b,
+                "the same body as body_a: an element between a body \
+                 and itself exerts no force"
+                    .into(),
+            ))
+        } else if !bodies[a].is_dynamic() && !bodies[b].is_dynamic() {
+            Err(bad(
+                field("body_b"),
+                name_b,
+                "neither body_a nor body_b is a dynamic body: the \
+                 element moves nothing"
+                    .into(),
+            ))
+        } else {
+            Ok(())
+        }
+    };
     Ok(match spec {
         ForceSpec::Spring {
             body_a,
@@ -329,6 +361,7 @@ fn force(spec: &ForceSpec, index: usize, bodies: &mut Vec<Body>) -> Result<Force
         } => {
             let a = resolve(bodies, &field("body_a"), body_a)?;
             let b = resolve(bodies, &field("body_b"), body_b)?;
+            pair(bodies, a, b, body_b)?;
             finite2(&field("anchor_a"), *anchor_a)?;
             finite2(&field("anchor_b"), *anchor_b)?;
             non_negative(&field("stiffness"), *stiffness)?;
@@ -347,20 +380,23 @@ fn force(spec: &ForceSpec, index: usize, bodies: &mut Vec<Body>) -> Result<Force
         ForceSpec::Torsion { body_a, body_b, stiffness, rest_angle, damping, .. } => {
             let a = resolve(bodies, &field("body_a"), body_a)?;
             let b = resolve(bodies, &field("body_b"), body_b)?;
+            pair(bodies, a, b, body_b)?;
             non_negative(&field("stiffness"), *stiffness)?;
             finite(&field("rest_angle"), *rest_angle)?;
             non_negative(&field("damping"), *damping)?;
             Force::Torsion { a, b, k: *stiffness, rest: *rest_angle, c: *damping }
         }
-        ForceSpec::Force { body, point, fx, fy, .. } => {
-            let body = resolve(bodies, &field("body"), body)?;
+        ForceSpec::Force { body: name, point, fx, fy, .. } => {
+            let body = resolve(bodies, &field("body"), name)?;
+            loaded(bodies, body, name)?;
             finite2(&field("point"), *point)?;
             check_time_function(&field("fx"), fx)?;
             check_time_function(&field("fy"), fy)?;
             Force::Point { body, r: *point, fx: fx.clone(), fy: fy.clone() }
         }
-        ForceSpec::Torque { body, torque, .. } => {
-            let body = resolve(bodies, &field("body"), body)?;
+        ForceSpec::Torque { body: name, torque, .. } => {
+            let body = resolve(bodies, &field("body"), name)?;
+            loaded(bodies, body, name)?;
             check_time_function(&field("torque"), torque)?;
             Force::Torque { body, torque: torque.clone() }
         }
