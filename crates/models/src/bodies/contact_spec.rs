@@ -94,7 +94,9 @@ impl AutoContacts {
 ///   built from its two shapes and its feature that persists while those features touch. The
 ///   mechanism then announces its body structure, so that the stepper works on 3 × 3 mass
 ///   blocks and per-body force directions: the mode for piles, columns and flows of many
-///   bodies. A scene with joints is refused in this mode.
+///   bodies. Ideal joints work in this mode as in the other (their rows split by body, they
+///   link bodies into islands as contacts do); a clearance joint needs the fixed list, and a
+///   scene that asks otherwise is refused.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactSet {
