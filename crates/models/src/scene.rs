@@ -227,6 +227,15 @@ impl Scene {
     /// field for a value out of range.
     pub fn from_toml_str(text: &str) -> Result<Scene, ModelError> {
         let table: toml::Table = toml::from_str(text).map_err(|e| parse_error(text, &e))?;
+        if table.is_empty() {
+            return Err(ModelError::Parse {
+                path: None,
+                field: None,
+                message: "the scene is empty: it needs dt and t_end, and either [params] with \
+                          a model or the bodies of a declared mechanism (scenes/ has examples)"
+                    .to_owned(),
+            });
+        }
         // Each form is read from the text itself, so that the reader's errors keep their
         // positions in the file.
         // The text's reader takes the first entries of a longer array for a field of fixed

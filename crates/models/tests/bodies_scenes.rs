@@ -246,6 +246,10 @@ fn misspelled_fields_and_long_arrays_are_refused_by_their_path() {
             other => panic!("{at}: {other:?}"),
         }
     }
+    for empty in ["", "# only a comment\n"] {
+        let message = Scene::from_toml_str(empty).unwrap_err().to_string();
+        assert!(message.contains("the scene is empty"), "{message}");
+    }
     let gravity = text.replace("gravity = [0.0, -9.81]", "gravity = [0.0, -9.81, 0.0]");
     let message = Scene::from_toml_str(&gravity).unwrap_err().to_string();
     assert!(message.contains("gravity") && message.contains("invalid length 3"), "{message}");
