@@ -68,7 +68,8 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
 /// # Errors
 /// [`KinematicsError::UnsupportedPair`] for two half-planes, or two shapes among polylines
 /// and profiles; [`KinematicsError::NoThickness`] for two shapes among points (disks of radius
-/// 0), segments (capsules of radius 0) and polylines; [`KinematicsError::InvalidOption`] for a negative or NaN margin;
+/// 0), segments (capsules of radius 0) and polylines; [`KinematicsError::InvalidOption`] for a
+/// negative or NaN margin;
 /// [`KinematicsError::InvalidShape`] for a shape with too few points, a capsule whose ends
 /// coincide or a half-plane with a zero normal (the checks that cost nothing; the others are
 /// [`Shape::validate`]'s).

@@ -107,12 +107,10 @@ pub(crate) fn convex_chain(
 }
 
 /// Whether chain point v, in contact `cp` with the convex core `x` (which is A) through the
-/// segment from v to `u`, is kept: when it is a local minimum of the distance to x, and, for
-/// a polygon or capsule, also when it is the far end of the chord that lies on x's face at a
-/// local minimum u (the flatter of u's two chords, to rounding). A flat face of x meets a
-/// chain as it meets a polygon, on both ends of that chord: the far end closes as soon as x
-/// turns onto the chord, and a box declared as a profile then rests on both corners, as the
-/// same box declared as a polygon does.
+/// segment from v to `u`, is kept, so that its point is not a repeat of a neighbouring
+/// segment's. For a disk: the centre does not project inside a segment next to v. For a
+/// polygon or capsule: v lies on its face ([`on_face`]), at a local minimum of the distance or
+/// at the far end of that segment when it is the chord lying on the face.
 fn kept(
     x: &Core<'_>,
     cp: &CorePoint,
@@ -122,10 +120,7 @@ fn kept(
     p: usize,
     closed: bool,
 ) -> bool {
-    let neighbours = |w: usize| {
-        let w = w % p;
-        [(closed || w > 0).then(|| (w + p - 1) % p), (closed || w + 1 < p).then(|| (w + 1) % p)]
-    };
+    let neighbours = |w: usize| neighbours(w % p, p, closed);
     if x.len() == 1 {
         // A disk: the centre does not project inside a segment next to v.
         let (c, here) = (x.vertex(0), point(v));
@@ -140,16 +135,38 @@ fn kept(
         let e = point(w) - point(from);
         n.dot(&e) / e.norm()
     };
-    // A neighbour level with its point to rounding (both ends of a chord that lies flat on a
-    // face) does not disqualify it.
+    on_face(v % p, [Some(u % p), None], &neighbours, &rise)
+}
+
+/// The points before and after point w of a chain of p points (none past an open chain's
+/// ends).
+fn neighbours(w: usize, p: usize, closed: bool) -> [Option<usize>; 2] {
+    [(closed || w > 0).then(|| (w + p - 1) % p), (closed || w + 1 < p).then(|| (w + 1) % p)]
+}
+
+/// Whether chain point v lies on a flat face (of a polygon, a capsule or a half-plane's
+/// boundary), given the rise per unit length of one chain point over another towards the
+/// face's outside: when v is a local minimum of the distance (a neighbour level with it to
+/// rounding, both ends of a chord lying flat on the face, does not disqualify it), or the far
+/// end of the chord at a local minimum u among `us` that is the flatter of u's two chords (to
+/// rounding). The far end closes as soon as the face turns onto the chord: a box declared as a
+/// profile rests on both corners, as the same box declared as a polygon does.
+fn on_face(
+    v: usize,
+    us: [Option<usize>; 2],
+    neighbours: &impl Fn(usize) -> [Option<usize>; 2],
+    rise: &impl Fn(usize, usize) -> f64,
+) -> bool {
     let minimum = |w: usize| neighbours(w).into_iter().flatten().all(|q| rise(w, q) >= -LEVEL);
     minimum(v)
-        || (minimum(u)
-            && neighbours(u)
-                .into_iter()
-                .flatten()
-                .filter(|&w| w != v % p)
-                .all(|w| rise(u, v) <= rise(u, w) + LEVEL))
+        || us.into_iter().flatten().any(|u| {
+            minimum(u)
+                && neighbours(u)
+                    .into_iter()
+                    .flatten()
+                    .filter(|&w| w != v)
+                    .all(|w| rise(u, v) <= rise(u, w) + LEVEL)
+        })
 }
 
 /// Whether the world point `c` lies inside the closed chain through `points` at `frame`, by
@@ -184,30 +201,15 @@ pub(crate) fn half_plane_chain(
     let p = points.len();
     let point = |v: usize| frame.point(points[v % p]);
     let height = |v: usize| n.dot(&(point(v) - origin));
-    let neighbours = |w: usize| {
-        [(closed || w > 0).then(|| (w + p - 1) % p), (closed || w + 1 < p).then(|| (w + 1) % p)]
-    };
+    let neighbours = |w: usize| neighbours(w, p, closed);
     // The rise of point w over point `from` above the boundary, per unit length.
     let rise = |from: usize, w: usize| (height(w) - height(from)) / (point(w) - point(from)).norm();
-    // As low as its neighbours, or level with them to rounding.
-    let minimum = |w: usize| neighbours(w).into_iter().flatten().all(|q| rise(w, q) >= -LEVEL);
-    // The far end of the chord that lies on the boundary at a local minimum u (the flatter of
-    // u's two chords, to rounding), which closes as soon as the chain turns onto it: a box
-    // declared as a profile rests on both corners, as the same box declared as a polygon does.
-    let on_chord = |v: usize, u: usize| {
-        minimum(u)
-            && neighbours(u)
-                .into_iter()
-                .flatten()
-                .filter(|&w| w != v)
-                .all(|w| rise(u, v) <= rise(u, w) + LEVEL)
-    };
     for v in 0..p {
         let h = height(v);
         if h > margin {
             continue;
         }
-        if minimum(v) || neighbours(v).into_iter().flatten().any(|u| on_chord(v, u)) {
+        if on_face(v, neighbours(v), &neighbours, &rise) {
             let w = frame.point(points[v]);
             let cp = CorePoint {
                 on_a: Feature::Edge(0),
