@@ -237,10 +237,9 @@ impl Scene {
             });
         }
         // Each form is read from the text itself, so that the reader's errors keep their
-        // positions in the file.
-        // The text's reader takes the first entries of a longer array for a field of fixed
-        // length (a position of three numbers); the same table read again as a value refuses
-        // it, as `--set` does.
+        // positions in the file, and then from its table: the text's reader takes the first
+        // entries of a longer array for a field of fixed length (a position of three numbers),
+        // which the table's reader refuses, as under `--set`.
         let value = || toml::Value::Table(table.clone());
         let scene: Scene = if table.contains_key("params") {
             let file = toml::from_str::<BuiltinFile>(text).map_err(|e| parse_error(text, &e))?;

@@ -332,17 +332,14 @@ fn force(spec: &ForceSpec, index: usize, bodies: &mut Vec<Body>) -> Result<Force
             Err(bad(
                 field("body_b"),
                 name_b,
-                "the same body as body_a: an element between a body \
-                 and itself exerts no force"
+                "the same body as body_a: an element between a body and itself exerts no force"
                     .into(),
             ))
         } else if !bodies[a].is_dynamic() && !bodies[b].is_dynamic() {
             Err(bad(
                 field("body_b"),
                 name_b,
-                "neither body_a nor body_b is a dynamic body: the \
-                 element moves nothing"
-                    .into(),
+                "neither body_a nor body_b is a dynamic body: the element moves nothing".into(),
             ))
         } else {
             Ok(())

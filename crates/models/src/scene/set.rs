@@ -90,8 +90,9 @@ impl Scene {
     /// `key` is one of [`Self::keys`] (with or without the `params.` prefix) or a last part
     /// of one or more of them: `mu` on the woodpecker sets `beak.mu`, `lower.mu` and
     /// `upper.mu`; `v0` sets `init.v0`. `solver` takes a solver name (`auto`, `lemke`, `pgs`,
-    /// `enum`). The value is parsed as the type the key already has, and the whole scene is
-    /// validated again; on any error the scene is left unchanged.
+    /// `enum`). The value is parsed as the type the key already has (a number and a table
+    /// stand for each other, as a load is either), and the whole scene is read and validated
+    /// again; on any error the scene is left unchanged.
     ///
     /// # Errors
     /// [`ModelError::UnknownKey`] listing the accepted keys; [`ModelError::BadValue`] naming the
@@ -213,9 +214,7 @@ fn parse_like(like: &toml::Value, text: &str) -> Result<toml::Value, String> {
             _ if like.is_array() => {
                 Err(format!("expected an array such as [0.0, 1.0], got `{text}`"))
             }
-            _ => Err(format!(
-                "expected a table such as {{ amplitude = 1.0, omega = 6.28 }}, got `{text}`"
-            )),
+            _ => Err(format!("expected a table such as {{ key = 1.0 }}, got `{text}`")),
         },
         other => Err(format!("cannot set a value of type {}", other.type_str())),
     }
