@@ -129,6 +129,13 @@ fn malformed_declared_scenes_name_the_field() {
         }
         other => panic!("{other:?}"),
     }
+    // A syntax error inside an element of an array of tables names the element.
+    match Scene::from_toml_str(&text.replace("mass = 1.0 ", "mass = 1.0, ")) {
+        Err(ModelError::Parse { field, message, .. }) => {
+            assert_eq!(field.as_deref(), Some("bodies.bob.mass"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
     let dangling = text.replace("body_b = \"bob\"\nanchor_b", "body_b = \"bobby\"\nanchor_b");
     match Scene::from_toml_str(&dangling) {
         Err(ModelError::BadValue { key, value, reason }) => {

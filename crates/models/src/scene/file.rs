@@ -206,8 +206,26 @@ fn locate_key(text: &str, offset: usize) -> Option<String> {
         return None;
     }
     let key = unquote(line.split('=').next()?.trim());
-    let header = text[..line_start].lines().rev().map(str::trim).find(|l| l.starts_with('['));
+    let before = &text[..line_start];
+    let header = before.lines().rev().map(str::trim).find(|l| l.starts_with('['));
     Some(match header {
+        // An element of an array of tables is named by its `name`, as under `--set`, or else
+        // by its index.
+        Some(h) if h.starts_with("[[") => {
+            let array = unquote(h.trim_matches(|c| c == '[' || c == ']').trim());
+            let elements = before.lines().filter(|l| l.trim() == h).count();
+            let start = before.rfind(h).map_or(0, |i| i + h.len());
+            let rest = &text[start..];
+            let end = rest.lines().position(|l| l.trim_start().starts_with('['));
+            let name = rest
+                .lines()
+                .take(end.unwrap_or(usize::MAX))
+                .filter_map(|l| l.trim().strip_prefix("name"))
+                .find_map(|l| l.trim().strip_prefix('='))
+                .map(|v| unquote(v.split('#').next().unwrap_or("").trim()));
+            let element = name.unwrap_or_else(|| elements.saturating_sub(1).to_string());
+            format!("{array}.{element}.{key}")
+        }
         Some(h) => format!("{}.{key}", unquote(h.trim_matches(|c| c == '[' || c == ']').trim())),
         None => key,
     })
