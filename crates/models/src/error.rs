@@ -11,7 +11,7 @@ use moreau_stepper::StepError;
 pub enum ModelError {
     /// A model parameter is out of its admissible range (a non-positive mass, ε_N outside
     /// `[0, 1]`, a negative μ, a non-finite number, ...).
-    #[error("invalid parameter `{field}` = {value}: {reason}")]
+    #[error("invalid parameter `{field}` = {}: {reason}", number(*value))]
     InvalidParameter {
         /// Dotted name of the field inside the model's parameters (`m`, `beak.eps_n`, ...).
         field: String,
@@ -76,4 +76,15 @@ pub enum ModelError {
     /// A contact law that `moreau_setvalued::ContactLaw` rejects.
     #[error(transparent)]
     Law(#[from] SetValuedError),
+}
+
+/// A number as written in a message: plainly in the range people write so, in scientific
+/// notation outside it (1e-300, not three hundred zeros).
+fn number(value: f64) -> String {
+    let size = value.abs();
+    if size == 0.0 || !size.is_finite() || (1e-4..1e15).contains(&size) {
+        value.to_string()
+    } else {
+        format!("{value:e}")
+    }
 }

@@ -311,3 +311,35 @@ fn loads_that_move_nothing_are_refused() {
         }
     }
 }
+
+/// A mass or inertia whose inverse the step's problem cannot hold (beyond 2^±500) is refused
+/// when the scene is built, naming the field that gives it, rather than at the first contact.
+#[test]
+fn masses_beyond_the_step_problems_range_are_refused_by_their_field() {
+    let text = pendulum_wall();
+    let cases = [
+        (text.replace("mass = 1.0 ", "mass = 1e-300 "), "bodies.bob.mass", "1e-300"),
+        (text.replace("inertia = 0.00125", "inertia = 1e200"), "bodies.bob.inertia", "1e200"),
+        (
+            text.replace("mass = 1.0 ", "density = 1e-160 ").replace("inertia = 0.00125", ""),
+            "bodies.bob.density",
+            "of 7.8",
+        ),
+    ];
+    for (text, at, shown) in cases {
+        match Scene::from_toml_str(&text).and_then(|s| s.build()) {
+            Err(e @ ModelError::InvalidParameter { .. }) => {
+                let message = e.to_string();
+                let ModelError::InvalidParameter { field, .. } = e else { unreachable!() };
+                assert_eq!(field, at, "{message}");
+                assert!(message.contains(shown) && message.contains("2^500"), "{message}");
+            }
+            other => panic!("{at}: {other:?}"),
+        }
+    }
+    // 2^±400 still builds.
+    let heavy = text
+        .replace("mass = 1.0 ", "mass = 1e120 ")
+        .replace("inertia = 0.00125", "inertia = 1e118");
+    assert!(Scene::from_toml_str(&heavy).and_then(|s| s.build()).is_ok());
+}

@@ -2,6 +2,7 @@
 //! [`Multibody`], with errors that name the offending field by its `--set` path.
 
 use moreau_kinematics::ContactKinematics;
+use moreau_lcp::MAX_ENTRY;
 use moreau_setvalued::ContactLaw;
 use moreau_stepper::Mechanism;
 use nalgebra::{DMatrix, DVector};
@@ -155,6 +156,22 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
                     ));
                 }
             };
+            // The step's problem holds 1/m and 1/I: beyond moreau-lcp's range of entries
+            // (2^±500, about 3e±150) its first contact would be refused, far from the cause.
+            let range = 1.0 / MAX_ENTRY..=MAX_ENTRY;
+            for (name, value) in [("mass", mass), ("inertia", inertia)] {
+                if !range.contains(&value) {
+                    let key = if spec.density.is_some() { "density" } else { name };
+                    return Err(relation(
+                        &field(key),
+                        value,
+                        &format!(
+                            "gives a {name} of {value:e}, outside [2^-500, 2^500] (about 3e-151 \
+                             to 3e150), the range of the step's problem; choose other units"
+                        ),
+                    ));
+                }
+            }
             Kind::Dynamic { dof, mass, inertia, com }
         }
         BodyType::Fixed | BodyType::Driven => {
