@@ -57,12 +57,14 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
 /// * a polygon or capsule on a half-plane: each vertex (a capsule's ends) within the margin,
 ///   feature the vertex;
 /// * a polyline or profile on a half-plane: each point that is a local minimum of the height
-///   above the boundary (all of a flat run), feature the point;
+///   above the boundary (all of a flat run), and the far end of the chord lying on the
+///   boundary there (the flatter of its two), feature the point;
 /// * a disk, capsule or polygon (n core vertices) against a polyline or profile of m
 ///   segments: per segment k, the points of the convex pair, vertex i of the convex shape on
 ///   segment k having feature k·n + i and point v of the chain m·n + v, each chain point at
-///   most once and only where it is a local minimum of the distance; a disk in a concave corner
-///   touches both segments. A polyline is touched from both sides; a profile is a solid, so a
+///   most once: for a disk only where it is a local minimum of the distance, for a polygon or
+///   capsule also at the far end of the chord lying on its face there, so that a face rests on
+///   a chain as on a polygon; a disk in a concave corner touches both segments. A polyline is touched from both sides; a profile is a solid, so a
 ///   disk whose centre has entered it gets one point on the nearest segment with gap −(d + r).
 ///
 /// # Errors

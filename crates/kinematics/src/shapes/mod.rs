@@ -27,7 +27,7 @@
 //! | disk | 1 | 1 | 1 | 1 | per segment and vertex | per segment and vertex |
 //! | polygon | | 2 (face on face), 1 (corner) | 2, 1 | per vertex | per vertex and segment | per vertex and segment |
 //! | capsule | | | 2, 1 | per end | per end and segment | per end and segment |
-//! | half-plane | | | | — | per local minimum | per local minimum |
+//! | half-plane | | | | — | per local minimum and chord end | per local minimum and chord end |
 //! | polyline | | | | | — | — |
 //! | profile | | | | | | — |
 //!

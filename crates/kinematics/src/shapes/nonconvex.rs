@@ -186,8 +186,9 @@ fn inside(c: V, frame: &Placement, points: &[[f64; 2]]) -> bool {
 }
 
 /// A half-plane (boundary through `origin`, unit outward normal `n`) against the chain through
-/// `points` at `frame`: each point whose height above the boundary is a local minimum along the
-/// chain (every point of a flat run) and at most `margin`.
+/// `points` at `frame`: each point at most `margin` above the boundary that lies on it
+/// ([`on_face`]): a local minimum of the height along the chain (every point of a flat run),
+/// or the far end of the chord lying on the boundary there.
 pub(crate) fn half_plane_chain(
     origin: V,
     n: V,
