@@ -161,15 +161,18 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
             let range = 1.0 / MAX_ENTRY..=MAX_ENTRY;
             for (name, value) in [("mass", mass), ("inertia", inertia)] {
                 if !range.contains(&value) {
-                    let key = if spec.density.is_some() { "density" } else { name };
-                    return Err(relation(
-                        &field(key),
-                        value,
-                        &format!(
-                            "gives a {name} of {value:e}, outside [2^-500, 2^500] (about 3e-151 \
-                             to 3e150), the range of the step's problem; choose other units"
+                    let bounds = "[2^-500, 2^500] (about 3e-151 to 3e150), the range of the \
+                                  step's problem; choose other units";
+                    // The field the user wrote, with its own value: a density names the mass or
+                    // inertia it gives.
+                    return Err(match spec.density {
+                        Some(rho) => relation(
+                            &field("density"),
+                            rho,
+                            &format!("gives a {name} of {value:e}, outside {bounds}"),
                         ),
-                    ));
+                        None => relation(&field(name), value, &format!("outside {bounds}")),
+                    });
                 }
             }
             Kind::Dynamic { dof, mass, inertia, com }
