@@ -102,28 +102,50 @@ pub fn base_scene(model: Option<&str>, scene: Option<&Path>) -> Result<Scene> {
 
 /// Applies `key=value` overrides to a scene in order, refusing a key that sets an entry an
 /// earlier key set, aliases included (`y0` and `init.y0`; `mu` and `beak.mu` on the
-/// woodpecker). Each key is resolved on the scene as the earlier overrides left it, so that
-/// `solver=pgs` followed by `solver.tolerance=1e-8` works.
+/// woodpecker; `bodies.1.mass` and `bodies.sleeve.mass` when the second body is `sleeve`),
+/// or a part of it (`gravity` and `gravity.1`). Each key is resolved on the scene as the
+/// earlier overrides left it, so that `solver=pgs` followed by `solver.tolerance=1e-8` works:
+/// the solver's name chooses its kind, whose fields a later key may then set.
 ///
 /// # Errors
 /// [`CliError::RepeatedKey`] naming both keys and the entry; an unknown key or a bad value
 /// (naming the override).
 pub fn apply_sets(scene: &mut Scene, sets: &[(String, String)]) -> Result<()> {
+    apply_labelled(scene, sets.iter().map(|(k, v)| (k.as_str(), k.as_str(), v.as_str())))
+}
+
+/// [`apply_sets`] with each override's name for the messages (`--dt` for the key `dt`).
+fn apply_labelled<'a>(
+    scene: &mut Scene,
+    sets: impl IntoIterator<Item = (&'a str, &'a str, &'a str)>,
+) -> Result<()> {
+    // Whether setting `later` after `earlier` changes what `earlier` set: the same entry, a
+    // part of it or a whole it is part of; a field of the solver after its name does not.
+    let overlap = |earlier: &str, later: &str| {
+        let under = |part: &str, whole: &str| {
+            part.strip_prefix(whole).is_some_and(|rest| rest.starts_with('.'))
+        };
+        earlier == later || under(earlier, later) || (under(later, earlier) && earlier != "solver")
+    };
     let mut seen: Vec<(&str, Vec<String>)> = Vec::new();
-    for (key, value) in sets {
+    for (label, key, value) in sets {
         let targets = scene.targets(key).with_context(|| format!("--set {key}={value}"))?;
         for (first, earlier) in &seen {
-            if let Some(entry) = targets.iter().find(|t| earlier.contains(t)) {
+            let repeated =
+                targets.iter().find_map(|t| earlier.iter().find(|e| overlap(e, t)).map(|e| (t, e)));
+            if let Some((entry, before)) = repeated {
+                // The whole of the two, which both set.
+                let entry = if entry.len() <= before.len() { entry } else { before };
                 return Err(CliError::RepeatedKey {
                     first: (*first).to_owned(),
-                    second: key.clone(),
+                    second: label.to_owned(),
                     entry: entry.clone(),
                 }
                 .into());
             }
         }
         scene.set(key, value).with_context(|| format!("--set {key}={value}"))?;
-        seen.push((key, targets));
+        seen.push((label, targets));
     }
     Ok(())
 }
@@ -134,20 +156,16 @@ pub fn apply_sets(scene: &mut Scene, sets: &[(String, String)]) -> Result<()> {
 /// As [`base_scene`]; a key given twice, unknown keys or bad values.
 pub fn scene(options: &SimulateOptions) -> Result<Scene> {
     let mut scene = base_scene(options.model.as_deref(), options.scene.as_deref())?;
-    let mut sets: Vec<(String, String)> = Vec::new();
-    if let Some(dt) = options.dt {
-        sets.push(("dt".into(), dt.to_string()));
-    }
-    if let Some(tf) = options.tf {
-        sets.push(("t_end".into(), tf.to_string()));
-    }
-    if let Some(solver) = &options.solver {
-        sets.push(("solver".into(), solver.clone()));
-    }
-    for s in &options.sets {
-        sets.push(parse_set(s)?);
-    }
-    apply_sets(&mut scene, &sets)?;
+    let (dt, tf) = (options.dt.map(|v| v.to_string()), options.tf.map(|v| v.to_string()));
+    let options_sets =
+        [("--dt", "dt", &dt), ("--tf", "t_end", &tf), ("--solver", "solver", &options.solver)];
+    let given: Vec<(String, String)> =
+        options.sets.iter().map(|s| parse_set(s)).collect::<Result<_>>()?;
+    let sets = options_sets
+        .into_iter()
+        .filter_map(|(label, key, value)| value.as_deref().map(|v| (label, key, v)))
+        .chain(given.iter().map(|(k, v)| (k.as_str(), k.as_str(), v.as_str())));
+    apply_labelled(&mut scene, sets)?;
     Ok(scene)
 }
 

@@ -56,6 +56,48 @@ fn a_key_given_twice_is_refused_aliases_included() -> Result<()> {
 }
 
 #[test]
+fn an_entry_set_by_index_and_by_name_or_whole_and_part_is_refused() -> Result<()> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies");
+    let declared = |file: &str, sets: &[&str]| SimulateOptions {
+        scene: Some(root.join(file)),
+        sets: sets.iter().map(|s| (*s).to_owned()).collect(),
+        ..SimulateOptions::default()
+    };
+    // The woodpecker's second body is `sleeve`, its first contact `beak`; the pendulum's bob
+    // has a velocity, the scene a gravity.
+    for (file, sets, entry) in [
+        ("woodpecker.toml", &["bodies.1.mass=1", "bodies.sleeve.mass=3"][..], "bodies.sleeve.mass"),
+        ("woodpecker.toml", &["contacts.beak.mu=0.1", "contacts.0.mu=0.3"], "contacts.beak.mu"),
+        (
+            "pendulum-wall.toml",
+            &["bodies.bob.velocity=[1, 0]", "bodies.bob.velocity.0=5"],
+            "bodies.bob.velocity",
+        ),
+        ("pendulum-wall.toml", &["gravity.1=-5", "gravity=[0, -1]"], "gravity"),
+        (
+            "pendulum-wall.toml",
+            &["bodies.1.velocity.1=2", "bodies.bob.velocity=[1, 0]"],
+            "bodies.bob.velocity",
+        ),
+    ] {
+        let e = scene(&declared(file, sets)).expect_err("refused");
+        let Some(CliError::RepeatedKey { entry: got, .. }) = cli_error(&e) else {
+            anyhow::bail!("{sets:?}: {e:#}");
+        };
+        ensure!(got == entry, "{sets:?}: {got}");
+    }
+    // Two entries of one array, and one body's field by index after another's by name, are not
+    // repeats.
+    let s = scene(&declared("pendulum-wall.toml", &["gravity.0=1", "gravity.1=-5"]))?;
+    ensure!(s.to_toml_string().contains("gravity = [1.0, -5.0]"), "{}", s.to_toml_string());
+    scene(&declared("woodpecker.toml", &["bodies.2.mass=1", "bodies.sleeve.mass=3"]))?;
+    // An option names itself when a `--set` repeats it.
+    let e = scene(&SimulateOptions { tf: Some(0.01), ..ball(&["t_end=0.02"]) }).expect_err("tf");
+    ensure!(format!("{e:#}").contains("'--tf'"), "{e:#}");
+    Ok(())
+}
+
+#[test]
 fn solver_tables_are_validated() -> Result<()> {
     for (sets, field) in [
         (&["solver=pgs", "solver.tolerance=1"][..], "tolerance"),

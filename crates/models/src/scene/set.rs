@@ -70,13 +70,19 @@ impl Scene {
         // A path into an array (`bodies.block.position.1`) or to an optional field that the
         // scene leaves at its default (`bodies.block.angle`) is not among the leaves; it is
         // accepted when everything up to its last part exists.
+        // An element of an array of tables given by its index (`bodies.1.mass`) is named by
+        // its `name`, as the leaves name it, so that two keys for one entry are seen as such.
         if self.kind() == ModelKind::Declared
             && let Ok(mut doc) = toml::Value::try_from(self)
             && let (parent, last) = key.rsplit_once('.').unwrap_or(("", key))
             && let Some(container) = leaf_mut(&mut doc, parent)
             && (container.is_table() || (container.is_array() && last.parse::<usize>().is_ok()))
         {
-            return Ok(vec![key.to_owned()]);
+            let named = named_path(&doc, key);
+            return Ok(match leaves.iter().find(|(_, full)| *full == named) {
+                Some((_, full)) => vec![full.clone()],
+                None => vec![named],
+            });
         }
         Err(ModelError::UnknownKey {
             key: key.to_owned(),
@@ -168,6 +174,30 @@ fn leaf_mut<'a>(doc: &'a mut toml::Value, path: &str) -> Option<&'a mut toml::Va
         },
         _ => None,
     })
+}
+
+/// `path` with each index into an array of tables replaced by the `name` of its element,
+/// where it has one (`bodies.1.mass` → `bodies.sleeve.mass`); the path as given elsewhere.
+fn named_path(doc: &toml::Value, path: &str) -> String {
+    let mut out = Vec::new();
+    let mut at = Some(doc);
+    for k in path.split('.') {
+        let element = match at {
+            Some(toml::Value::Array(items)) => k.parse::<usize>().ok().and_then(|i| items.get(i)),
+            _ => None,
+        };
+        let name = element.and_then(|e| e.get("name")).and_then(toml::Value::as_str);
+        out.push(name.unwrap_or(k));
+        at = match (at, element) {
+            (_, Some(e)) => Some(e),
+            (Some(toml::Value::Table(t)), None) => t.get(k),
+            (Some(toml::Value::Array(items)), None) => {
+                items.iter().find(|e| e.get("name").and_then(toml::Value::as_str) == Some(k))
+            }
+            _ => None,
+        };
+    }
+    out.join(".")
 }
 
 /// Parses a value given for a key the scene does not write (an optional field at its
