@@ -130,6 +130,8 @@ pub fn read_part(path: &Path, drop_damaged_tail: bool) -> Result<Part> {
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
     let mixed = |reason: String| CliError::MixedParts { part: path.to_owned(), reason };
     let (first, body) = text.split_once('\n').unwrap_or((&text, ""));
+    // A part whose line ends were made CRLF (by an editor or a transfer) reads as it was.
+    let first = first.strip_suffix('\r').unwrap_or(first);
     let header = PartHeader::parse(first).map_err(mixed)?;
     let mut reader = csv::ReaderBuilder::new().flexible(true).from_reader(body.as_bytes());
     let columns: Vec<String> = reader.headers()?.iter().map(str::to_owned).collect();
@@ -245,7 +247,7 @@ pub fn list_members(members: &[u64]) -> String {
 ///
 /// Every part must belong to the same sweep (its identity line), have the same columns, hold
 /// every member of its shard, and be undamaged; together the parts must hold every member of
-/// the sweep once. The merged file is a part of shard 1/1.
+/// the sweep once. The merged file is a part of shard 1/1. Lines may end in CRLF.
 ///
 /// # Errors
 /// [`CliError::MixedParts`], [`CliError::MissingMembers`] or [`CliError::DamagedPart`], naming

@@ -90,6 +90,23 @@ fn merge_refuses_incomplete_sets() -> Result<()> {
 }
 
 #[test]
+fn a_part_with_crlf_line_ends_merges_as_it_was() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let a = parts(dir.path(), "0.1,0.3,0.5", 2, "a")?;
+    let out = dir.path().join("m.csv");
+    merge(&out, &a)?;
+    let crlf = dir.path().join("crlf.csv");
+    std::fs::write(&crlf, std::fs::read_to_string(&a[1])?.replace('\n', "\r\n"))?;
+    let again = dir.path().join("m-crlf.csv");
+    ensure!(merge(&again, &[&a[0], &crlf])? == 6);
+    ensure!(std::fs::read(&again)? == std::fs::read(&out)?, "the merged files differ");
+    // Alone, or first, it is read alike.
+    ensure!(read_part(&crlf, false)?.header == read_part(&a[1], false)?.header);
+    ensure!(merge(&again, &[&crlf, &a[0]])? == 6);
+    Ok(())
+}
+
+#[test]
 fn merge_refuses_damaged_parts() -> Result<()> {
     let dir = tempfile::tempdir()?;
     let a = parts(dir.path(), "0.1,0.3,0.5", 2, "a")?;
