@@ -29,6 +29,7 @@ use moreau_models::bodies::{LocatedContact, Multibody};
 use moreau_stepper::{ContactState, StepReport};
 
 use crate::error::CliError;
+use crate::output::csv_record;
 
 /// The midpoint of the step from (q_A, u_A, t_A) with step `dt`: q_M = q_A + Δt/2 u_A into
 /// `q_m` and t_M = t_A + Δt/2 returned, in the stepper's own arithmetic, so to the bit.
@@ -65,6 +66,7 @@ pub(crate) struct ContactLog<W: Write> {
     every: u64,
     dt: f64,
     margin: f64,
+    /// The bodies' names as CSV fields (quoted when they hold a comma, a quote or a line end).
     names: Vec<String>,
     /// q_A, u_A and t_A of the next recorded step: the state the step before it ended at.
     q_a: Vec<f64>,
@@ -87,7 +89,8 @@ impl<W: Write> ContactLog<W> {
         mut out: W,
     ) -> Result<Self> {
         writeln!(out, "{HEADER}")?;
-        let names = model.body_names().into_iter().map(str::to_owned).collect();
+        let names =
+            model.body_names().into_iter().map(|n| csv_record([n])).collect::<Result<_, _>>()?;
         let q_m = Vec::with_capacity(q0.len());
         Ok(Self {
             out,

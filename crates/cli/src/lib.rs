@@ -55,6 +55,7 @@ pub mod failed;
 pub mod grid;
 pub mod guard;
 pub mod keys;
+pub mod output;
 pub mod parts;
 pub mod runs;
 pub mod simulate;

@@ -14,6 +14,7 @@ use crate::contacts::ContactLog;
 use crate::error::CliError;
 use crate::failed::{self, failed_problem_path};
 use crate::guard::{self, DEFAULT_MAX_STEPS};
+use crate::output::csv_record;
 use crate::runs::{RunResult, RunSpec, run_info};
 
 /// What to simulate.
@@ -296,7 +297,7 @@ fn write_rows(w: &mut impl Write, r: &Record, rows: std::ops::Range<usize>) -> R
 pub fn write_record(run: &RunResult, path: &Path) -> Result<()> {
     let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
     let mut w = BufWriter::new(file);
-    writeln!(w, "{}", header(run.model()).join(","))?;
+    writeln!(w, "{}", csv_record(header(run.model()))?)?;
     write_rows(&mut w, run.record(), 0..run.record().len())?;
     w.flush()?;
     Ok(())
@@ -475,7 +476,7 @@ pub fn run_to_csv(
     for w in &warnings {
         warn(w);
     }
-    writeln!(out_w, "{}", header(&model).join(","))?;
+    writeln!(out_w, "{}", csv_record(header(&model))?)?;
     let mut recorder = Recorder::every(scene.record_every);
     let (q0, u0) = model.initial_state();
     recorder.push_initial(&model, 0.0, &q0, &u0);

@@ -26,6 +26,7 @@ use moreau_lcp::{
 };
 
 use crate::error::CliError;
+use crate::output::csv_record;
 use crate::simulate::partial_path;
 
 /// The solvers of an LCP, by name; the first is the default.
@@ -219,7 +220,7 @@ fn write_csv(solved: &Solved, path: &Path) -> Result<()> {
         reason: format!("cannot be created: {e}"),
     })?;
     let mut w = BufWriter::new(create);
-    writeln!(w, "{}", solved.columns.join(","))?;
+    writeln!(w, "{}", csv_record(&solved.columns)?)?;
     for row in &solved.rows {
         write!(w, "{}", row[0] as usize)?;
         for x in &row[1..] {

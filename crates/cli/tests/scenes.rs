@@ -265,3 +265,87 @@ fn a_refusal_says_its_cause_once() {
     assert!(stderr.contains("not instead"), "{stderr}");
     assert_eq!(stderr.matches("bad value `100` for `bodies.bob.density`").count(), 1, "{stderr}");
 }
+
+/// A CSV file read back with the `csv` crate: its header and its rows, each row as many
+/// fields as it has.
+fn read_csv(path: &Path) -> Result<(Vec<String>, Vec<Vec<String>>)> {
+    let mut r = csv::ReaderBuilder::new().flexible(true).from_path(path)?;
+    let header = r.headers()?.iter().map(str::to_owned).collect();
+    let rows = r
+        .records()
+        .map(|row| Ok(row?.iter().map(str::to_owned).collect()))
+        .collect::<Result<_>>()?;
+    Ok((header, rows))
+}
+
+#[test]
+fn names_with_commas_and_quotes_are_quoted_in_the_record_and_the_contacts() -> Result<()> {
+    // A disk dropped 5 cm onto a floor: it lands at t ≈ 0.1 s and rests in contact.
+    let dir = tempfile::tempdir()?;
+    let path = dir.path().join("odd.toml");
+    std::fs::write(
+        &path,
+        r#"dt = 0.001
+t_end = 0.3
+record_every = 10
+gravity = [0.0, -9.81]
+
+[[bodies]]
+name = "flo,or"
+type = "fixed"
+position = [0.0, 0.0]
+shapes = [{ type = "half_plane", point = [0.0, 0.0], normal = [0.0, 1.0] }]
+
+[[bodies]]
+name = "b\"x"
+type = "dynamic"
+mass = 1.0
+inertia = 0.005
+position = [0.0, 0.15]
+shapes = [{ type = "disk", center = [0.0, 0.0], radius = 0.1 }]
+
+[[contacts]]
+name = "c,1"
+body_a = "flo,or"
+body_b = "b\"x"
+eps_n = 0.0
+eps_t = 0.0
+mu = 0.5
+"#,
+    )?;
+    let (out, contacts) = (dir.path().join("odd.csv"), dir.path().join("contacts.csv"));
+    let options = SimulateOptions {
+        scene: Some(path),
+        contacts: Some(contacts.clone()),
+        ..SimulateOptions::default()
+    };
+    let done = moreau_cli::simulate::run_to_csv(&options, &out, &mut |_| {})?;
+    let (header, rows) = read_csv(&out)?;
+    let names = [
+        "t",
+        "b\"x.x",
+        "b\"x.y",
+        "b\"x.theta",
+        "b\"x.vx",
+        "b\"x.vy",
+        "b\"x.omega",
+        "c,1.PN",
+        "c,1.PT",
+        "c,1.active",
+    ];
+    ensure!(header == names, "{header:?}");
+    ensure!(rows.len() as u64 == done.rows && done.rows == 31, "{} rows", rows.len());
+    ensure!(rows.iter().all(|r| r.len() == header.len()), "a row's fields differ from the header");
+    // The disk rests on the floor at the end.
+    let y: f64 = rows[30][column(&header, "b\"x.y")?].parse()?;
+    ensure!((y - 0.1).abs() < 1e-3 && rows[30][column(&header, "c,1.active")?] == "1", "{y}");
+    let (header, rows) = read_csv(&contacts)?;
+    ensure!(header.join(",") == moreau_cli::contacts::HEADER, "{header:?}");
+    ensure!(!rows.is_empty() && done.contact_rows == Some(rows.len() as u64));
+    for row in &rows {
+        ensure!(row.len() == header.len(), "{row:?}");
+        let (a, b) = (column(&header, "body_a")?, column(&header, "body_b")?);
+        ensure!(row[a] == "flo,or" && row[b] == "b\"x", "{row:?}");
+    }
+    Ok(())
+}
