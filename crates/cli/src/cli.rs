@@ -62,7 +62,8 @@ pub struct SweepArgs {
     /// Largest number of steps of a member (default 10 000 000).
     #[arg(long, value_name = "N")]
     pub max_steps: Option<u64>,
-    /// Continue the unfinished run OUT.partial without rerunning its finished members.
+    /// Continue the unfinished run OUT.partial without rerunning its finished members (a
+    /// finished OUT of the same sweep is left as it is; one of another sweep is refused).
     #[arg(long)]
     pub resume: bool,
     /// Output CSV file.
@@ -188,6 +189,14 @@ impl SweepArgs {
             resume: self.resume,
         };
         let s = sweep::run(&options, &self.out).context("sweep")?;
+        if s.finished_before {
+            println!(
+                "{} holds this sweep's {} members already; nothing is left to run",
+                self.out.display(),
+                s.rows
+            );
+            return Ok(());
+        }
         println!(
             "wrote {} members to {} ({} run now, {} diverged, {} failed)",
             s.rows,

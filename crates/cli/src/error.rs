@@ -127,6 +127,20 @@ pub enum CliError {
         /// What is wrong.
         reason: String,
     },
+    /// An output whose lock file exists: another run writes it, or a run that wrote it was
+    /// killed before it could remove the lock.
+    #[error(
+        "output {output} is locked by {lock} (process {holder}): another run is writing it; \
+         wait for that run to end, or remove {lock} if no run is going on"
+    )]
+    Locked {
+        /// The output as given.
+        output: PathBuf,
+        /// The lock file, `<out>.lock`.
+        lock: PathBuf,
+        /// The process id the lock file holds (`unknown` when it holds none).
+        holder: String,
+    },
     /// A sweep part that does not belong with the others.
     #[error("{part}: {reason}")]
     MixedParts {

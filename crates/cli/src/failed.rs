@@ -16,7 +16,7 @@ use moreau_lcp::fc2d::SiconosStorage;
 use moreau_models::ModelError;
 use moreau_stepper::StepError;
 
-use crate::simulate::suffixed;
+use crate::output::suffixed;
 
 /// The most contacts of an island with joints whose problem is written: the elimination of its
 /// bilateral rows makes W dense (2 n_c × 2 n_c, 32 MB at this size).

@@ -22,6 +22,9 @@
 //! too, located on their bodies ([`contacts`]: the force network of a pile at each recorded
 //! step). Records stream to disk in batches; sweep rows are written as members finish, each
 //! sweep part names its sweep, and [`parts::merge`] refuses mixed, incomplete or damaged sets.
+//! Outputs ([`output`]) are written through a symbolic link to its file, never over an input
+//! of the run, another output of it or a file that is not a regular file, and under a lock
+//! file that keeps a second run off them.
 //! A run that stops on a step problem its solver leaves unsolved writes that problem in
 //! Siconos' format ([`failed`]), and [`solve`] solves such a file (or any LCP or FC2D file of
 //! Siconos' collection) with any of `moreau-lcp`'s solvers.

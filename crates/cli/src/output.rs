@@ -1,4 +1,40 @@
-//! The files a run writes: CSV records.
+//! The files a run writes: where they go (through a symbolic link to its target), which files
+//! they must not be, the lock that keeps two runs off one output, and CSV records.
+//!
+//! An output `OUT` is written as `OUT.partial` and renamed to `OUT` when the run has
+//! succeeded. When `OUT` is a symbolic link, the files go next to the file it points to, which
+//! receives the data while the link stays a link. An existing `OUT` that is not a regular file
+//! (a folder, a FIFO, a device, a socket) is refused, and so is an output that is the same file
+//! as an input of the run or as another of its outputs, comparing files, not path texts. While
+//! a run writes `OUT`, it holds `OUT.lock` (created only when absent, holding the run's process
+//! id, removed when the run ends); a run that finds the lock refuses to start
+//! ([`CliError::Locked`]).
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use crate::error::CliError;
+
+/// The longest chain of symbolic links followed to an output's file.
+const MAX_LINKS: usize = 40;
+
+/// `path` with `suffix` appended to its file name (`out.csv` → `out.csv.partial`).
+pub fn suffixed(path: &Path, suffix: &str) -> PathBuf {
+    let mut s = path.as_os_str().to_owned();
+    s.push(suffix);
+    PathBuf::from(s)
+}
+
+/// The file a run writes to until it succeeds: `<out>.partial`.
+pub fn partial_path(out: &Path) -> PathBuf {
+    suffixed(out, ".partial")
+}
+
+/// The lock file of an output: `<out>.lock`.
+pub fn lock_path(out: &Path) -> PathBuf {
+    suffixed(out, ".lock")
+}
 
 /// One CSV record, quoted as the `csv` crate quotes (a field that holds a comma, a double
 /// quote or a line end is put in double quotes, its double quotes doubled), without its line
@@ -19,6 +55,315 @@ where
         bytes.pop();
     }
     Ok(String::from_utf8_lossy(&bytes).into_owned())
+}
+
+/// The file `path` names, its symbolic links followed (the file need not exist).
+fn follow_links(path: &Path) -> Result<PathBuf, CliError> {
+    let mut p = path.to_owned();
+    for _ in 0..MAX_LINKS {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let link = std::fs::read_link(&p).map_err(|e| CliError::Output {
+                    path: path.to_owned(),
+                    reason: format!("is a symbolic link that cannot be read: {e}"),
+                })?;
+                p = match p.parent() {
+                    Some(dir) if link.is_relative() => dir.join(link),
+                    _ => link,
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    Err(CliError::Output {
+        path: path.to_owned(),
+        reason: format!("is a chain of more than {MAX_LINKS} symbolic links"),
+    })
+}
+
+/// The file `path` names as an absolute path without `.`, `..` or symbolic links: the path
+/// itself canonicalized when it exists, else its folder canonicalized and its name joined;
+/// `None` when its folder cannot be found.
+fn identity(path: &Path) -> Option<PathBuf> {
+    if let Ok(found) = std::fs::canonicalize(path) {
+        return Some(found);
+    }
+    let name = path.file_name()?;
+    let dir = match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    Some(std::fs::canonicalize(dir).ok()?.join(name))
+}
+
+/// What kind of file, other than a regular file, `kind` is.
+fn kind_of(kind: std::fs::FileType) -> &'static str {
+    if kind.is_dir() {
+        return "a folder";
+    }
+    if kind.is_symlink() {
+        return "a symbolic link";
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return "a FIFO";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+        if kind.is_block_device() || kind.is_char_device() {
+            return "a device";
+        }
+    }
+    "not a regular file"
+}
+
+/// An output file of a run, checked before anything is written.
+#[derive(Clone, Debug)]
+pub struct Output {
+    /// The path as given.
+    given: PathBuf,
+    /// The file that receives the data: the given path, or the file its symbolic link points
+    /// to.
+    target: PathBuf,
+    /// The target as an absolute path without `.`, `..` or symbolic links.
+    identity: PathBuf,
+}
+
+impl Output {
+    /// The output `path`, its symbolic links followed.
+    ///
+    /// # Errors
+    /// [`CliError::Output`] when it (or the file it points to) exists and is not a regular
+    /// file, when `<path>.partial` exists and is not a regular file, or when its folder cannot
+    /// be found.
+    pub fn new(path: &Path) -> Result<Self, CliError> {
+        let refuse = |reason: String| CliError::Output { path: path.to_owned(), reason };
+        let target = follow_links(path)?;
+        if let Ok(m) = std::fs::metadata(&target)
+            && !m.is_file()
+        {
+            let shown = if target == path {
+                String::new()
+            } else {
+                format!(" (the file {} it points to)", target.display())
+            };
+            return Err(refuse(format!(
+                "is {}{shown}, not a regular file, and is not replaced; give the path of a \
+                 regular file",
+                kind_of(m.file_type())
+            )));
+        }
+        let partial = partial_path(&target);
+        if let Ok(m) = std::fs::symlink_metadata(&partial)
+            && !m.is_file()
+        {
+            return Err(refuse(format!(
+                "its unfinished file {} is {}, not a regular file; remove it or give another \
+                 output",
+                partial.display(),
+                kind_of(m.file_type())
+            )));
+        }
+        let identity = identity(&target).ok_or_else(|| {
+            refuse(format!(
+                "its folder {} cannot be found",
+                target.parent().unwrap_or(Path::new(".")).display()
+            ))
+        })?;
+        Ok(Self { given: path.to_owned(), target, identity })
+    }
+
+    /// The path as given.
+    pub fn given(&self) -> &Path {
+        &self.given
+    }
+
+    /// The file that receives the data: the given path, or the file its symbolic link points
+    /// to.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// `<target>.partial`, where the run writes until it succeeds.
+    pub fn partial(&self) -> PathBuf {
+        partial_path(&self.target)
+    }
+
+    /// `<target>.lock`, which the run holds while it writes.
+    pub fn lock(&self) -> PathBuf {
+        lock_path(&self.target)
+    }
+
+    /// Creates `<target>.partial` for writing.
+    ///
+    /// # Errors
+    /// [`CliError::Output`] naming it when it cannot be created.
+    pub fn create_partial(&self) -> Result<(PathBuf, BufWriter<File>), CliError> {
+        let partial = self.partial();
+        let file = File::create(&partial).map_err(|e| CliError::Output {
+            path: partial.clone(),
+            reason: format!("cannot be created: {e}"),
+        })?;
+        Ok((partial, BufWriter::new(file)))
+    }
+
+    /// Renames the finished `partial` file to the target.
+    ///
+    /// # Errors
+    /// [`CliError::Output`] when the rename fails.
+    pub fn publish(&self, partial: &Path) -> Result<(), CliError> {
+        std::fs::rename(partial, &self.target).map_err(|e| CliError::Output {
+            path: self.given.clone(),
+            reason: format!("cannot be written: {e}"),
+        })
+    }
+}
+
+/// Refuses outputs that are the same file as one of the `inputs` or as each other, their
+/// unfinished files `<out>.partial` included (a scene read and then overwritten, two outputs
+/// written into one file), comparing files: absolute paths without `.`, `..` or symbolic
+/// links. An input that cannot be found is left to its reader.
+///
+/// # Errors
+/// [`CliError::Output`] naming the output and the file it would overwrite.
+pub fn check_distinct(inputs: &[&Path], outputs: &[&Output]) -> Result<(), CliError> {
+    let written = |o: &Output| [o.identity.clone(), partial_path(&o.identity)];
+    for (j, out) in outputs.iter().enumerate() {
+        let refuse = |reason: String| CliError::Output { path: out.given.clone(), reason };
+        let files = written(out);
+        for input in inputs {
+            let Some(read) = identity(input) else { continue };
+            if read == files[0] {
+                return Err(refuse(format!(
+                    "is the input {} of the run, which writing it would destroy; give the \
+                     output another name",
+                    input.display()
+                )));
+            }
+            if read == files[1] {
+                return Err(refuse(format!(
+                    "would be written first to {}, which is the input {} of the run; give the \
+                     output another name",
+                    files[1].display(),
+                    input.display()
+                )));
+            }
+        }
+        for earlier in &outputs[..j] {
+            if written(earlier).iter().any(|f| files.contains(f)) {
+                return Err(refuse(format!(
+                    "is the same file as the output {} of the run (or its .partial); give each \
+                     output a file of its own",
+                    earlier.given.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The lock a run holds on an output while it writes it: `<out>.lock`, created only when
+/// absent and holding the run's process id; removed when dropped, whether the run succeeded
+/// or not.
+#[derive(Debug)]
+pub struct OutputLock {
+    path: PathBuf,
+}
+
+impl OutputLock {
+    /// Takes the lock of `output`.
+    ///
+    /// # Errors
+    /// [`CliError::Locked`] when the lock file exists (another run writes the output, or a
+    /// run was killed); [`CliError::Output`] when it cannot be created.
+    pub fn acquire(output: &Output) -> Result<Self, CliError> {
+        let path = output.lock();
+        let file = std::fs::OpenOptions::new().write(true).create_new(true).open(&path);
+        let mut file = match file {
+            Ok(file) => file,
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                let holder = std::fs::read_to_string(&path).unwrap_or_default();
+                let holder = holder.trim();
+                return Err(CliError::Locked {
+                    output: output.given.clone(),
+                    holder: if holder.is_empty() { "unknown".into() } else { holder.to_owned() },
+                    lock: path,
+                });
+            }
+            Err(e) => {
+                return Err(CliError::Output { path, reason: format!("cannot be created: {e}") });
+            }
+        };
+        let lock = Self { path };
+        writeln!(file, "{}", std::process::id()).map_err(|e| CliError::Output {
+            path: lock.path.clone(),
+            reason: format!("cannot be written: {e}"),
+        })?;
+        Ok(lock)
+    }
+
+    /// The lock file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Drop for OutputLock {
+    fn drop(&mut self) {
+        // A lock that cannot be removed is named by the next run that finds it.
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+/// Removes `path`, a file left by an earlier run of the same output that does not describe
+/// this run; a file that is not there is fine.
+///
+/// # Errors
+/// [`CliError::Output`] when it exists and cannot be removed.
+pub fn remove_stale(path: &Path) -> Result<(), CliError> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(CliError::Output {
+            path: path.to_owned(),
+            reason: format!("is left from an earlier run and cannot be removed: {e}"),
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// Removes the files `<out>.member-<i>.failed.dat` of the target of `out` that an earlier
+/// sweep wrote ([`remove_stale`]).
+///
+/// # Errors
+/// [`CliError::Output`] when one cannot be removed, or the folder cannot be listed.
+pub fn remove_stale_member_problems(out: &Output) -> Result<(), CliError> {
+    let Some(name) = out.target.file_name().and_then(|n| n.to_str()) else { return Ok(()) };
+    let dir = match out.target.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    };
+    let listed = |e: std::io::Error| CliError::Output {
+        path: dir.to_owned(),
+        reason: format!("cannot be listed for the files of an earlier sweep: {e}"),
+    };
+    let prefix = format!("{name}.member-");
+    for entry in std::fs::read_dir(dir).map_err(listed)? {
+        let entry = entry.map_err(listed)?;
+        let file = entry.file_name();
+        let Some(member) = file
+            .to_str()
+            .and_then(|f| f.strip_prefix(&prefix))
+            .and_then(|f| f.strip_suffix(".failed.dat"))
+        else {
+            continue;
+        };
+        if !member.is_empty() && member.bytes().all(|b| b.is_ascii_digit()) {
+            remove_stale(&dir.join(&file))?;
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

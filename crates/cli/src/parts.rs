@@ -25,6 +25,7 @@ use anyhow::{Context, Result};
 
 use crate::error::CliError;
 use crate::grid::Shard;
+use crate::output::{self, Output, OutputLock};
 
 /// Version of the part format; part of the identity line.
 pub const FORMAT: u32 = 1;
@@ -247,13 +248,22 @@ pub fn list_members(members: &[u64]) -> String {
 ///
 /// Every part must belong to the same sweep (its identity line), have the same columns, hold
 /// every member of its shard, and be undamaged; together the parts must hold every member of
-/// the sweep once. The merged file is a part of shard 1/1. Lines may end in CRLF.
+/// the sweep once. The merged file is a part of shard 1/1. Lines may end in CRLF. `out` must
+/// not be one of the parts nor an existing file other than a regular file (a symbolic link is
+/// written through to its file), and is locked (`<out>.lock`) while it is written; see
+/// [`output`].
 ///
 /// # Errors
 /// [`CliError::MixedParts`], [`CliError::MissingMembers`] or [`CliError::DamagedPart`], naming
-/// the part and the members; unreadable or unwritable files.
+/// the part and the members; [`CliError::Output`] for an output that is a part or not a
+/// regular file; [`CliError::Locked`] for an output another run holds; unreadable or
+/// unwritable files.
 pub fn merge(out: &Path, parts: &[impl AsRef<Path>]) -> Result<u64> {
     anyhow::ensure!(!parts.is_empty(), "merge needs at least one part");
+    let out_file = Output::new(out)?;
+    let inputs: Vec<&Path> = parts.iter().map(AsRef::as_ref).collect();
+    output::check_distinct(&inputs, &[&out_file])?;
+    let _lock = OutputLock::acquire(&out_file)?;
     let mut read: Vec<Part> = Vec::new();
     for p in parts {
         let part = read_part(p.as_ref(), false)?;
@@ -324,7 +334,7 @@ pub fn merge(out: &Path, parts: &[impl AsRef<Path>]) -> Result<u64> {
     let mut rows: Vec<(u64, Vec<String>)> = read.into_iter().flat_map(|p| p.rows).collect();
     rows.sort_by_key(|(i, _)| *i);
     let rows: Vec<Vec<String>> = rows.into_iter().map(|(_, r)| r).collect();
-    write_part(out, &header, &columns, &rows)?;
+    write_part(out_file.target(), &header, &columns, &rows)?;
     Ok(rows.len() as u64)
 }
 

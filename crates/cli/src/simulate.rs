@@ -14,7 +14,8 @@ use crate::contacts::ContactLog;
 use crate::error::CliError;
 use crate::failed::{self, failed_problem_path};
 use crate::guard::{self, DEFAULT_MAX_STEPS};
-use crate::output::csv_record;
+pub use crate::output::partial_path;
+use crate::output::{self, Output, OutputLock, csv_record};
 use crate::runs::{RunResult, RunSpec, run_info};
 
 /// What to simulate.
@@ -381,41 +382,12 @@ pub struct Simulated {
     pub warnings: Vec<String>,
 }
 
-/// The file a run writes to until it succeeds: `<out>.partial`.
-pub fn partial_path(out: &Path) -> PathBuf {
-    suffixed(out, ".partial")
-}
-
-/// `path` with `suffix` appended to its file name (`out.csv` → `out.csv.partial`).
-pub(crate) fn suffixed(path: &Path, suffix: &str) -> PathBuf {
-    let mut s = path.as_os_str().to_owned();
-    s.push(suffix);
-    PathBuf::from(s)
-}
-
-/// Creates `<path>.partial` for writing, refusing a folder.
-fn create_partial(path: &Path) -> Result<(PathBuf, BufWriter<File>)> {
-    if path.is_dir() {
-        return Err(CliError::Output { path: path.to_owned(), reason: "is a folder".into() }.into());
-    }
-    let partial = partial_path(path);
-    let file = File::create(&partial).map_err(|e| CliError::Output {
-        path: partial.clone(),
-        reason: format!("cannot be created: {e}"),
-    })?;
-    Ok((partial, BufWriter::new(file)))
-}
-
-/// Renames a finished `partial` file to `path`.
-fn publish(partial: &Path, path: &Path) -> Result<()> {
-    std::fs::rename(partial, path).map_err(|e| {
-        CliError::Output { path: path.to_owned(), reason: format!("cannot be written: {e}") }.into()
-    })
-}
-
 /// Runs the options' scene under the guards and streams its record to `out` as CSV.
 ///
-/// The scene and its step plan are checked, and `<out>.partial` is created, before the first
+/// The outputs are checked first ([`output`]): neither `out` nor the contacts file may be the
+/// scene file or each other, nor an existing file that is not a regular file; a symbolic link
+/// is written through to its file; each is locked (`<out>.lock`) while the run writes it. The
+/// scene and its step plan are checked, and `<out>.partial` is created, before the first
 /// step; the rows go there in batches of a few thousand, and the file is renamed to `out`
 /// once the run has ended at t_end (or its stop rule). A run that fails or diverges leaves
 /// `<out>.partial` for inspection and no `out`; one that stops on a step problem that its
@@ -427,33 +399,36 @@ fn publish(partial: &Path, path: &Path) -> Result<()> {
 /// # Errors
 /// As [`scene`] and [`guard::run_guarded`]; an unwritable output;
 /// [`CliError::ContactsOfReportModel`] for a contacts file of a report model;
-/// [`CliError::Output`] for a contacts file that is the output itself.
+/// [`CliError::Output`] for an output that is the scene file, a contacts file that is the
+/// output itself, or an output that is not a regular file; [`CliError::Locked`] for an output
+/// that another run holds.
 pub fn run_to_csv(
     options: &SimulateOptions,
     out: &Path,
     warn: &mut dyn FnMut(&str),
 ) -> Result<Simulated> {
     let start = Instant::now();
+    let out_file = Output::new(out)?;
+    let contacts_file = options.contacts.as_deref().map(Output::new).transpose()?;
+    let inputs: Vec<&Path> = options.scene.iter().map(PathBuf::as_path).collect();
+    let outputs: Vec<&Output> =
+        [Some(&out_file), contacts_file.as_ref()].into_iter().flatten().collect();
+    output::check_distinct(&inputs, &outputs)?;
+    let _locks =
+        outputs.iter().map(|o| OutputLock::acquire(o)).collect::<Result<Vec<_>, CliError>>()?;
     let scene = scene(options)?;
     let model = scene.build()?;
     let planned = guard::plan_steps(&scene, options.step_limit())?;
     check_record_every(&scene, planned)?;
     // The contacts file's path and its `.partial`, and its log.
-    let (contacts_files, log) = match (&options.contacts, &model) {
+    let (contacts_files, log) = match (&contacts_file, &model) {
         (None, _) => (None, None),
-        (Some(path), _) if path == out => {
-            return Err(CliError::Output {
-                path: path.clone(),
-                reason: "is the record's output too; give the contacts a file of their own".into(),
-            }
-            .into());
-        }
-        (Some(path), AnyModel::Declared(m)) => {
-            let (partial, w) = create_partial(path)?;
+        (Some(file), AnyModel::Declared(m)) => {
+            let (partial, w) = file.create_partial()?;
             let margin = scene.stepper_options().gap_tolerance;
             let log =
                 ContactLog::new(m, m.initial_state(), scene.record_every, scene.dt, margin, w)?;
-            (Some((path.clone(), partial)), Some(log))
+            (Some((file, partial)), Some(log))
         }
         (Some(_), other) => {
             return Err(
@@ -461,17 +436,10 @@ pub fn run_to_csv(
             );
         }
     };
-    let (partial, mut out_w) = create_partial(out)?;
+    let (partial, mut out_w) = out_file.create_partial()?;
     // The problem an earlier run of the same output stopped on is not this run's.
-    if let Err(e) = std::fs::remove_file(failed_problem_path(out))
-        && e.kind() != std::io::ErrorKind::NotFound
-    {
-        return Err(CliError::Output {
-            path: failed_problem_path(out),
-            reason: format!("is left from an earlier run and cannot be removed: {e}"),
-        }
-        .into());
-    }
+    let failed_path = failed_problem_path(out_file.target());
+    output::remove_stale(&failed_path)?;
     let warnings = guard::gap_warnings(&model);
     for w in &warnings {
         warn(w);
@@ -508,18 +476,18 @@ pub fn run_to_csv(
         return Err(e.context(format!("writing {}", partial.display())));
     }
     let run = run.map_err(|e| {
-        failed::with_failed_problem(e, &failed_problem_path(out))
+        failed::with_failed_problem(e, &failed_path)
             .context(format!("the rows so far are in {}", partial.display()))
     })?;
     streamer.drain()?;
     streamer.out.flush()?;
     drop(streamer.out);
     let contact_rows = streamer.contacts.as_ref().map(|log| log.rows);
-    if let (Some(log), Some((path, partial))) = (streamer.contacts.take(), &contacts_files) {
+    if let (Some(log), Some((file, partial))) = (streamer.contacts.take(), &contacts_files) {
         drop(log.finish()?);
-        publish(partial, path)?;
+        file.publish(partial)?;
     }
-    publish(&partial, out)?;
+    out_file.publish(&partial)?;
     Ok(Simulated {
         scene,
         steps: run.summary.steps,

@@ -11,8 +11,7 @@
 //! `i,z,w` for an LCP and `contact,r_n,r_t,u_n,u_t` for a contact problem; a solve that misses
 //! its tolerance is an error, and its last iterate goes to `<out>.partial`.
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
@@ -26,8 +25,7 @@ use moreau_lcp::{
 };
 
 use crate::error::CliError;
-use crate::output::csv_record;
-use crate::simulate::partial_path;
+use crate::output::{self, Output, OutputLock, csv_record};
 
 /// The solvers of an LCP, by name; the first is the default.
 pub const LCP_SOLVERS: [&str; 4] = ["auto", "lemke", "pgs", "enum"];
@@ -214,12 +212,7 @@ pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) ->
 }
 
 /// Writes a solution as CSV (numbers in shortest round-trip form, indices as integers).
-fn write_csv(solved: &Solved, path: &Path) -> Result<()> {
-    let create = File::create(path).map_err(|e| CliError::Output {
-        path: path.to_owned(),
-        reason: format!("cannot be created: {e}"),
-    })?;
-    let mut w = BufWriter::new(create);
+fn write_csv(solved: &Solved, mut w: impl Write) -> Result<()> {
     writeln!(w, "{}", csv_record(&solved.columns)?)?;
     for row in &solved.rows {
         write!(w, "{}", row[0] as usize)?;
@@ -233,12 +226,16 @@ fn write_csv(solved: &Solved, path: &Path) -> Result<()> {
 }
 
 /// Reads the problem in `path` (see [`read`]), solves it (see [`solve`]) and, with `out`,
-/// writes its solution there as CSV.
+/// writes its solution there as CSV: to `<out>.partial`, renamed to `out` when the solve met
+/// its tolerance. `out` must not be the problem file nor an existing file other than a regular
+/// file (a symbolic link is written through to its file), and is locked (`<out>.lock`) while
+/// it is written; see [`output`].
 ///
 /// # Errors
-/// Those of [`read`] and [`solve`]; an unwritable output; [`CliError::NotSolved`] when the
-/// solver misses its tolerance, after writing its last iterate to `<out>.partial` (nothing is
-/// written to `out`).
+/// Those of [`read`] and [`solve`]; an output that is the problem file or not a regular file
+/// ([`CliError::Output`]) or that another run holds ([`CliError::Locked`]); an unwritable
+/// output; [`CliError::NotSolved`] when the solver misses its tolerance, after writing its
+/// last iterate to `<out>.partial` (nothing is written to `out`).
 pub fn run(
     path: &Path,
     kind: Option<&str>,
@@ -246,9 +243,11 @@ pub fn run(
     tolerance: Option<f64>,
     out: Option<&Path>,
 ) -> Result<Solved> {
-    if let Some(out) = out.filter(|out| out.is_dir()) {
-        return Err(CliError::Output { path: out.to_owned(), reason: "is a folder".into() }.into());
+    let out = out.map(Output::new).transpose()?;
+    if let Some(out) = &out {
+        output::check_distinct(&[path], &[out])?;
     }
+    let _lock = out.as_ref().map(OutputLock::acquire).transpose()?;
     let problem = read(path, kind)?;
     let solved = solve(&problem, solver, tolerance)?;
     let Some(out) = out else {
@@ -258,12 +257,13 @@ pub fn run(
             Err(not_solved(&solved, None).into())
         };
     };
+    let (partial, mut w) = out.create_partial()?;
+    write_csv(&solved, &mut w)?;
+    drop(w);
     if solved.status == Status::Solved {
-        write_csv(&solved, out)?;
+        out.publish(&partial)?;
         Ok(solved)
     } else {
-        let partial = partial_path(out);
-        write_csv(&solved, &partial)?;
         Err(not_solved(&solved, Some(partial)).into())
     }
 }

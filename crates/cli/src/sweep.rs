@@ -15,11 +15,10 @@ use crate::failed::{self, failed_problem_path};
 use crate::grid::{Axis, Grid, Progress, Shard};
 use crate::guard::{self, DEFAULT_MAX_STEPS};
 use crate::keys;
+use crate::output::{self, Output, OutputLock, suffixed};
 use crate::parts::{self, PartHeader, fnv64, row_check};
 use crate::runs::{RunResult, RunSpec, run_info};
-use crate::simulate::{
-    apply_sets, base_scene, check_record_every, partial_path, run_scene, suffixed,
-};
+use crate::simulate::{apply_sets, base_scene, check_record_every, run_scene};
 
 /// What to sweep.
 #[derive(Clone, Debug)]
@@ -117,6 +116,9 @@ pub struct SweepSummary {
     pub diverged: u64,
     /// Members whose run failed otherwise.
     pub failed: u64,
+    /// Whether the output held this sweep's finished part already (with `resume`): nothing
+    /// was left to run, and the file was left as it was.
+    pub finished_before: bool,
 }
 
 /// Builds member `i`'s scene and checks its step plan.
@@ -186,19 +188,27 @@ fn member_row(
 
 /// Runs the sweep (or its shard) and writes the CSV part to `out`.
 ///
-/// Before any run: the keys must be distinct (aliases included), every selected member's
-/// scene must build and plan its steps, and `<out>.partial` must be writable. Members then
-/// run in parallel, each row appended to `<out>.partial` and flushed as its member finishes,
-/// so that an interrupted sweep keeps its finished members; with `resume` such a file of the
-/// same sweep is continued without running its members again (a row cut off by the
-/// interruption is run again), and a finished `out` of the same sweep is left as it is. At the
-/// end the rows are written to `out` sorted by member and `<out>.partial` is removed. A member whose run diverges or fails keeps its row, with its
-/// status and error and empty numbers. The members are enumerated lazily, never listed.
+/// Before any run: `out` must not be the scene file nor an existing file other than a regular
+/// file (a symbolic link is written through to its file, see [`output`]), the keys must be
+/// distinct (aliases included), every selected member's scene must build and plan its steps,
+/// no other run may hold `<out>.lock`, and `<out>.partial` must be writable. The run holds
+/// `<out>.lock` until it ends. Members then run in parallel, each row appended to
+/// `<out>.partial` and flushed as its member finishes, so that an interrupted sweep keeps its
+/// finished members; with `resume` such a file of the same sweep is continued without running
+/// its members again (a row cut off by the interruption is run again), and a finished `out`
+/// of the same sweep is left as it is ([`SweepSummary::finished_before`]), while one of
+/// another sweep is refused. A sweep that starts anew removes the
+/// `<out>.member-<i>.failed.dat` files of an earlier one. At the end the rows are written to
+/// `out` sorted by member and `<out>.partial` is removed. A member whose run diverges or fails
+/// keeps its row, with its status and error and empty numbers. The members are enumerated
+/// lazily, never listed.
 ///
 /// # Errors
 /// Unknown model, bad scene, a key given twice, unknown keys or bad values, a member whose
 /// step plan is refused, an unfinished run at `<out>.partial` without `resume` (or of another
-/// sweep), an unwritable output.
+/// sweep), with `resume` a finished `out` of another sweep ([`CliError::MixedParts`]), an
+/// output that is the scene file or not a regular file ([`CliError::Output`]) or that another
+/// run holds ([`CliError::Locked`]), an unwritable output.
 pub fn run(options: &SweepOptions, out: &Path) -> Result<SweepSummary> {
     run_with_warnings(options, out, &mut |w| eprintln!("warning: {w}"))
 }
@@ -213,6 +223,10 @@ pub fn run_with_warnings(
     out: &Path,
     warn: &mut dyn FnMut(&str),
 ) -> Result<SweepSummary> {
+    // The output: not the scene file, not a file other than a regular one.
+    let out_file = Output::new(out)?;
+    let inputs: Vec<&Path> = options.scene.iter().map(PathBuf::as_path).collect();
+    output::check_distinct(&inputs, &[&out_file])?;
     let base = base_scene(options.model.as_deref(), options.scene.as_deref())?;
     let kind = base.kind();
     let max_steps = options.max_steps.unwrap_or(DEFAULT_MAX_STEPS);
@@ -241,19 +255,38 @@ pub fn run_with_warnings(
     let base_model = base.build()?;
     let key_columns = keys::columns_of(&base_model);
     let columns = header(&base_model, grid.axes());
-    if out.is_dir() {
-        return Err(CliError::Output { path: out.to_owned(), reason: "is a folder".into() }.into());
-    }
-    let partial = partial_path(out);
-    if options.resume && !partial.exists() && out.exists() {
-        // A finished part of this sweep needs nothing more.
-        let part = parts::read_part(out, false)?;
-        if part.header == identity
-            && part.columns == columns
-            && part.rows.len() as u64 == shard.count(grid.len())
-        {
-            return Ok(SweepSummary { rows: part.rows.len() as u64, ..SweepSummary::default() });
+    let _lock = OutputLock::acquire(&out_file)?;
+    let target = out_file.target();
+    let partial = out_file.partial();
+    if options.resume && !partial.exists() && target.exists() {
+        // A finished part of this sweep needs nothing more; one of another sweep is kept.
+        let part = parts::read_part(target, false)?;
+        if part.header != identity || part.columns != columns {
+            return Err(CliError::MixedParts {
+                part: out.to_owned(),
+                reason: format!(
+                    "is a finished run of another sweep or shard ({}), not of this one ({}); \
+                     --resume continues this sweep only: give another --out, or leave out \
+                     --resume to run this sweep over it",
+                    part.header.line(),
+                    identity.line()
+                ),
+            }
+            .into());
         }
+        let rows = part.rows.len() as u64;
+        let members = shard.count(grid.len());
+        if rows != members {
+            return Err(CliError::MixedParts {
+                part: out.to_owned(),
+                reason: format!(
+                    "holds {rows} rows where this sweep's shard has {members} members; leave \
+                     out --resume to run the sweep over it"
+                ),
+            }
+            .into());
+        }
+        return Ok(SweepSummary { rows, finished_before: true, ..SweepSummary::default() });
     }
     let mut kept: Vec<Vec<String>> = Vec::new();
     if partial.exists() {
@@ -278,6 +311,9 @@ pub fn run_with_warnings(
             .into());
         }
         kept = part.rows.into_iter().map(|(_, r)| r).collect();
+    } else {
+        // The problems an earlier sweep's members stopped on are not this sweep's.
+        output::remove_stale_member_problems(&out_file)?;
     }
     let done: HashSet<u64> = kept.iter().filter_map(|r| r[0].parse().ok()).collect();
     parts::write_part(&partial, &identity, &columns, &kept)?;
@@ -297,7 +333,7 @@ pub fn run_with_warnings(
             return;
         }
         let row = member_scene(&base, &grid, i, max_steps).map(|scene| {
-            let (mut row, status) = member_row(&scene, &key_columns, &grid, i, max_steps, out);
+            let (mut row, status) = member_row(&scene, &key_columns, &grid, i, max_steps, target);
             row.push(row_check(&row));
             (row, status)
         });
@@ -333,7 +369,7 @@ pub fn run_with_warnings(
         rows.len(),
         shard.count(grid.len())
     );
-    parts::write_part(out, &identity, &columns, &rows)?;
+    parts::write_part(target, &identity, &columns, &rows)?;
     std::fs::remove_file(&partial).with_context(|| format!("removing {}", partial.display()))?;
     let mut summary = counts.into_inner().unwrap_or_else(|p| p.into_inner());
     summary.rows = rows.len() as u64;

@@ -197,3 +197,19 @@ fn an_lcp_without_solution_is_an_error_with_its_certificate() -> Result<()> {
     assert!(!out.exists() && partial.as_ref().is_some_and(|p| p.exists()));
     Ok(())
 }
+
+#[test]
+fn a_solve_that_succeeds_removes_the_last_iterate_of_an_earlier_one() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let file = dir.path().join("p.dat");
+    Lcp::from_rows(&[vec![2.0]], &[-2.0])?.write_siconos(std::fs::File::create(&file)?)?;
+    let out = dir.path().join("ex.csv");
+    let partial = dir.path().join("ex.csv.partial");
+    std::fs::write(&partial, "i,z,w\n0,0.5,-1\n")?;
+    let s = run(&file, None, Some("lemke"), None, Some(&out))?;
+    assert_eq!(s.status, Status::Solved);
+    assert!(!partial.exists(), "the earlier last iterate is left");
+    let (header, rows) = numbers(&out)?;
+    assert_eq!((header.as_str(), rows), ("i,z,w", vec![vec![0.0, 1.0, 0.0]]));
+    Ok(())
+}
