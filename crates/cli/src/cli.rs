@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 
 use crate::grid::{Axis, Shard};
-use crate::{parts, simulate, solve, sweep};
+use crate::{CliError, parts, simulate, solve, sweep};
 
 /// Arguments of `simulate`.
 #[derive(Args, Clone, Debug)]
@@ -176,7 +176,8 @@ impl SweepArgs {
     /// Runs `sweep`.
     ///
     /// # Errors
-    /// As [`sweep::run`].
+    /// As [`sweep::run`], and [`CliError::MembersFailed`] once every row is written when a
+    /// member of the output diverged or failed.
     pub fn run(self) -> Result<()> {
         let axes = self.sets.iter().map(|s| Axis::parse(s)).collect::<Result<Vec<_>>>()?;
         let shard = self.shard.as_deref().map(Shard::parse).transpose()?;
@@ -195,16 +196,25 @@ impl SweepArgs {
                 self.out.display(),
                 s.rows
             );
-            return Ok(());
+        } else {
+            println!(
+                "wrote {} members to {} ({} run now, {} diverged, {} failed)",
+                s.rows,
+                self.out.display(),
+                s.ran,
+                s.diverged,
+                s.failed
+            );
         }
-        println!(
-            "wrote {} members to {} ({} run now, {} diverged, {} failed)",
-            s.rows,
-            self.out.display(),
-            s.ran,
-            s.diverged,
-            s.failed
-        );
+        if s.diverged + s.failed > 0 {
+            return Err(CliError::MembersFailed {
+                out: self.out,
+                rows: s.rows,
+                diverged: s.diverged,
+                failed: s.failed,
+            }
+            .into());
+        }
         Ok(())
     }
 }

@@ -119,6 +119,21 @@ pub enum CliError {
         /// The scene entry both set.
         entry: String,
     },
+    /// A sweep whose every row is written but some of whose members diverged or failed.
+    #[error(
+        "{diverged} members diverged and {failed} failed of the {rows} in {out}; each row's \
+         `status` and `error` say which and why"
+    )]
+    MembersFailed {
+        /// The sweep's output.
+        out: PathBuf,
+        /// Its rows.
+        rows: u64,
+        /// Members the divergence guard stopped.
+        diverged: u64,
+        /// Members whose run failed otherwise.
+        failed: u64,
+    },
     /// An output path that cannot be written, or would overwrite data.
     #[error("output {path}: {reason}")]
     Output {

@@ -112,13 +112,33 @@ pub struct SweepSummary {
     pub rows: u64,
     /// Members run now (the others were finished by an earlier run and kept).
     pub ran: u64,
-    /// Members the divergence guard stopped.
+    /// Members of the output the divergence guard stopped (`status` `diverged`), whether run
+    /// now or kept from an earlier run.
     pub diverged: u64,
-    /// Members whose run failed otherwise.
+    /// Members of the output whose run failed otherwise (`status` `failed`).
     pub failed: u64,
     /// Whether the output held this sweep's finished part already (with `resume`): nothing
     /// was left to run, and the file was left as it was.
     pub finished_before: bool,
+}
+
+impl SweepSummary {
+    /// The summary of the finished rows of a part with `columns`, of which `ran` were run
+    /// now.
+    fn of_rows(columns: &[String], rows: &[Vec<String>], ran: u64) -> Self {
+        let status = columns.iter().position(|c| c == "status");
+        let count = |s: &str| {
+            rows.iter().filter(|r| status.and_then(|k| r.get(k)).is_some_and(|v| v == s)).count()
+                as u64
+        };
+        SweepSummary {
+            rows: rows.len() as u64,
+            ran,
+            diverged: count("diverged"),
+            failed: count("failed"),
+            finished_before: false,
+        }
+    }
 }
 
 /// Builds member `i`'s scene and checks its step plan.
@@ -142,7 +162,7 @@ fn member_row(
     i: u64,
     max_steps: u64,
     out: &Path,
-) -> (Vec<String>, &'static str) {
+) -> Vec<String> {
     let kind = scene.kind();
     let mut row = vec![i.to_string(), grid.len().to_string()];
     row.extend(grid.member(i).into_iter().map(|(_, v)| v));
@@ -156,7 +176,7 @@ fn member_row(
         )),
         _ => run_scene(scene, max_steps),
     };
-    let status = match run {
+    match run {
         Ok(sim) => {
             let spec = RunSpec { name: format!("member {i}"), kind, sets: grid.member(i) };
             let info = run_info(&spec.name, scene, &sim);
@@ -167,7 +187,6 @@ fn member_row(
             row.push(result.sim.inexact_steps.to_string());
             row.push(format!("{:.6}", result.sim.wall_seconds));
             row.extend(["ok".to_owned(), String::new()]);
-            "ok"
         }
         Err(e) => {
             let status = match e.downcast_ref::<CliError>() {
@@ -180,10 +199,9 @@ fn member_row(
             row.extend([String::new(), String::new(), String::new()]);
             row.push(format!("{:.6}", start.elapsed().as_secs_f64()));
             row.extend([status.to_owned(), format!("{e:#}")]);
-            status
         }
-    };
-    (row, status)
+    }
+    row
 }
 
 /// Runs the sweep (or its shard) and writes the CSV part to `out`.
@@ -286,7 +304,11 @@ pub fn run_with_warnings(
             }
             .into());
         }
-        return Ok(SweepSummary { rows, finished_before: true, ..SweepSummary::default() });
+        let rows: Vec<Vec<String>> = part.rows.into_iter().map(|(_, r)| r).collect();
+        return Ok(SweepSummary {
+            finished_before: true,
+            ..SweepSummary::of_rows(&columns, &rows, 0)
+        });
     }
     let mut kept: Vec<Vec<String>> = Vec::new();
     if partial.exists() {
@@ -325,7 +347,7 @@ pub fn run_with_warnings(
     let todo = shard.count(grid.len()) - done.len() as u64;
     faer::set_global_parallelism(faer::Par::Seq);
     let progress = Progress::new(todo as usize, &format!("sweep {kind}"));
-    let counts = Mutex::new(SweepSummary::default());
+    let ran = Mutex::new(0u64);
     let failure: Mutex<Option<anyhow::Error>> = Mutex::new(None);
     (0..shard.count(grid.len())).into_par_iter().for_each(|j| {
         let i = shard.k as u64 - 1 + j * shard.n as u64;
@@ -333,18 +355,15 @@ pub fn run_with_warnings(
             return;
         }
         let row = member_scene(&base, &grid, i, max_steps).map(|scene| {
-            let (mut row, status) = member_row(&scene, &key_columns, &grid, i, max_steps, target);
+            let mut row = member_row(&scene, &key_columns, &grid, i, max_steps, target);
             row.push(row_check(&row));
-            (row, status)
+            row
         });
-        let written = row.and_then(|(row, status)| {
+        let written = row.and_then(|row| {
             let mut w = writer.lock().unwrap_or_else(|e| e.into_inner());
             w.write_record(&row)?;
             w.flush()?;
-            let mut c = counts.lock().unwrap_or_else(|e| e.into_inner());
-            c.ran += 1;
-            c.diverged += u64::from(status == "diverged");
-            c.failed += u64::from(status == "failed");
+            *ran.lock().unwrap_or_else(|e| e.into_inner()) += 1;
             Ok(())
         });
         if let Err(e) = written {
@@ -371,7 +390,5 @@ pub fn run_with_warnings(
     );
     parts::write_part(target, &identity, &columns, &rows)?;
     std::fs::remove_file(&partial).with_context(|| format!("removing {}", partial.display()))?;
-    let mut summary = counts.into_inner().unwrap_or_else(|p| p.into_inner());
-    summary.rows = rows.len() as u64;
-    Ok(summary)
+    Ok(SweepSummary::of_rows(&columns, &rows, ran.into_inner().unwrap_or_else(|p| p.into_inner())))
 }

@@ -3,6 +3,7 @@
 //! one per failed member.
 
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use anyhow::{Context, Result};
 use moreau_cli::failed::failed_problem_path;
@@ -164,5 +165,29 @@ fn a_sweep_writes_the_problem_of_each_failed_member() -> Result<()> {
     let text = std::fs::read_to_string(&out)?;
     let row = text.lines().find(|l| l.starts_with("0,")).context("member 0's row")?;
     assert!(row.contains(&format!("{}", member(0).display())), "{row}");
+    // The command ends in an error once every row is written, and so does a resumed run
+    // that finds the finished part with its failed member.
+    let scene = scene_path("bodies/stack.toml");
+    let args = |out: &Path| {
+        let sets = ["solver=pgs", "solver.max_iterations=1,100000", "solver.tolerance=1e-14"];
+        let mut args = vec!["sweep".to_owned(), "--scene".into(), scene.display().to_string()];
+        args.extend(sets.iter().flat_map(|s| ["--set".to_owned(), (*s).to_owned()]));
+        args.extend(["--out".to_owned(), out.display().to_string()]);
+        args
+    };
+    let fresh = dir.path().join("fresh.csv");
+    for (out, resume) in [(&fresh, false), (&out, true)] {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_moreau"));
+        command.args(args(out));
+        if resume {
+            command.arg("--resume");
+        }
+        let run = command.output()?;
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains("0 members diverged and 1 failed of the 2"), "{stderr}");
+        let rows = std::fs::read_to_string(out)?;
+        assert_eq!(rows.lines().filter(|l| l.starts_with("0,") || l.starts_with("1,")).count(), 2);
+    }
     Ok(())
 }
