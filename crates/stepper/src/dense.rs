@@ -303,13 +303,24 @@ fn first_bad_pivot(m: &[f64], n: usize) -> usize {
 
 /// xᵀ M x / 2 for a column-major M of order n.
 pub(crate) fn half_quadratic(m: &[f64], n: usize, x: &[f64]) -> f64 {
+    half_bilinear(m, n, |i| x[i], |j| x[j])
+}
+
+/// xᵀ M y / 2 for a column-major M of order n, with the entries of x and y given by index.
+#[inline(always)]
+pub(crate) fn half_bilinear(
+    m: &[f64],
+    n: usize,
+    x: impl Fn(usize) -> f64,
+    y: impl Fn(usize) -> f64,
+) -> f64 {
     let mut s = 0.0;
     for j in 0..n {
         let mut c = 0.0;
         for i in 0..n {
-            c += m[i + j * n] * x[i];
+            c += m[i + j * n] * x(i);
         }
-        s += c * x[j];
+        s += c * y(j);
     }
     0.5 * s
 }

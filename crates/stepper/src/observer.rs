@@ -81,11 +81,13 @@ pub struct Record {
     pub kinetic: Vec<f64>,
     /// Potential energy V(q, t) (J); zero when the mechanism defines none.
     pub potential: Vec<f64>,
-    /// Kinetic energy removed by the impulses from the recorder's first row up to this row
-    /// (J): cumulative, 0 at row 0. The energy removed by the steps of row k is
-    /// `cumulative_dissipation[k] − cumulative_dissipation[k − 1]`, and with conservative
-    /// smooth forces kinetic + potential + cumulative dissipation stays at its initial value
-    /// to within the scheme's error.
+    /// Energy removed by the impulses of contacts and joints from the recorder's first row up
+    /// to this row (J), the sum of [`StepReport::impulse_dissipation`]: cumulative, 0 at row 0.
+    /// The energy removed by the steps of row k is
+    /// `cumulative_dissipation[k] − cumulative_dissipation[k − 1]`. Under constant smooth
+    /// forces (gravity) kinetic + potential + cumulative dissipation stays at its initial
+    /// value to round-off (without the projection, which moves q alone), under other
+    /// conservative forces to within the scheme's error.
     pub cumulative_dissipation: Vec<f64>,
     /// Every impact, in the order of the steps (see [`ContactReport::impact`]): the steps in
     /// which a contact closed with a negative normal relative velocity γ_N,A. A closing at a

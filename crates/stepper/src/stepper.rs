@@ -87,6 +87,10 @@ struct Workspace {
     u_free: Vec<f64>,
     /// Scratch vector of length f.
     tmp: Vec<f64>,
+    /// u_A of the last step with an impulse (an LCP solved, or joints).
+    u_start: Vec<f64>,
+    /// ũ before the joints' impulses, for a mechanism with joints.
+    u_unconstrained: Vec<f64>,
     chol: Cholesky,
     /// Whether `chol` holds the factor of a constant M.
     factored: bool,
@@ -328,6 +332,8 @@ impl<M: Mechanism> Stepper<M> {
             h: vec![0.0; f],
             u_free: vec![0.0; f],
             tmp: vec![0.0; f],
+            u_start: vec![0.0; f],
+            u_unconstrained: vec![0.0; f],
             chol: Cholesky::new(f),
             factored: false,
             active: Vec::with_capacity(n),

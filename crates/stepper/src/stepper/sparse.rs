@@ -301,6 +301,9 @@ impl BodyPath {
             times: self.times,
             mass: MassView::Blocks(&self.mass),
             u_free: &self.u_free,
+            // The step's u_E was swapped into the state: this holds u_A.
+            u_start: &self.u_e,
+            bilateral: !self.groups.is_empty(),
         }
     }
 

@@ -33,7 +33,9 @@ impl Core {
             islands: 0,
             times: crate::report::PhaseTimes::default(),
             mass: crate::report::MassView::Dense(&self.ws.mass),
-            u_free: &self.ws.u_free,
+            u_free: if self.ws.joints.n > 0 { &self.ws.u_unconstrained } else { &self.ws.u_free },
+            u_start: &self.ws.u_start,
+            bilateral: self.ws.joints.n > 0,
         }
     }
 
@@ -87,7 +89,8 @@ impl Core {
         ws.chol.solve_scaled_add::<N>(&mut ws.h[..f], dt, &self.u[..f], &mut ws.u_free[..f]);
         if ws.joints.n > 0 {
             // ũ becomes ũ', which satisfies the bilateral constraints; every M⁻¹ w below
-            // becomes M̂⁻¹ w (joints.rs).
+            // becomes M̂⁻¹ w (joints.rs). ũ is kept for the report's work of the impulses.
+            ws.u_unconstrained[..f].copy_from_slice(&ws.u_free[..f]);
             ws.joints.assemble(mech, &ws.q_m[..f], t_m, &ws.chol)?;
             ws.joints.constrain(&mut ws.u_free[..f], true);
             ws.joint_drift = ws.joints.drift();
@@ -131,6 +134,10 @@ impl Core {
         }
         if poison != 0.0 {
             diagnose_non_finite(&ws.h, u_new, &ws.q_e, t_m)?;
+        }
+        if lcp_size > 0 || ws.joints.n > 0 {
+            // u_A, for the report's work of the impulses.
+            ws.u_start[..f].copy_from_slice(&self.u[..f]);
         }
         if N == 0 {
             // q_A and u_A are not needed any more: swap the buffers rather than copy.
