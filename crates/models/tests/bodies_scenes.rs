@@ -279,7 +279,7 @@ fn misspelled_fields_and_long_arrays_are_refused_by_their_path() {
 /// A load on a body that cannot move, and a spring or torsion between a body and itself or
 /// between two bodies that cannot move, are refused by the field at fault.
 #[test]
-fn loads_that_move_nothing_are_refused() {
+fn loads_and_contacts_that_move_nothing_are_refused() {
     let text = pendulum_wall();
     let cases = [
         (
@@ -309,6 +309,19 @@ fn loads_that_move_nothing_are_refused() {
             }
             other => panic!("{force}: {other:?}"),
         }
+    }
+    // A contact between two bodies that cannot move: its impulse would move nothing, and its
+    // step problem would have no solution once they met.
+    let post = "[[bodies]]\nname = \"post\"\ntype = \"fixed\"\nposition = [0.5, 0.0]\n\
+                shapes = [{ type = \"disk\", center = [0.0, 0.0], radius = 0.1 }]\n\
+                [[contacts]]\nname = \"stuck\"\nbody_a = \"wall\"\nbody_b = \"post\"\n\
+                eps_n = 0.0\neps_t = 0.0\nmu = 0.0\n";
+    match Scene::from_toml_str(&format!("{text}\n{post}")).and_then(|s| s.build()) {
+        Err(ModelError::BadValue { key, value, reason }) => {
+            assert_eq!((key.as_str(), value.as_str()), ("contacts.stuck.body_b", "post"));
+            assert!(reason.contains("dynamic"), "{reason}");
+        }
+        other => panic!("{other:?}"),
     }
 }
 

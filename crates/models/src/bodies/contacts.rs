@@ -120,6 +120,15 @@ impl Rules {
                     "a contact needs two bodies".to_owned(),
                 ));
             }
+            if !bodies[a].is_dynamic() && !bodies[b].is_dynamic() {
+                // Its impulse would move nothing, and its step problem would have no solution
+                // once the two bodies meet.
+                return Err(bad(
+                    format!("{path}.body_b"),
+                    &c.body_b,
+                    "a contact needs at least one dynamic body".to_owned(),
+                ));
+            }
             if let Some(m) = c.margin {
                 positive(&format!("{path}.margin"), m)?;
             }
