@@ -306,7 +306,8 @@ pub struct DeclaredKeys {
     pub contacts: Vec<ContactKeys>,
     /// Total energy T + V at the last row (J).
     pub energy_end: f64,
-    /// Kinetic energy removed by the contact impulses over the run (J).
+    /// Energy removed by the impulses of contacts and joints over the run (J): the last row's
+    /// `cumulative_dissipation` of the record.
     pub dissipated: f64,
     /// The coordinates q at the last row, by name.
     pub q_end: Vec<(String, f64)>,
