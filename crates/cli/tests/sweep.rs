@@ -146,3 +146,26 @@ fn simulate_errors_list_what_is_accepted() {
     let e = format!("{:#}", moreau_cli::simulate::run(&bad_solver).unwrap_err());
     assert!(e.contains("lemke") && e.contains("pgs"), "{e}");
 }
+
+#[test]
+fn the_declared_ball_gives_its_first_impact_at_the_report_models_time() -> Result<()> {
+    // Both key numbers are the impact step's midpoint t_M, the report's 0.4285 s (Table 8.2)
+    // at Δt = 1e-3 s: the declared ball is the hand model to the bit.
+    let dir = tempfile::tempdir()?;
+    let scene =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies/ball.toml");
+    let mut times = Vec::new();
+    for (options, column) in [
+        (SweepOptions::new("ball", vec![Axis::parse("t_end=0.5")?]), "first_impact_t"),
+        (SweepOptions::scene(&scene, vec![Axis::parse("t_end=0.5")?]), "floor.first_impact_t"),
+    ] {
+        let out = dir.path().join(format!("{}.csv", times.len()));
+        run(&options, &out)?;
+        let part = moreau_cli::parts::read_part(&out, false)?;
+        let col = part.columns.iter().position(|c| c == column).context("column")?;
+        times.push(part.rows[0].1[col].parse::<f64>()?);
+    }
+    assert_eq!(times[0], times[1]);
+    assert!((times[0] - 0.4285).abs() < 1e-12, "{}", times[0]);
+    Ok(())
+}
