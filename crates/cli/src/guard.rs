@@ -137,7 +137,9 @@ pub fn plan_steps(scene: &Scene, max_steps: u64) -> Result<u64, CliError> {
 }
 
 /// Warnings about the initial gaps: contacts that penetrate or touch within
-/// [`GAP_TOLERANCE`] times the model's length unit ([`Scales`]), named with their gaps.
+/// [`GAP_TOLERANCE`] times the model's length unit ([`Scales`]), named with their gaps and
+/// their index in the contact list (from 0, as `contacts.<index>` keys and the contacts
+/// file's `id` count them).
 pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
     let (q0, _) = model.initial_state();
     let names = model.contact_names();
@@ -155,13 +157,13 @@ pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
             out.push(format!(
                 "contact {} ({name}) starts penetrating: g_N = {g:.6e} (the scheme acts on \
                  velocities and leaves a penetration in place)",
-                i + 1
+                i
             ));
         } else if g.abs() <= tolerance {
             out.push(format!(
                 "contact {} ({name}) starts touching: g_N = {g:.3e} is within ±{tolerance:.3e}\
                  {unit}, so round-off decides whether it is active in the first step",
-                i + 1
+                i
             ));
         }
     }

@@ -252,6 +252,8 @@ fn initial_gaps_near_zero_or_negative_are_warned_about() -> Result<()> {
     }
     let w = warnings("-1")?;
     ensure!(w.len() == 1 && w[0].contains("penetrating") && w[0].contains("-1.1"), "{w:?}");
+    // Contacts are numbered from 0, as the contacts file's `id` and `contacts.<index>` count.
+    ensure!(w[0].starts_with("contact 0 ("), "{w:?}");
     // 1e-6 m above the floor is a gap, not a touch.
     ensure!(warnings("0.100001")?.is_empty());
     let mut seen = Vec::new();

@@ -137,6 +137,12 @@ fn parse_errors_name_the_line() {
     // A size far beyond the input is refused before allocating.
     let err = Lcp::read_plain("100000000000\n1 2 3\n".as_bytes()).unwrap_err();
     assert!(matches!(err, LcpError::Parse { line: 1, .. }));
+    // A contact problem's W of the wrong size is refused on the line of its sizes.
+    let err = moreau_lcp::fc2d::Fc2d::read_siconos("2\n1\n0\n3\n3\n".as_bytes()).unwrap_err();
+    assert!(
+        matches!(&err, LcpError::Parse { line: 5, message } if message.contains("3 x 3")),
+        "{err}"
+    );
     // Siconos header inconsistencies.
     let err = Lcp::read_siconos("2\n0\n2\n2\n2 3\n".as_bytes()).unwrap_err();
     assert!(matches!(err, LcpError::Parse { .. }), "{err}");

@@ -50,7 +50,8 @@ fn numbers(t: &mut Tokens<'_>, n: usize, what: &str, len: usize) -> Result<Vec<f
     (0..n).map(|_| t.number(what)).collect()
 }
 
-/// A size check for [`numerics::read_matrix`]: the matrix must be `rows x cols`.
+/// A size check for [`numerics::read_matrix`]: the matrix must be `rows x cols` (its error's
+/// line is set by the reader).
 fn sized(
     what: &'static str,
     rows: usize,

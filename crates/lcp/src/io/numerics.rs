@@ -54,7 +54,8 @@ impl NumericsMatrix {
 }
 
 /// Reads one `NumericsMatrix` at the tokenizer's position; `check` judges its sizes
-/// (rows, columns) before any entry is read.
+/// (rows, columns) before any entry is read, and its parse error at line 0 is given the
+/// line of the sizes.
 pub(crate) fn read_matrix(
     t: &mut Tokens<'_>,
     text_len: usize,
@@ -66,7 +67,11 @@ pub(crate) fn read_matrix(
     }
     let rows = t.count("the number of rows", 0)?;
     let cols = t.count("the number of columns", 0)?;
-    check(rows, cols)?;
+    // A size refused by `check` is placed on the line that gives it.
+    check(rows, cols).map_err(|e| match e {
+        LcpError::Parse { line: 0, message } => LcpError::Parse { line: t.line, message },
+        other => other,
+    })?;
     let entries = match storage {
         0 => read_dense(t, rows, cols, text_len)?,
         1 => read_sparse_block(t, rows, cols, text_len)?,
