@@ -12,7 +12,8 @@
 //! A body's mass m and inertia I_O are about its origin; with the centre of mass at c in the
 //! body frame and s = R(θ) c, the body's block of M is [[m, 0, −m s_y], [0, m, m s_x],
 //! [−m s_y, m s_x, I_O]] and h gets the centrifugal m θ̇² s. Putting the origin at the centre
-//! of mass (recommended) makes M constant and diagonal, which the stepper factorises once.
+//! of mass makes M constant and diagonal, which the stepper factorises once; putting it at
+//! the anchor of a revolute joint to a fixed body keeps that joint exact (see Joints).
 //!
 //! # Joints
 //! Bilateral rows g_B(q, t) = 0 (solved in the step problem, free in sign): revolute (2 rows),
@@ -20,6 +21,15 @@
 //! Clearance joints are unilateral contacts instead: a revolute joint with radial clearance
 //! (pin in a bearing, one contact) and a translational joint with clearance (a block's four
 //! corners against a guide's two lines).
+//!
+//! The step holds a joint at the velocity level at the midpoint (γ_B,E = 0 with w_B at q_M),
+//! so a joint whose anchors move on a curve drifts by O(Δt²) per step (the projection puts it
+//! back) and its impulses remove energy at first order in Δt, which
+//! `Record::cumulative_dissipation` counts. A rod 1 m long hinged at one end, released at
+//! 1 rad, over 40 s (about 22 swings) with its origin at its centre of mass: 36 % of its swing
+//! energy m g (L/2)(1 − cos 1) at Δt = 1e-3 s, 3.9 % at 1e-4 s. The same rod with its origin
+//! at the hinge (`center_of_mass = [0, −L/2]`, I_O = m L²/3): w_B is then constant and the
+//! joint removes nothing (1e-14 J).
 //!
 //! # Contacts and contact sets
 //! Explicit contacts name a shape of one body against a shape of another; automatic contacts
