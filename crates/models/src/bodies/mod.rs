@@ -27,7 +27,8 @@
 //! back) and its impulses remove energy at first order in Δt, which
 //! `Record::cumulative_dissipation` counts. A rod 1 m long hinged at one end, released at
 //! 1 rad, over 40 s (about 22 swings) with its origin at its centre of mass: 36 % of its swing
-//! energy m g (L/2)(1 − cos 1) at Δt = 1e-3 s, 3.9 % at 1e-4 s. The same rod with its origin
+//! energy m g (L/2)(1 − cos 1) at Δt = 1e-3 s, 3.9 % at 1e-4 s (the projection, moving q
+//! alone, gives part of it back as potential energy). The same rod with its origin
 //! at the hinge (`center_of_mass = [0, −L/2]`, I_O = m L²/3): w_B is then constant and the
 //! joint removes nothing (1e-14 J).
 //!
