@@ -1,5 +1,6 @@
 //! A mechanism declared in Rust with the builder: a box on a table shaken sideways, tied to a
-//! post by a spring-damper, with a crank driven by a motor sweeping a ball along the table.
+//! post by a spring-damper, with a crank driven by a motor sweeping a ball along the table
+//! against a stop.
 //! Prints the box's and the ball's positions and the contacts closed at a few instants.
 //!
 //! Run with `cargo run -p moreau-models --example declared`.
@@ -9,7 +10,7 @@ use moreau_models::LawParams;
 use moreau_models::bodies::{
     AutoContacts, BodySpec, ForceSpec, JointSpec, Motion, MultibodyBuilder,
 };
-use moreau_stepper::{Stepper, StepperOptions};
+use moreau_stepper::Stepper;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut builder = MultibodyBuilder::new([0.0, -9.81]);
@@ -28,6 +29,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .with_shape(Shape::Polygon {
             vertices: vec![[-1.0, -0.05], [1.0, -0.05], [1.0, 0.05], [-1.0, 0.05]],
         }),
+    );
+    // A stop at the table's right end (solid for x > 0.9 m), where the swept ball strikes.
+    builder.add_body(
+        BodySpec::fixed("stop", [0.9, 0.0], 0.0)
+            .with_shape(Shape::HalfPlane { point: [0.0, 0.0], normal: [-1.0, 0.0] }),
     );
     // A 0.2 m steel-like box (ρ = 50 kg/m² in the plane) resting on it.
     let half = 0.1;
@@ -71,8 +77,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("contacts: {}", mechanism.contact_names().join(", "));
 
     let (q0, u0) = mechanism.initial_state();
-    let mut options = StepperOptions::new(1e-3);
-    options.projection = true;
+    // As a scene file steps it: the projection on, with tolerances relative to its size.
+    let options = mechanism.stepper_options(1e-3);
     let mut stepper = Stepper::new(mechanism, &q0, &u0, 0.0, options)?;
     for k in 1..=2000 {
         let report = stepper.step()?;

@@ -328,10 +328,13 @@ impl Scene {
             .with_inexact_residual(self.inexact_residual);
         match &self.params {
             ModelParams::Declared(spec) if self.projection => match spec.build() {
-                Ok(m) => options
-                    .with_projection_tolerance(m.projection_tolerance())
-                    .with_gap_tolerance(m.gap_tolerance())
-                    .with_joint_tolerance(m.joint_tolerance()),
+                Ok(m) => {
+                    let declared = m.stepper_options(self.dt);
+                    options
+                        .with_projection_tolerance(declared.projection_tolerance)
+                        .with_gap_tolerance(declared.gap_tolerance)
+                        .with_joint_tolerance(declared.joint_tolerance)
+                }
                 // The build's error surfaces where the scene is built.
                 Err(_) => options,
             },

@@ -208,3 +208,32 @@ fn touching_disks_struck_at_one_end_follow_newtons_law_at_every_contact_at_once(
     let expected = [-1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0];
     assert!(v.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-12), "{v:?}");
 }
+
+#[test]
+fn five_touching_disks_laid_out_in_decimals_leave_as_a_block_with_the_scene_options() {
+    // Disks of radius 0.1 m at x = 0.2 k: the gaps round to ±5.6e-17 m. With the options a
+    // scene file gets (`Multibody::stepper_options`, gap tolerance 1e-9 of the size) all four
+    // contacts act at once, and with ε_N = 1 the struck row leaves as a block at
+    // V = (1 + ε) v / N = 0.4 m/s, the striker at V − ε v = −0.6 m/s (docs/extremes.md).
+    let (n, r) = (5, 0.1);
+    let mut b = MultibodyBuilder::new([0.0, 0.0]);
+    for k in 0..n {
+        let disk =
+            BodySpec::dynamic(&format!("d{k}"), 1.0, 0.5 * r * r, [0.2 * k as f64, 0.0], 0.0)
+                .with_shape(Shape::Disk { center: [0.0, 0.0], radius: r });
+        b.add_body(if k == 0 { disk.with_velocity([1.0, 0.0], 0.0) } else { disk });
+    }
+    for k in 1..n {
+        b.add_contact(law(&format!("c{k}"), &format!("d{}", k - 1), &format!("d{k}"), 1.0, 0.0));
+    }
+    let mb = b.build().unwrap();
+    let (q0, u0) = mb.initial_state();
+    let options = mb.stepper_options(1e-4);
+    let mut stepper = Stepper::new(mb, &q0, &u0, 0.0, options).unwrap();
+    while stepper.t() < 0.01 {
+        stepper.step().unwrap();
+    }
+    let v: Vec<f64> = (0..n).map(|k| stepper.u()[3 * k]).collect();
+    let expected = [-0.6, 0.4, 0.4, 0.4, 0.4];
+    assert!(v.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-12), "{v:?}");
+}

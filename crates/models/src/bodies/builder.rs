@@ -32,7 +32,7 @@ pub struct ContactHandle(pub usize);
 ///
 /// ```
 /// use moreau_models::bodies::{BodySpec, JointSpec, MultibodyBuilder};
-/// use moreau_stepper::{Mechanism, Stepper, StepperOptions};
+/// use moreau_stepper::{Mechanism, Stepper};
 ///
 /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// // A 1 kg point-like bob on a 0.5 m massless rod, hinged to the ground at the origin.
@@ -43,8 +43,10 @@ pub struct ContactHandle(pub usize);
 /// assert_eq!(pendulum.coordinate_names(), ["bob.x", "bob.y", "bob.theta"]);
 /// assert_eq!(pendulum.num_bilaterals(), 2);
 /// let (q0, u0) = pendulum.initial_state();
-/// // The projection keeps the positions on the joint despite the midpoint rule's drift.
-/// let options = StepperOptions::new(1e-3).with_projection(true);
+/// // As a scene file steps it: the projection keeps the positions on the joint despite the
+/// // midpoint rule's drift, with tolerances relative to the mechanism's size.
+/// let options = pendulum.stepper_options(1e-3);
+/// assert!(options.projection);
 /// let mut stepper = Stepper::new(pendulum, &q0, &u0, 0.0, options)?;
 /// while stepper.t() < 0.1 {
 ///     stepper.step()?;

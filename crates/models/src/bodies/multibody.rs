@@ -4,7 +4,7 @@ use std::cell::Cell;
 
 use moreau_kinematics::{ContactKinematics, ContactPoint};
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::{BilateralPoint, BodyStructure, Mechanism, SharedWork};
+use moreau_stepper::{BilateralPoint, BodyStructure, Mechanism, SharedWork, StepperOptions};
 use rayon::prelude::*;
 
 use super::body::{Body, Frame, Kind};
@@ -127,6 +127,21 @@ impl Multibody {
     /// the unit's size.
     pub fn joint_tolerance(&self) -> f64 {
         1e-12 * self.size()
+    }
+
+    /// The stepper's options at time step `dt` with which a scene file steps this mechanism:
+    /// the projection on, with this mechanism's [projection](Self::projection_tolerance),
+    /// [gap](Self::gap_tolerance) and [joint](Self::joint_tolerance) tolerances, and the
+    /// default solver. A mechanism built in Rust gets from it what a scene file gets:
+    /// `StepperOptions::new(dt).with_projection(true)` alone would count contacts closed only
+    /// at g_N <= 0, so that round-off in the initial gaps of touching bodies (a row of equal
+    /// disks, Newton's cradle) or in the projection's result decides which contacts act.
+    pub fn stepper_options(&self, dt: f64) -> StepperOptions {
+        StepperOptions::new(dt)
+            .with_projection(true)
+            .with_projection_tolerance(self.projection_tolerance())
+            .with_gap_tolerance(self.gap_tolerance())
+            .with_joint_tolerance(self.joint_tolerance())
     }
 
     /// The declaration it was built from.
