@@ -199,6 +199,16 @@ fn a_dynamic_body_without_its_mass_properties_names_the_field_it_lacks() {
             "{reason}"
         );
     }
+    // A point mass (inertia 0) is told what to give instead.
+    match Scene::from_toml_str(&text.replace("inertia = 0.00125", "inertia = 0.0"))
+        .and_then(|s| s.build())
+    {
+        Err(ModelError::InvalidParameter { field, reason, .. }) => {
+            assert_eq!(field, "bodies.bob.inertia");
+            assert!(reason.contains("m r² / 2"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]

@@ -99,6 +99,16 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
             let (mass, inertia, com) = match (spec.mass, spec.inertia, spec.density) {
                 (Some(m), Some(i), None) => {
                     positive(&field("mass"), m)?;
+                    if i == 0.0 {
+                        // A point mass has no rotation to speak of, but its θ is a coordinate
+                        // all the same, and M must be positive definite.
+                        return Err(relation(
+                            &field("inertia"),
+                            i,
+                            "a body's θ is one of its coordinates, so M needs an inertia > 0: \
+                             give a point mass that of a small disk (m r² / 2)",
+                        ));
+                    }
                     positive(&field("inertia"), i)?;
                     let com = spec.center_of_mass.unwrap_or([0.0; 2]);
                     finite2(&field("center_of_mass"), com)?;
