@@ -226,6 +226,13 @@ fn finite(
 /// The steps are those of [`FdOptions`]; [`Mismatch`] defines the measures compared. The
 /// returned report holds the worst comparison of each contact; decide with [`FdReport::passed`].
 ///
+/// It is for kinematics whose gaps are functions of (q, t) written out, as a hand-derived
+/// mechanism's are, with g_T a tangential coordinate. Contacts found between shapes
+/// ([`collide`](crate::collide), a declared mechanism's) give g_T = 0 in their own frame and,
+/// beyond their margin, a gap that does not follow q, so their w_T and distant w_N do not
+/// match differences of those values; their directions are tested against the shapes'
+/// geometry instead.
+///
 /// # Errors
 /// [`KinematicsError::NoSamples`] for an empty `samples`, [`KinematicsError::DimensionMismatch`]
 /// for a `q` whose length is not `num_coordinates()`, [`KinematicsError::NonFinite`] for a
