@@ -530,7 +530,9 @@ impl<M: Mechanism> Stepper<M> {
     /// Runs until t_end and records every step (row 0 is the current state).
     ///
     /// # Errors
-    /// Every error of [`Self::run_until`].
+    /// Every error of [`Self::run_until`]; the rows recorded before it are dropped with the
+    /// record. To keep them, run a [`Recorder`] of your own with [`Self::run_until`]: its
+    /// `record` holds every step up to the failed one.
     pub fn record_until(&mut self, t_end: f64) -> Result<Record, StepError> {
         let mut recorder = Recorder::new();
         recorder.push_initial(&self.mechanism, self.core.t, &self.core.q, &self.core.u);
