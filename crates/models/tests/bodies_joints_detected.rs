@@ -264,3 +264,78 @@ fn the_work_of_the_joints_and_contacts_closes_the_energy_balance() {
     // The joint's loss, the same on both paths: 1.37 mJ of about 1.2 J over 2 s.
     assert!(lost[0] > 1e-5 && (lost[0] - lost[1]).abs() < 1e-9 * lost[0], "{lost:?}");
 }
+
+#[test]
+fn a_hinge_pulls_on_a_swinging_bob_with_three_times_its_weight_at_the_bottom() {
+    // A 1 kg bob (inertia 1e-6 kg m²) on a 0.5 m massless rod hinged at the origin, released
+    // from the horizontal: at the bottom v² = 2 g L and the rod's tension is m g + m v² / L =
+    // 3 m g. The hinge's two rows are the bob's position minus the pivot's, so their impulses
+    // are the force on the bob over the step; both paths give the same.
+    use moreau_models::bodies::{BodySpec, JointSpec, MultibodyBuilder};
+    let (m, g, dt) = (1.0, 9.81, 1e-4);
+    let mut largest = Vec::new();
+    for set in [ContactSet::Fixed, ContactSet::Detected] {
+        let mut b = MultibodyBuilder::new([0.0, -g]);
+        b.add_body(BodySpec::dynamic("bob", m, 1e-6, [0.5, 0.0], 0.0));
+        b.add_joint(JointSpec::revolute("hinge", "ground", [0.0, 0.0], "bob", [-0.5, 0.0]));
+        let pendulum = b.with_contact_set(set).build().unwrap();
+        assert_eq!(pendulum.bilateral_names(), ["hinge.Lx", "hinge.Ly"]);
+        let (q0, u0) = pendulum.initial_state();
+        let options = pendulum.stepper_options(dt);
+        let mut stepper = Stepper::new(pendulum, &q0, &u0, 0.0, options).unwrap();
+        let (mut most, mut at_lowest, mut lowest) = (0.0f64, 0.0, 0.0f64);
+        while stepper.t() < 0.6 {
+            let r = stepper.step().unwrap();
+            assert_eq!(r.joint_impulses.len(), 2);
+            let force = [r.joint_impulses[0] / dt, r.joint_impulses[1] / dt];
+            most = most.max(force[0].hypot(force[1]));
+            if r.q[1] < lowest {
+                (lowest, at_lowest) = (r.q[1], force[1]);
+            }
+        }
+        // At the bottom the force points up, 3 m g to the scheme's O(Δt).
+        assert!((lowest + 0.5).abs() < 1e-6, "{lowest}");
+        assert!((at_lowest - 3.0 * m * g).abs() < 1e-3 * 3.0 * m * g, "{at_lowest}");
+        assert!((most - 3.0 * m * g).abs() < 1e-3 * 3.0 * m * g, "{most}");
+        largest.push(most);
+    }
+    assert!((largest[0] - largest[1]).abs() < 1e-9 * largest[0], "{largest:?}");
+}
+
+#[test]
+fn a_motor_turning_a_rod_at_constant_speed_applies_the_torque_gravity_asks() {
+    // A 1 kg rod 1 m long hinged at its end (its origin, the centre of mass 0.5 m below it at
+    // θ = 0), turned by a motor at Ω = 2 rad/s from θ = 0: with θ̈ = 0 the motor's torque is
+    // m g d sin Ω t, d = 0.5 m. Its impulse is the motor's row, on the rod.
+    use moreau_models::bodies::{BodySpec, JointSpec, MultibodyBuilder};
+    let (m, g, d, omega, dt) = (1.0, 9.81, 0.5, 2.0, 1e-4);
+    for set in [ContactSet::Fixed, ContactSet::Detected] {
+        let mut b = MultibodyBuilder::new([0.0, -g]);
+        let mut rod = BodySpec::dynamic("rod", m, m / 3.0, [0.0, 0.0], 0.0)
+            .with_velocity([0.0, 0.0], omega);
+        rod.center_of_mass = Some([0.0, -d]);
+        b.add_body(rod);
+        b.add_joint(JointSpec::revolute("hinge", "ground", [0.0, 0.0], "rod", [0.0, 0.0]));
+        b.add_joint(JointSpec::Motor {
+            name: "drive".into(),
+            body_a: "ground".into(),
+            body_b: "rod".into(),
+            omega,
+            angle: None,
+        });
+        let mechanism = b.with_contact_set(set).build().unwrap();
+        assert_eq!(mechanism.bilateral_names(), ["hinge.Lx", "hinge.Ly", "drive.Ltheta"]);
+        let (q0, u0) = mechanism.initial_state();
+        let options = mechanism.stepper_options(dt);
+        let mut stepper = Stepper::new(mechanism, &q0, &u0, 0.0, options).unwrap();
+        let mut worst = 0.0f64;
+        while stepper.t() < 3.0 {
+            let r = stepper.step().unwrap();
+            // The step's mean torque, against the closed form at its midpoint.
+            let torque = r.joint_impulses[2] / dt;
+            let expected = m * g * d * (omega * (r.t - 0.5 * dt)).sin();
+            worst = worst.max((torque - expected).abs());
+        }
+        assert!(worst < 1e-6 * m * g * d, "{set:?}: {worst}");
+    }
+}

@@ -121,6 +121,11 @@ pub struct StepReport<'a> {
     /// The largest |g_B| of the bilateral constraints at the step's midpoint q_M (m or rad):
     /// how far the positions have drifted off the joints; 0 without joints.
     pub joint_drift: f64,
+    /// The joints' impulses Λ_B of the step, one per bilateral constraint in the order of
+    /// [`crate::Mechanism::bilaterals`] (N s for a constraint on a distance, N m s on an
+    /// angle; Λ_B / Δt is the mean reaction over the step), on the bodies as W_B Λ_B: the
+    /// reactions of the joints. Empty without joints.
+    pub joint_impulses: &'a [f64],
     /// The number of islands the step's problem split into, for a mechanism with a
     /// [`crate::BodyStructure`]: the connected components of the bodies linked by the step's
     /// contacts and joints (0 on the path of fixed contacts).

@@ -91,6 +91,8 @@ struct Workspace {
     u_start: Vec<f64>,
     /// ũ before the joints' impulses, for a mechanism with joints.
     u_unconstrained: Vec<f64>,
+    /// The joints' impulses Λ_B of the last step, one per bilateral constraint.
+    joint_impulses: Vec<f64>,
     chol: Cholesky,
     /// Whether `chol` holds the factor of a constant M.
     factored: bool,
@@ -334,6 +336,7 @@ impl<M: Mechanism> Stepper<M> {
             tmp: vec![0.0; f],
             u_start: vec![0.0; f],
             u_unconstrained: vec![0.0; f],
+            joint_impulses: vec![0.0; if body.is_some() { 0 } else { mechanism.num_bilaterals() }],
             chol: Cholesky::new(f),
             factored: false,
             active: Vec::with_capacity(n),

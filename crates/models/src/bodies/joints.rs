@@ -176,6 +176,18 @@ impl JointKind {
         }
     }
 
+    /// The name of row `k`'s impulse: `Lx`, `Ly` for the world components of a point
+    /// constraint (revolute, weld), `Ltheta` for an angle (weld, prismatic, motor), `Ln` for
+    /// a distance across a line (prismatic, point on line).
+    pub fn row_name(&self, k: usize) -> &'static str {
+        match (self, k) {
+            (JointKind::Revolute { .. } | JointKind::Weld { .. }, 0) => "Lx",
+            (JointKind::Revolute { .. } | JointKind::Weld { .. }, 1) => "Ly",
+            (JointKind::Prismatic { .. }, 1) | (JointKind::PointOnLine { .. }, _) => "Ln",
+            _ => "Ltheta",
+        }
+    }
+
     /// The number of unilateral contacts.
     pub fn num_contacts(&self) -> usize {
         match self {

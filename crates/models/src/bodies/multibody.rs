@@ -164,6 +164,24 @@ impl Multibody {
         self.contact_names.clone()
     }
 
+    /// Names of the joints' impulses Λ_B, one per bilateral constraint in the order of
+    /// `Mechanism::bilaterals` (and of `StepReport::joint_impulses`): `<joint>.Lx`,
+    /// `<joint>.Ly` for a revolute joint or a weld (the world components of the impulse on
+    /// body b at its anchor, N s; body a takes the opposite), `<joint>.Ltheta` for an angle (a
+    /// weld's, a prismatic joint's, a motor's: the torque impulse on body b, N m s),
+    /// `<joint>.Ln` for a distance across a line (a prismatic joint's or a point on a line's:
+    /// the impulse along the line's normal on the body of the point, N s; the line's body
+    /// takes the opposite). Divided by Δt, each is the mean reaction over the step.
+    pub fn bilateral_names(&self) -> Vec<String> {
+        self.rows
+            .iter()
+            .map(|&(joint, k)| {
+                let j = &self.joints[joint];
+                format!("{}.{}", j.name, j.kind.row_name(k))
+            })
+            .collect()
+    }
+
     /// The initial state (q₀, u₀), with q₀ assembled onto the joints.
     pub fn initial_state(&self) -> (Vec<f64>, Vec<f64>) {
         (self.q0.clone(), self.u0.clone())

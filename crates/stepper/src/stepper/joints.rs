@@ -178,6 +178,20 @@ impl Joints {
         }
     }
 
+    /// The joints' impulses Λ_B of the step into `out` (length n_B), from ũ before the
+    /// joints (`u_free`) and the contacts' impulses W_c P (`contact_impulses`, length f):
+    /// M (u_E − ũ) = W_c P + W_B Λ_B and W_Bᵀ u_E + ŵ_B = 0 give
+    /// S Λ_B = −(W_Bᵀ ũ + ŵ_B) − (M⁻¹ W_B)ᵀ W_c P, with the midpoint's W_B, M⁻¹ W_B and S.
+    pub(super) fn impulses(&mut self, u_free: &[f64], contact_impulses: &[f64], out: &mut [f64]) {
+        let (f, n) = (self.f, self.n);
+        for (i, o) in out.iter_mut().enumerate().take(n) {
+            *o = -(dot(&self.w[i * f..][..f], u_free)
+                + self.w_hat[i]
+                + dot(&self.x[i * f..][..f], contact_impulses));
+        }
+        self.s_chol.solve(&mut out[..n]);
+    }
+
     /// Moves q back onto g_B(q, t) = 0 along M⁻¹ W_B (the correction of least kinetic
     /// metric) while keeping the gaps of the contacts in `held` (their w_N, one column of
     /// length f each): q ← q − M⁻¹ V K⁻¹ r with V = [W_B W_H], K = Vᵀ M⁻¹ V and

@@ -52,6 +52,8 @@ pub(super) struct BodyPath {
     /// The bilateral rows at the midpoint (then at q_E), and their groups.
     rows: Vec<BodyBilateral>,
     groups: Vec<JointGroup>,
+    /// The joints' impulses Λ_B of the last step, in the mechanism's row order.
+    joint_impulses: Vec<f64>,
     /// The groups at q_E during the projection, of which only g_B is used.
     end_groups: Vec<JointGroup>,
     /// Whether each body has a joint row.
@@ -261,6 +263,7 @@ impl BodyPath {
             detected: Vec::new(),
             rows: vec![BodyBilateral::default(); n_bilaterals],
             groups: Vec::with_capacity(n_bilaterals),
+            joint_impulses: Vec::with_capacity(n_bilaterals),
             end_groups: Vec::with_capacity(n_bilaterals),
             jointed: vec![false; nb],
             work: Vec::new(),
@@ -304,6 +307,7 @@ impl BodyPath {
             // The step's u_E was swapped into the state: this holds u_A.
             u_start: &self.u_e,
             bilateral: !self.groups.is_empty(),
+            joint_impulses: &self.joint_impulses,
         }
     }
 
@@ -537,6 +541,11 @@ impl Core {
         b.prev.extend(b.ids.iter().zip(&b.islands.r).map(|(&id, &r)| (id, r)));
         b.joint_prev.clear();
         b.joint_prev.extend_from_slice(&b.islands.r_joints);
+        // The groups hold consecutive rows: their impulses in row order are the mechanism's.
+        b.joint_impulses.clear();
+        for (group, r) in b.groups.iter().zip(&b.islands.r_joints) {
+            b.joint_impulses.extend_from_slice(&r[..group.rows]);
+        }
         std::mem::swap(&mut self.u, &mut b.u_e);
         std::mem::swap(&mut self.q, &mut b.q_e);
         let solved = Instant::now();

@@ -36,6 +36,7 @@ impl Core {
             u_free: if self.ws.joints.n > 0 { &self.ws.u_unconstrained } else { &self.ws.u_free },
             u_start: &self.ws.u_start,
             bilateral: self.ws.joints.n > 0,
+            joint_impulses: &self.ws.joint_impulses,
         }
     }
 
@@ -152,6 +153,9 @@ impl Core {
         if contacts {
             self.report_contacts::<K, N>(mech);
         }
+        if self.ws.joints.n > 0 {
+            self.joint_impulses(f);
+        }
 
         if self.options.projection {
             let t_e = self.t0 + step_count_as_f64(self.step + 1) * dt;
@@ -196,6 +200,23 @@ impl Core {
             }
         }
         Ok(())
+    }
+
+    /// The joints' impulses Λ_B of the step just taken, from ũ before the joints and the
+    /// active contacts' impulses at q_M (see `Joints::impulses`).
+    #[inline(never)]
+    fn joint_impulses(&mut self, f: usize) {
+        let ws = &mut self.ws;
+        let wcp = &mut ws.tmp[..f];
+        wcp.fill(0.0);
+        for (a, &i) in ws.active.iter().enumerate() {
+            let (p_n, p_t) = (self.contacts[i].p_n, self.contacts[i].p_t);
+            let (w_n, w_t) = (&ws.w_n[a * f..][..f], &ws.w_t[a * f..][..f]);
+            for ((x, n), t) in wcp.iter_mut().zip(w_n).zip(w_t) {
+                *x += n * p_n + t * p_t;
+            }
+        }
+        ws.joints.impulses(&ws.u_unconstrained[..f], &ws.tmp[..f], &mut ws.joint_impulses);
     }
 
     /// The contact reports of a step from its end velocities; forgets the impulses of the
