@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use moreau_models::{AnyModel, ModelKind, Scene, Simulation};
-use moreau_stepper::{Observer, Record, Recorder, StepReport};
+use moreau_stepper::{Mechanism, Observer, Record, Recorder, StepReport};
 
 use crate::contacts::ContactLog;
 use crate::error::CliError;
@@ -248,7 +248,10 @@ pub fn run(options: &SimulateOptions) -> Result<RunResult> {
 /// declared mechanism's columns are named after its bodies and contacts: `<body>.x`,
 /// `<body>.y`, `<body>.theta` for each dynamic body in declaration order, then `<body>.vx`,
 /// `<body>.vy`, `<body>.omega`, then `<contact>.PN, <contact>.PT` for each contact and
-/// `<contact>.active` for each contact, in the order of the contact list.
+/// `<contact>.active` for each contact, in the order of the contact list. Last come the
+/// joints' impulses Λ_B summed over the row's steps, one per bilateral constraint: named
+/// after the joints for a declared mechanism (`<joint>.Lx`, `<joint>.Ly`, `<joint>.Ltheta`,
+/// `<joint>.Ln`, see `Multibody::bilateral_names`), `L1, L2, ...` otherwise.
 pub fn header(model: &AnyModel) -> Vec<String> {
     let mut h = vec!["t".to_owned()];
     h.extend(model.coordinate_names().iter().map(str::to_owned));
@@ -268,6 +271,11 @@ pub fn header(model: &AnyModel) -> Vec<String> {
         }
         h.extend((1..=n).map(|i| format!("A{i}")));
     }
+    // The joints' impulses, summed over the row's steps like the contacts'.
+    match model {
+        AnyModel::Declared(m) => h.extend(m.bilateral_names()),
+        _ => h.extend((1..=model.num_bilaterals()).map(|i| format!("L{i}"))),
+    }
     h
 }
 
@@ -285,6 +293,9 @@ fn write_rows(w: &mut impl Write, r: &Record, rows: std::ops::Range<usize>) -> R
         }
         for &a in r.active.get(k).unwrap_or(&[]) {
             write!(w, ",{}", u8::from(a))?;
+        }
+        for x in r.joint_impulses.get(k).unwrap_or(&[]) {
+            write!(w, ",{x}")?;
         }
         writeln!(w)?;
     }

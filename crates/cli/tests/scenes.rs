@@ -63,7 +63,9 @@ fn simulate_runs_a_declared_scene_with_columns_named_after_bodies_and_contacts()
             "bob.omega",
             "hit.PN",
             "hit.PT",
-            "hit.active"
+            "hit.active",
+            "hinge.Lx",
+            "hinge.Ly"
         ]
     );
     let rows: Vec<Vec<f64>> = r
@@ -79,6 +81,13 @@ fn simulate_runs_a_declared_scene_with_columns_named_after_bodies_and_contacts()
     ensure!(closest <= WALL + 1e-6, "the bob crossed the wall: x + r = {closest}");
     ensure!(closest >= WALL - 1e-3, "the bob never reached the wall: x + r <= {closest}");
     ensure!(rows.iter().any(|row| row[p_n] > 0.0), "no impulse at the wall");
+    // The wall pushes along x only (μ = 0): the bob's vertical momentum changes by gravity's
+    // impulse and the hinge's over each row's 10 steps of 1e-4 s.
+    let (vy, l_y) = (column(&h, "bob.vy")?, column(&h, "hinge.Ly")?);
+    for k in 1..rows.len() {
+        let change = rows[k][vy] - rows[k - 1][vy];
+        ensure!((change - (-9.81 * 1e-3 + rows[k][l_y])).abs() < 1e-12, "row {k}");
+    }
     // The rod keeps its length 1 m within the projection's tolerance.
     let y = column(&h, "bob.y")?;
     for row in &rows {

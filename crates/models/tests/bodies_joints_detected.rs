@@ -311,8 +311,8 @@ fn a_motor_turning_a_rod_at_constant_speed_applies_the_torque_gravity_asks() {
     let (m, g, d, omega, dt) = (1.0, 9.81, 0.5, 2.0, 1e-4);
     for set in [ContactSet::Fixed, ContactSet::Detected] {
         let mut b = MultibodyBuilder::new([0.0, -g]);
-        let mut rod = BodySpec::dynamic("rod", m, m / 3.0, [0.0, 0.0], 0.0)
-            .with_velocity([0.0, 0.0], omega);
+        let mut rod =
+            BodySpec::dynamic("rod", m, m / 3.0, [0.0, 0.0], 0.0).with_velocity([0.0, 0.0], omega);
         rod.center_of_mass = Some([0.0, -d]);
         b.add_body(rod);
         b.add_joint(JointSpec::revolute("hinge", "ground", [0.0, 0.0], "rod", [0.0, 0.0]));

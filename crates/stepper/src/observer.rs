@@ -73,6 +73,11 @@ pub struct Record {
     pub active: Rows<bool>,
     /// Open, sticking or slipping, per contact, at the end of the row's last step.
     pub state: Rows<ContactState>,
+    /// The joints' impulses Λ_B per bilateral constraint, in the order of
+    /// [`crate::Mechanism::bilaterals`] ([`StepReport::joint_impulses`]), summed over the
+    /// row's steps (zero in row 0); no entries without joints.
+    #[serde(default)]
+    pub joint_impulses: Rows<f64>,
     /// Size of the row's last LCP (0 when no contact was closed).
     pub lcp_size: Vec<usize>,
     /// Iterations or pivots of the row's last LCP solve.
@@ -99,9 +104,9 @@ pub struct Record {
 }
 
 impl Record {
-    /// Empties the record's rows and makes its tables `f` (q, u) and `n` (the contacts)
-    /// wide; impacts already listed (by the step that writes the first row) are kept.
-    fn set_widths(&mut self, f: usize, n: usize) {
+    /// Empties the record's rows and makes its tables `f` (q, u), `n` (the contacts) and
+    /// `n_b` (the joints' rows) wide; impacts already listed (by the step that writes the first row) are kept.
+    fn set_widths(&mut self, f: usize, n: usize, n_b: usize) {
         *self = Self {
             impacts: std::mem::take(&mut self.impacts),
             q: Rows::new(f),
@@ -110,6 +115,7 @@ impl Record {
             p_t: Rows::new(n),
             active: Rows::new(n),
             state: Rows::new(n),
+            joint_impulses: Rows::new(n_b),
             ..Self::default()
         };
     }
@@ -125,7 +131,8 @@ impl Record {
         }
         self.lcp_size.reserve(additional);
         self.iterations.reserve(additional);
-        for v in [&mut self.q, &mut self.u, &mut self.p_n, &mut self.p_t] {
+        for v in [&mut self.q, &mut self.u, &mut self.p_n, &mut self.p_t, &mut self.joint_impulses]
+        {
             v.reserve(additional);
         }
         self.active.reserve(additional);
@@ -172,6 +179,8 @@ pub struct Recorder {
     sum_p_n: Vec<f64>,
     sum_p_t: Vec<f64>,
     any_active: Vec<bool>,
+    /// The joints' impulses summed since the last row.
+    sum_joints: Vec<f64>,
     /// The contacts' states of the row being written.
     states: Vec<ContactState>,
     /// Energy removed by the impulses since the first row (J).
@@ -202,6 +211,7 @@ impl Recorder {
             sum_p_n: Vec::new(),
             sum_p_t: Vec::new(),
             any_active: Vec::new(),
+            sum_joints: Vec::new(),
             states: Vec::new(),
             sum_dissipated: 0.0,
         }
@@ -217,6 +227,8 @@ impl Recorder {
     ) {
         let n = if mechanism.body_structure().is_some() { 0 } else { mechanism.num_contacts() };
         self.resize(n);
+        self.sum_joints.clear();
+        self.sum_joints.resize(mechanism.num_bilaterals(), 0.0);
         let contacts = vec![ContactReport::default(); n];
         self.push_row(mechanism, t, q, u, &contacts, 0, 0);
     }
@@ -254,7 +266,7 @@ impl Recorder {
         };
         let r = &mut self.record;
         if r.is_empty() {
-            r.set_widths(f, self.sum_p_n.len());
+            r.set_widths(f, self.sum_p_n.len(), self.sum_joints.len());
         }
         r.t.push(t);
         r.q.push(q);
@@ -262,6 +274,7 @@ impl Recorder {
         r.p_n.push(&self.sum_p_n);
         r.p_t.push(&self.sum_p_t);
         r.active.push(&self.any_active);
+        r.joint_impulses.push(&self.sum_joints);
         self.states.clear();
         if self.sum_p_n.is_empty() {
             // Contacts recorded by identity are not kept per row.
@@ -277,6 +290,7 @@ impl Recorder {
         self.sum_p_n.fill(0.0);
         self.sum_p_t.fill(0.0);
         self.any_active.fill(false);
+        self.sum_joints.fill(0.0);
     }
 }
 
@@ -301,6 +315,12 @@ impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
                     p_t: c.p_t,
                 });
             }
+        }
+        if self.sum_joints.len() != report.joint_impulses.len() {
+            self.sum_joints = vec![0.0; report.joint_impulses.len()];
+        }
+        for (s, l) in self.sum_joints.iter_mut().zip(report.joint_impulses) {
+            *s += l;
         }
         self.sum_dissipated += report.impulse_dissipation();
         self.pending += 1;

@@ -29,9 +29,10 @@ pub fn velocity_at(r: &Record, j: usize, value: f64, l: usize) -> Option<f64> {
     Some(r.u[k - 1][l] + s * (r.u[k][l] - r.u[k - 1][l]))
 }
 
-/// Whether every number of a record (state, impulses, energies) is finite.
+/// Whether every number of a record (state, impulses of contacts and joints, energies) is
+/// finite.
 pub fn record_is_finite(r: &Record) -> bool {
-    let rows = r.q.iter().chain(&r.u).chain(&r.p_n).chain(&r.p_t);
+    let rows = r.q.iter().chain(&r.u).chain(&r.p_n).chain(&r.p_t).chain(&r.joint_impulses);
     rows.flatten().all(|x| x.is_finite())
         && r.kinetic
             .iter()
