@@ -94,6 +94,13 @@ impl Cholesky {
         }
     }
 
+    /// The smallest ratio L_jj² / m_jj of the last factorisation of `m`: how much of its
+    /// diagonal the elimination left, down to round-off when `m` is singular.
+    pub(crate) fn smallest_pivot_ratio(&self, m: &[f64]) -> f64 {
+        let n = self.n;
+        (0..n).map(|j| self.l[j + j * n].powi(2) / m[j + j * n]).fold(f64::INFINITY, f64::min)
+    }
+
     /// [`Self::factor`] with the order stated at compile time for the orders 1 to 6 (the
     /// joints' Schur complements S and the mass matrices of a body or two), where loops of
     /// constant bounds unroll; the general loop otherwise.

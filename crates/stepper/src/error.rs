@@ -42,8 +42,11 @@ pub enum StepError {
         /// What failed (asymmetry or a non-positive pivot).
         reason: String,
     },
-    /// The bilateral constraints' matrix S = W_Bᵀ M⁻¹ W_B is not positive definite: some
-    /// constraints repeat others, or a joint links two bodies that cannot move.
+    /// The bilateral constraints cannot be kept: S = W_Bᵀ M⁻¹ W_B is zero (a joint links two
+    /// bodies that cannot move), or constraints that repeat each other disagree (a mechanism
+    /// its joints lock). Constraints that repeat each other and agree (a parallelogram with a
+    /// third crank, a pin stated twice) are solved: S is then singular, and the step solves
+    /// it with a ridge of 1e-10 of its largest diagonal entry, refined.
     #[error("bilateral constraints are redundant or singular at t = {t} (W_B' M^-1 W_B: {reason})")]
     RedundantConstraints {
         /// Time of the midpoint where they were evaluated (s).

@@ -292,6 +292,30 @@ fn a_driven_coordinate_keeps_its_speed_through_a_frictional_impact() {
 /// The same pin stated twice: S = W_Bᵀ M⁻¹ W_B is singular.
 struct TwicePinned(Pendulum);
 
+/// The pin stated twice, the second time moving at 1 m/s: its rows disagree.
+struct Disagreeing(Pendulum);
+
+contactless!(Disagreeing, 3);
+
+impl Mechanism for Disagreeing {
+    fn laws(&self) -> &[ContactLaw] {
+        &[]
+    }
+    fn mass_matrix(&self, q: &[f64], t: f64, m: &mut [f64]) {
+        self.0.mass_matrix(q, t, m);
+    }
+    fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]) {
+        self.0.forces(q, u, t, h);
+    }
+    fn num_bilaterals(&self) -> usize {
+        3
+    }
+    fn bilateral(&self, i: usize, q: &[f64], t: f64, w: &mut [f64]) -> BilateralPoint {
+        let p = self.0.bilateral(i.min(1), q, t, w);
+        if i == 2 { BilateralPoint { w_hat: p.w_hat + 1.0, ..p } } else { p }
+    }
+}
+
 contactless!(TwicePinned, 3);
 
 impl Mechanism for TwicePinned {
@@ -335,17 +359,51 @@ impl Mechanism for Unwritten {
 #[test]
 fn constraints_that_cannot_be_solved_are_typed_errors() {
     let start = pendulum_start(0.3, 1.0);
-    let mut twice = Stepper::new(
-        TwicePinned(Pendulum { m: 1.0, l: 1.0 }),
+    // A pin stated twice agrees with itself: S is singular, the step solves it with a ridge,
+    // and the pendulum swings as when pinned once, its impulses split between the two rows.
+    let (mut once, mut twice) = (
+        Stepper::new(
+            Pendulum { m: 1.0, l: 1.0 },
+            &start,
+            &[0.0; 3],
+            0.0,
+            StepperOptions::new(1e-3),
+        )
+        .unwrap(),
+        Stepper::new(
+            TwicePinned(Pendulum { m: 1.0, l: 1.0 }),
+            &start,
+            &[0.0; 3],
+            0.0,
+            StepperOptions::new(1e-3),
+        )
+        .unwrap(),
+    );
+    for _ in 0..1000 {
+        let split = {
+            let r = twice.step().unwrap();
+            [r.joint_impulses[0], r.joint_impulses[1] + r.joint_impulses[2]]
+        };
+        let r = once.step().unwrap();
+        let pinned = [r.joint_impulses[0], r.joint_impulses[1]];
+        for (a, b) in split.iter().zip(pinned) {
+            assert!((a - b).abs() < 1e-9 * (1.0 + b.abs()), "{split:?} {pinned:?}");
+        }
+    }
+    let apart = once.q().iter().zip(twice.q()).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(apart < 1e-9, "{apart:e}");
+    // Rows that disagree cannot all be kept: the step is refused and the state left as it was.
+    let mut disagreeing = Stepper::new(
+        Disagreeing(Pendulum { m: 1.0, l: 1.0 }),
         &start,
         &[0.0; 3],
         0.0,
         StepperOptions::new(1e-3),
     )
     .unwrap();
-    let e = twice.step().unwrap_err();
+    let e = disagreeing.step().unwrap_err();
     assert!(matches!(e, StepError::RedundantConstraints { .. }), "{e}");
-    assert_eq!(twice.steps(), 0);
+    assert_eq!(disagreeing.steps(), 0);
     let mut unwritten = Stepper::new(
         Unwritten(Pendulum { m: 1.0, l: 1.0 }),
         &start,

@@ -17,6 +17,13 @@
 use crate::dense::{Cholesky, dot, factor_small, solve_small, weigh_bodies_alike};
 use crate::{BilateralPoint, Mechanism, StepError};
 
+/// The ridge added to a singular S, relative to its largest diagonal entry.
+const RIDGE: f64 = 1e-10;
+
+/// The smallest share of its diagonal entry a pivot of S's factor may keep before S counts
+/// as singular.
+const SINGULAR: f64 = 1e-12;
+
 /// Largest number of corrections of the positions per step (on both paths).
 pub(super) const PROJECTION_ITERATIONS: usize = 4;
 
@@ -49,6 +56,14 @@ pub(super) struct Joints {
     /// S = W_Bᵀ M⁻¹ W_B (column-major) and its factor.
     s: Vec<f64>,
     s_chol: Cholesky,
+    /// The ridge added to S's diagonal when S is singular (constraints that repeat each
+    /// other); 0 when S is positive definite.
+    ridge: f64,
+    /// The largest |W_Bᵀ v + ŵ_B| of the last velocity constrained, before.
+    violation: f64,
+    /// Scratch of length n_B for the refinement of a solve with the ridge.
+    rhs: Vec<f64>,
+    correction: Vec<f64>,
     /// Scratch of length n_B.
     y: Vec<f64>,
     /// g_B at the projected positions, and W_B there (scratch, one column of length f per
@@ -76,6 +91,10 @@ impl Joints {
             points: vec![BilateralPoint::default(); n],
             s: vec![0.0; n * n],
             s_chol: Cholesky::new(n),
+            ridge: 0.0,
+            violation: 0.0,
+            rhs: vec![0.0; n],
+            correction: vec![0.0; n],
             y: vec![0.0; n],
             g_end: vec![0.0; n],
             w_end: vec![0.0; f * n],
@@ -95,8 +114,8 @@ impl Joints {
     ///
     /// # Errors
     /// [`StepError::NonFinite`] for non-finite g_B, ŵ_B or W_B, and
-    /// [`StepError::RedundantConstraints`] when S is not positive definite (constraints that
-    /// repeat each other, or a joint whose two bodies are both fixed).
+    /// [`StepError::RedundantConstraints`] when S is zero (a joint whose two bodies are both
+    /// fixed); a singular S (constraints that repeat each other) is factored with a ridge.
     pub(super) fn assemble<K: Mechanism>(
         &mut self,
         mech: &K,
@@ -128,7 +147,7 @@ impl Joints {
     /// the constraints in G; the next step's [`Self::assemble`] forms them in M again.
     ///
     /// # Errors
-    /// [`StepError::RedundantConstraints`] when S is not positive definite.
+    /// [`StepError::RedundantConstraints`] when S is zero.
     pub(super) fn weigh_bodies_alike(&mut self, mass: &[f64], t: f64) -> Result<(), StepError> {
         for x in self.x.chunks_exact_mut(self.f) {
             weigh_bodies_alike(x, mass);
@@ -146,9 +165,87 @@ impl Joints {
                 self.s[c + r * n] = v;
             }
         }
-        self.s_chol
-            .factor_unrolled(&self.s)
-            .map_err(|e| StepError::RedundantConstraints { t, reason: e.to_string() })
+        self.ridge = 0.0;
+        let e = match self.s_chol.factor_unrolled(&self.s) {
+            Ok(()) if self.s_chol.smallest_pivot_ratio(&self.s) > SINGULAR => return Ok(()),
+            // A pivot that kept less than 1e-12 of its diagonal: S is singular to round-off,
+            // and its factor would amplify that round-off into the impulses.
+            Ok(()) => "singular to round-off".to_owned(),
+            Err(e) => e.to_string(),
+        };
+        // Constraints that repeat each other (a parallelogram with a third crank) make S
+        // singular, but their rows agree: S Λ_B = r has solutions, all of which move the
+        // bodies alike (W_B Λ_B is the same), and S + ρ I picks one. The velocity the ridge
+        // leaves is checked after each step's solve ([`Self::check_kept`]); a joint between
+        // two bodies that cannot move (a zero S) is refused.
+        let largest = (0..n).map(|i| self.s[i + i * n]).fold(0.0f64, f64::max);
+        let ridge = RIDGE * largest;
+        let refused = |e: &str| StepError::RedundantConstraints { t, reason: e.to_owned() };
+        if !(ridge > 0.0 && ridge.is_finite()) {
+            return Err(refused(&e));
+        }
+        for i in 0..n {
+            self.s[i + i * n] += ridge;
+        }
+        self.s_chol.factor_unrolled(&self.s).map_err(|_| refused(&e))?;
+        self.ridge = ridge;
+        Ok(())
+    }
+
+    /// Solves S y = r in place (`y` holds r on entry). With the ridge of redundant constraints,
+    /// the factor is that of S + ρ I, and two corrections y ← y + (S + ρ I)⁻¹ (r − S y)
+    /// (iterated Tikhonov) bring a consistent r's solution from a relative error of ρ / λ to
+    /// (ρ / λ)³, λ the smallest non-zero eigenvalue of S.
+    fn solve_s(&mut self, y: &mut [f64]) {
+        let n = self.n;
+        if self.ridge == 0.0 {
+            self.s_chol.solve(y);
+            return;
+        }
+        self.rhs.copy_from_slice(y);
+        self.s_chol.solve(y);
+        for _ in 0..2 {
+            // r − S y with S = (S + ρ I) − ρ I, as stored.
+            for i in 0..n {
+                let sy: f64 = (0..n).map(|j| self.s[i + j * n] * y[j]).sum::<f64>();
+                self.correction[i] = self.rhs[i] - (sy - self.ridge * y[i]);
+            }
+            self.s_chol.solve(&mut self.correction);
+            for (yi, d) in y.iter_mut().zip(&self.correction) {
+                *yi += d;
+            }
+        }
+    }
+
+    /// After [`Self::constrain`] of a velocity `v` with the ridge of redundant constraints,
+    /// checks that v keeps them: |W_Bᵀ v + ŵ_B| at most 1e-6 of the largest violation that
+    /// the constraining removed (the ridge leaves about 1e-10 of it) plus round-off of its
+    /// terms. Redundant rows that disagree (a mechanism locked by its joints) cannot all be
+    /// kept, and the step is refused rather than taken off them.
+    ///
+    /// # Errors
+    /// [`StepError::RedundantConstraints`] naming the row that is not kept.
+    pub(super) fn check_kept(&self, v: &[f64], t: f64) -> Result<(), StepError> {
+        if self.ridge == 0.0 {
+            return Ok(());
+        }
+        let f = self.f;
+        for i in 0..self.n {
+            let w = &self.w[i * f..][..f];
+            let size: f64 =
+                w.iter().zip(v).map(|(a, b)| (a * b).abs()).sum::<f64>() + self.w_hat[i].abs();
+            let kept = dot(w, v) + self.w_hat[i];
+            if kept.abs() > 1e-6 * self.violation + 1e-12 * size {
+                return Err(StepError::RedundantConstraints {
+                    t,
+                    reason: format!(
+                        "constraint {i} repeats others that disagree with it: its velocity \
+                         {kept:e} is not kept"
+                    ),
+                });
+            }
+        }
+        Ok(())
     }
 
     /// Applies the constraints to `v` (length f): v ← v − M⁻¹ W_B S⁻¹ (W_Bᵀ v + ŵ_B) when
@@ -169,7 +266,12 @@ impl Joints {
             let w_hat = if rheonomic { self.w_hat[i] } else { 0.0 };
             self.y[i] = dot(&self.w[i * f..][..f], v) + w_hat;
         }
-        self.s_chol.solve(&mut self.y);
+        if rheonomic {
+            self.violation = self.y.iter().fold(0.0f64, |m, y| m.max(y.abs()));
+        }
+        let mut y = std::mem::take(&mut self.y);
+        self.solve_s(&mut y);
+        self.y = y;
         for i in 0..n {
             let yi = self.y[i];
             for (vj, xj) in v.iter_mut().zip(&self.x[i * f..][..f]) {
@@ -189,7 +291,7 @@ impl Joints {
                 + self.w_hat[i]
                 + dot(&self.x[i * f..][..f], contact_impulses));
         }
-        self.s_chol.solve(&mut out[..n]);
+        self.solve_s(&mut out[..n]);
     }
 
     /// Moves q back onto g_B(q, t) = 0 along M⁻¹ W_B (the correction of least kinetic
@@ -261,8 +363,10 @@ impl Joints {
                     }
                 }
             } else {
-                self.y.copy_from_slice(&self.g_end);
-                self.s_chol.solve(&mut self.y);
+                let mut y = std::mem::take(&mut self.y);
+                y.copy_from_slice(&self.g_end);
+                self.solve_s(&mut y);
+                self.y = y;
                 for (i, yi) in self.y.iter().enumerate() {
                     for (qj, xj) in q.iter_mut().zip(&self.x[i * f..][..f]) {
                         *qj -= xj * yi;

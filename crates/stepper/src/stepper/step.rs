@@ -94,6 +94,7 @@ impl Core {
             ws.u_unconstrained[..f].copy_from_slice(&ws.u_free[..f]);
             ws.joints.assemble(mech, &ws.q_m[..f], t_m, &ws.chol)?;
             ws.joints.constrain(&mut ws.u_free[..f], true);
+            ws.joints.check_kept(&ws.u_free[..f], t_m)?;
             ws.joint_drift = ws.joints.drift();
         }
 
