@@ -165,19 +165,31 @@ fn a_pendulum_striking_a_wall_rebounds_with_eps_n() {
 
 /// n disks of 1 kg and radius 0.05 m on a line, without gravity, `gap` apart; the first
 /// approaches the others at 1 m/s. Returns the final velocities along the line.
-fn cradle(n: usize, gap: f64) -> Vec<f64> {
-    let r = 0.05;
+/// A row of `n` disks of 1 kg and radius `r` at x = `x(k)` without gravity, the first moving
+/// at 1 m/s towards the others, each touching its neighbours through a contact with ε_N = 1.
+fn row_of_disks(n: usize, r: f64, x: impl Fn(usize) -> f64) -> Multibody {
     let mut b = MultibodyBuilder::new([0.0, 0.0]);
     for k in 0..n {
-        let x = if k == 0 { -0.05 } else { 2.0 * r * k as f64 + gap * (k - 1) as f64 };
-        let disk = BodySpec::dynamic(&format!("d{k}"), 1.0, 0.5 * r * r, [x, 0.0], 0.0)
+        let disk = BodySpec::dynamic(&format!("d{k}"), 1.0, 0.5 * r * r, [x(k), 0.0], 0.0)
             .with_shape(Shape::Disk { center: [0.0, 0.0], radius: r });
         b.add_body(if k == 0 { disk.with_velocity([1.0, 0.0], 0.0) } else { disk });
     }
     for k in 1..n {
         b.add_contact(law(&format!("c{k}"), &format!("d{}", k - 1), &format!("d{k}"), 1.0, 0.0));
     }
-    let mb = b.build().unwrap();
+    b.build().unwrap()
+}
+
+fn cradle(n: usize, gap: f64) -> Vec<f64> {
+    let r = 0.05;
+    let mb =
+        row_of_disks(
+            n,
+            r,
+            |k| {
+                if k == 0 { -0.05 } else { 2.0 * r * k as f64 + gap * (k - 1) as f64 }
+            },
+        );
     let (q0, u0) = mb.initial_state();
     let mut stepper = Stepper::new(mb, &q0, &u0, 0.0, options(1e-4)).unwrap();
     let energy = |u: &[f64]| 0.5 * u.iter().map(|v| v * v).sum::<f64>();
@@ -215,18 +227,8 @@ fn five_touching_disks_laid_out_in_decimals_leave_as_a_block_with_the_scene_opti
     // scene file gets (`Multibody::stepper_options`, gap tolerance 1e-9 of the size) all four
     // contacts act at once, and with ε_N = 1 the struck row leaves as a block at
     // V = (1 + ε) v / N = 0.4 m/s, the striker at V − ε v = −0.6 m/s (docs/extremes.md).
-    let (n, r) = (5, 0.1);
-    let mut b = MultibodyBuilder::new([0.0, 0.0]);
-    for k in 0..n {
-        let disk =
-            BodySpec::dynamic(&format!("d{k}"), 1.0, 0.5 * r * r, [0.2 * k as f64, 0.0], 0.0)
-                .with_shape(Shape::Disk { center: [0.0, 0.0], radius: r });
-        b.add_body(if k == 0 { disk.with_velocity([1.0, 0.0], 0.0) } else { disk });
-    }
-    for k in 1..n {
-        b.add_contact(law(&format!("c{k}"), &format!("d{}", k - 1), &format!("d{k}"), 1.0, 0.0));
-    }
-    let mb = b.build().unwrap();
+    let n = 5;
+    let mb = row_of_disks(n, 0.1, |k| 0.2 * k as f64);
     let (q0, u0) = mb.initial_state();
     let options = mb.stepper_options(1e-4);
     let mut stepper = Stepper::new(mb, &q0, &u0, 0.0, options).unwrap();

@@ -289,31 +289,11 @@ fn a_driven_coordinate_keeps_its_speed_through_a_frictional_impact() {
     }
 }
 
-/// The same pin stated twice: S = W_Bᵀ M⁻¹ W_B is singular.
-struct TwicePinned(Pendulum);
-
-/// The pin stated twice, the second time moving at 1 m/s: its rows disagree.
-struct Disagreeing(Pendulum);
-
-contactless!(Disagreeing, 3);
-
-impl Mechanism for Disagreeing {
-    fn laws(&self) -> &[ContactLaw] {
-        &[]
-    }
-    fn mass_matrix(&self, q: &[f64], t: f64, m: &mut [f64]) {
-        self.0.mass_matrix(q, t, m);
-    }
-    fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]) {
-        self.0.forces(q, u, t, h);
-    }
-    fn num_bilaterals(&self) -> usize {
-        3
-    }
-    fn bilateral(&self, i: usize, q: &[f64], t: f64, w: &mut [f64]) -> BilateralPoint {
-        let p = self.0.bilateral(i.min(1), q, t, w);
-        if i == 2 { BilateralPoint { w_hat: p.w_hat + 1.0, ..p } } else { p }
-    }
+/// The same pin stated twice: S = W_Bᵀ M⁻¹ W_B is singular. The second statement moves at
+/// `moving` (m/s): with 0 the rows agree, otherwise they disagree.
+struct TwicePinned {
+    pendulum: Pendulum,
+    moving: f64,
 }
 
 contactless!(TwicePinned, 3);
@@ -323,16 +303,17 @@ impl Mechanism for TwicePinned {
         &[]
     }
     fn mass_matrix(&self, q: &[f64], t: f64, m: &mut [f64]) {
-        self.0.mass_matrix(q, t, m);
+        self.pendulum.mass_matrix(q, t, m);
     }
     fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]) {
-        self.0.forces(q, u, t, h);
+        self.pendulum.forces(q, u, t, h);
     }
     fn num_bilaterals(&self) -> usize {
         3
     }
     fn bilateral(&self, i: usize, q: &[f64], t: f64, w: &mut [f64]) -> BilateralPoint {
-        self.0.bilateral(i.min(1), q, t, w)
+        let p = self.pendulum.bilateral(i.min(1), q, t, w);
+        if i == 2 { BilateralPoint { w_hat: p.w_hat + self.moving, ..p } } else { p }
     }
 }
 
@@ -371,7 +352,7 @@ fn constraints_that_cannot_be_solved_are_typed_errors() {
         )
         .unwrap(),
         Stepper::new(
-            TwicePinned(Pendulum { m: 1.0, l: 1.0 }),
+            TwicePinned { pendulum: Pendulum { m: 1.0, l: 1.0 }, moving: 0.0 },
             &start,
             &[0.0; 3],
             0.0,
@@ -392,9 +373,10 @@ fn constraints_that_cannot_be_solved_are_typed_errors() {
     }
     let apart = once.q().iter().zip(twice.q()).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     assert!(apart < 1e-9, "{apart:e}");
-    // Rows that disagree cannot all be kept: the step is refused and the state left as it was.
+    // The second statement moving at 1 m/s disagrees with the first: the rows cannot all be
+    // kept, and the step is refused with the state left as it was.
     let mut disagreeing = Stepper::new(
-        Disagreeing(Pendulum { m: 1.0, l: 1.0 }),
+        TwicePinned { pendulum: Pendulum { m: 1.0, l: 1.0 }, moving: 1.0 },
         &start,
         &[0.0; 3],
         0.0,
