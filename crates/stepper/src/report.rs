@@ -139,8 +139,6 @@ pub struct StepReport<'a> {
     pub(crate) mass: MassView<'a>,
     pub(crate) u_free: &'a [f64],
     pub(crate) u_start: &'a [f64],
-    /// Whether the step had bilateral rows, whose impulses act in every step.
-    pub(crate) bilateral: bool,
 }
 
 /// The wall time of the phases of one step of a mechanism with a [`crate::BodyStructure`],
@@ -193,7 +191,9 @@ impl StepReport<'_> {
     /// nothing (u_A = u_E = 0), and an impact adds ½ (1 − ε_N²) m γ_N,A² on a single contact
     /// without friction. Computed on demand: it costs one bilinear form.
     pub fn impulse_dissipation(&self) -> f64 {
-        if !self.bilateral && self.contacts.iter().all(|c| c.p_n == 0.0 && c.p_t == 0.0) {
+        // Joints act at every step; contacts when they carry an impulse.
+        let no_joints = self.joint_impulses.is_empty();
+        if no_joints && self.contacts.iter().all(|c| c.p_n == 0.0 && c.p_t == 0.0) {
             return 0.0;
         }
         let (free, end, start) = (self.u_free, self.u, self.u_start);

@@ -306,7 +306,6 @@ impl BodyPath {
             u_free: &self.u_free,
             // The step's u_E was swapped into the state: this holds u_A.
             u_start: &self.u_e,
-            bilateral: !self.groups.is_empty(),
             joint_impulses: &self.joint_impulses,
         }
     }

@@ -35,7 +35,6 @@ impl Core {
             mass: crate::report::MassView::Dense(&self.ws.mass),
             u_free: if self.ws.joints.n > 0 { &self.ws.u_unconstrained } else { &self.ws.u_free },
             u_start: &self.ws.u_start,
-            bilateral: self.ws.joints.n > 0,
             joint_impulses: &self.ws.joint_impulses,
         }
     }
