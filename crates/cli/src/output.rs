@@ -2,9 +2,12 @@
 //! they must not be, the lock that keeps two runs off one output, and CSV records.
 //!
 //! An output `OUT` is written as `OUT.partial` and renamed to `OUT` when the run has
-//! succeeded. When `OUT` is a symbolic link, the files go next to the file it points to, which
-//! receives the data while the link stays a link. An existing `OUT` that is not a regular file
-//! (a folder, a FIFO, a device, a socket) is refused, and so is an output that is the same file
+//! succeeded; a file written in one go (a sweep's sorted rows, a merge) is written whole as
+//! `OUT.tmp` and renamed over `OUT` ([`replace_file`]), so that a run killed or stopped by a
+//! full disk while writing leaves the former `OUT` as it was. Data reach the disk (`fsync`)
+//! before the rename. When `OUT` is a symbolic link, the files go next to the file it points
+//! to, which receives the data while the link stays a link. An existing `OUT` that is not a
+//! regular file (a folder, a FIFO, a device, a socket) is refused, and so is an output that is the same file
 //! as an input of the run or as another of its outputs, comparing files, not path texts. While
 //! a run writes `OUT`, it holds `OUT.lock` (created only when absent, holding the run's process
 //! id, removed when the run ends); a run that finds the lock refuses to start
@@ -29,6 +32,11 @@ pub fn suffixed(path: &Path, suffix: &str) -> PathBuf {
 /// The file a run writes to until it succeeds: `<out>.partial`.
 pub fn partial_path(out: &Path) -> PathBuf {
     suffixed(out, ".partial")
+}
+
+/// The file a file is written to in full before it is renamed over it: `<path>.tmp`.
+pub fn temporary_path(path: &Path) -> PathBuf {
+    suffixed(path, ".tmp")
 }
 
 /// The lock file of an output: `<out>.lock`.
@@ -137,8 +145,8 @@ impl Output {
     ///
     /// # Errors
     /// [`CliError::Output`] when it (or the file it points to) exists and is not a regular
-    /// file, when `<path>.partial` exists and is not a regular file, or when its folder cannot
-    /// be found.
+    /// file, when `<path>.partial`, `<path>.tmp` or `<path>.partial.tmp` exists and is not a
+    /// regular file, or when its folder cannot be found.
     pub fn new(path: &Path) -> Result<Self, CliError> {
         let refuse = |reason: String| CliError::Output { path: path.to_owned(), reason };
         let target = follow_links(path)?;
@@ -156,16 +164,17 @@ impl Output {
                 kind_of(m.file_type())
             )));
         }
-        let partial = partial_path(&target);
-        if let Ok(m) = std::fs::symlink_metadata(&partial)
-            && !m.is_file()
-        {
-            return Err(refuse(format!(
-                "its unfinished file {} is {}, not a regular file; remove it or give another \
-                 output",
-                partial.display(),
-                kind_of(m.file_type())
-            )));
+        for file in written_beside(&target).into_iter().skip(1) {
+            if let Ok(m) = std::fs::symlink_metadata(&file)
+                && !m.is_file()
+            {
+                return Err(refuse(format!(
+                    "its unfinished file {} is {}, not a regular file; remove it or give \
+                     another output",
+                    file.display(),
+                    kind_of(m.file_type())
+                )));
+            }
         }
         let identity = identity(&target).ok_or_else(|| {
             refuse(format!(
@@ -220,17 +229,89 @@ impl Output {
             reason: format!("cannot be written: {e}"),
         })
     }
+
+    /// Flushes the writer of the finished `partial` file, brings its data to the disk and
+    /// renames it to the target ([`Self::publish`]): an error of the last writes (a full disk)
+    /// is seen before the target is replaced.
+    ///
+    /// # Errors
+    /// [`CliError::Output`] naming `partial` when it cannot be written to the end, or the
+    /// output when the rename fails.
+    pub fn publish_written(&self, partial: &Path, w: BufWriter<File>) -> Result<(), CliError> {
+        finish(w, partial)?;
+        self.publish(partial)
+    }
+}
+
+/// The files written beside an output's `target`: the target, `<target>.partial`,
+/// `<target>.tmp` and `<target>.partial.tmp`.
+fn written_beside(target: &Path) -> [PathBuf; 4] {
+    let partial = partial_path(target);
+    [target.to_owned(), partial.clone(), temporary_path(target), temporary_path(&partial)]
+}
+
+/// Flushes `w`, the writer of `path`, and brings the file's data to the disk.
+fn finish(w: BufWriter<File>, path: &Path) -> Result<(), CliError> {
+    let failed = |e: std::io::Error| CliError::Output {
+        path: path.to_owned(),
+        reason: format!("cannot be written: {e}"),
+    };
+    let file = w.into_inner().map_err(|e| failed(e.into_error()))?;
+    file.sync_all().map_err(failed)
+}
+
+/// Writes the file `path` whole or not at all: `write` writes `<path>.tmp` (one that a killed
+/// run left is removed first), whose data are brought to the disk and which is then renamed
+/// over `path`. Whatever stops the write (an error, a full disk, a killed process), `path`
+/// keeps its former content. `path` is the file itself, not a symbolic link to it (see
+/// [`Output::target`]).
+///
+/// # Errors
+/// [`CliError::Output`] naming `path` when `<path>.tmp` cannot be created or written, or
+/// cannot be renamed; `<path>.tmp` is removed then, and `path` is as it was.
+pub fn replace_file(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> anyhow::Result<()>,
+) -> Result<(), CliError> {
+    let tmp = temporary_path(path);
+    remove_stale(&tmp)?;
+    let file =
+        std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp).map_err(|e| {
+            CliError::Output { path: tmp.clone(), reason: format!("cannot be created: {e}") }
+        })?;
+    let mut w = BufWriter::new(file);
+    let written = write(&mut w)
+        .map_err(|e| CliError::Output {
+            path: tmp.clone(),
+            reason: format!("cannot be written: {e:#}"),
+        })
+        .and_then(|()| finish(w, &tmp))
+        .and_then(|()| {
+            std::fs::rename(&tmp, path).map_err(|e| CliError::Output {
+                path: path.to_owned(),
+                reason: format!("cannot be replaced by {}: {e}", tmp.display()),
+            })
+        });
+    if let Err(CliError::Output { path: failed, reason }) = written {
+        // The unfinished file is of no use; the file it was to replace is untouched.
+        let _ = std::fs::remove_file(&tmp);
+        return Err(CliError::Output {
+            path: failed,
+            reason: format!("{reason}; {} is left as it was", path.display()),
+        });
+    }
+    written
 }
 
 /// Refuses outputs that are the same file as one of the `inputs` or as each other, their
-/// unfinished files `<out>.partial` included (a scene read and then overwritten, two outputs
-/// written into one file), comparing files: absolute paths without `.`, `..` or symbolic
-/// links. An input that cannot be found is left to its reader.
+/// unfinished files `<out>.partial`, `<out>.tmp` and `<out>.partial.tmp` included (a scene
+/// read and then overwritten, two outputs written into one file), comparing files: absolute
+/// paths without `.`, `..` or symbolic links. An input that cannot be found is left to its reader.
 ///
 /// # Errors
 /// [`CliError::Output`] naming the output and the file it would overwrite.
 pub fn check_distinct(inputs: &[&Path], outputs: &[&Output]) -> Result<(), CliError> {
-    let written = |o: &Output| [o.identity.clone(), partial_path(&o.identity)];
+    let written = |o: &Output| written_beside(&o.identity);
     for (j, out) in outputs.iter().enumerate() {
         let refuse = |reason: String| CliError::Output { path: out.given.clone(), reason };
         let files = written(out);
@@ -243,11 +324,11 @@ pub fn check_distinct(inputs: &[&Path], outputs: &[&Output]) -> Result<(), CliEr
                     input.display()
                 )));
             }
-            if read == files[1] {
+            if let Some(first) = files[1..].iter().find(|f| **f == read) {
                 return Err(refuse(format!(
                     "would be written first to {}, which is the input {} of the run; give the \
                      output another name",
-                    files[1].display(),
+                    first.display(),
                     input.display()
                 )));
             }
@@ -255,8 +336,8 @@ pub fn check_distinct(inputs: &[&Path], outputs: &[&Output]) -> Result<(), CliEr
         for earlier in &outputs[..j] {
             if written(earlier).iter().any(|f| files.contains(f)) {
                 return Err(refuse(format!(
-                    "is the same file as the output {} of the run (or its .partial); give each \
-                     output a file of its own",
+                    "is the same file as the output {} of the run (or one of its unfinished \
+                     files); give each output a file of its own",
                     earlier.given.display()
                 )));
             }

@@ -17,7 +17,6 @@
 //! file with pandas needs `comment='#'`.
 
 use std::collections::BTreeSet;
-use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -209,28 +208,28 @@ fn check_row(
     Ok(())
 }
 
-/// Writes a part: the identity line, the column names and the rows (in the given order).
+/// Writes a part: the identity line, the column names and the rows (in the given order),
+/// whole or not at all ([`output::replace_file`]: a part that was there keeps its content when
+/// the write fails or is killed).
 ///
 /// # Errors
-/// When the file cannot be written.
+/// [`CliError::Output`] when the file cannot be written.
 pub fn write_part(
     path: &Path,
     header: &PartHeader,
     columns: &[String],
     rows: &[Vec<String>],
 ) -> Result<()> {
-    let file = File::create(path).map_err(|e| CliError::Output {
-        path: path.to_owned(),
-        reason: format!("cannot be created: {e}"),
+    output::replace_file(path, |w| {
+        writeln!(w, "{}", header.line())?;
+        let mut csv = csv::Writer::from_writer(w);
+        csv.write_record(columns)?;
+        for row in rows {
+            csv.write_record(row)?;
+        }
+        csv.flush()?;
+        Ok(())
     })?;
-    let mut w = std::io::BufWriter::new(file);
-    writeln!(w, "{}", header.line())?;
-    let mut csv = csv::Writer::from_writer(w);
-    csv.write_record(columns)?;
-    for row in rows {
-        csv.write_record(row)?;
-    }
-    csv.flush()?;
     Ok(())
 }
 

@@ -491,14 +491,11 @@ pub fn run_to_csv(
             .context(format!("the rows so far are in {}", partial.display()))
     })?;
     streamer.drain()?;
-    streamer.out.flush()?;
-    drop(streamer.out);
     let contact_rows = streamer.contacts.as_ref().map(|log| log.rows);
     if let (Some(log), Some((file, partial))) = (streamer.contacts.take(), &contacts_files) {
-        drop(log.finish()?);
-        file.publish(partial)?;
+        file.publish_written(partial, log.finish()?)?;
     }
-    out_file.publish(&partial)?;
+    out_file.publish_written(&partial, streamer.out)?;
     Ok(Simulated {
         scene,
         steps: run.summary.steps,

@@ -259,9 +259,8 @@ pub fn run(
     };
     let (partial, mut w) = out.create_partial()?;
     write_csv(&solved, &mut w)?;
-    drop(w);
     if solved.status == Status::Solved {
-        out.publish(&partial)?;
+        out.publish_written(&partial, w)?;
         Ok(solved)
     } else {
         Err(not_solved(&solved, Some(partial)).into())

@@ -216,10 +216,12 @@ fn member_row(
 /// its members again (a row cut off by the interruption is run again), and a finished `out`
 /// of the same sweep is left as it is ([`SweepSummary::finished_before`]), while one of
 /// another sweep is refused. A sweep that starts anew removes the
-/// `<out>.member-<i>.failed.dat` files of an earlier one. At the end the rows are written to
-/// `out` sorted by member and `<out>.partial` is removed. A member whose run diverges or fails
-/// keeps its row, with its status and error and empty numbers. The members are enumerated
-/// lazily, never listed.
+/// `<out>.member-<i>.failed.dat` files of an earlier one. At the end the rows are written
+/// sorted by member to `<out>.tmp`, which is renamed over `out` once written in full (a sweep
+/// killed or stopped by a full disk then leaves the former `out` as it was), and
+/// `<out>.partial` is removed; a resumed `<out>.partial` is rewritten in the same way. A
+/// member whose run diverges or fails keeps its row, with its status and error and empty
+/// numbers. The members are enumerated lazily, never listed.
 ///
 /// # Errors
 /// Unknown model, bad scene, a key given twice, unknown keys or bad values, a member whose

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Result, ensure};
+use anyhow::{Context, Result, ensure};
 use moreau_cli::CliError;
 use moreau_cli::grid::Axis;
 use moreau_cli::output::lock_path;
@@ -272,5 +272,77 @@ fn the_folder_of_an_output_must_exist() -> Result<()> {
     ensure!(refused(&e, &out, "cannot be found"), "{e:#}");
     let text = format!("{e:#}");
     ensure!(text.contains("no/such"), "{text}");
+    Ok(())
+}
+
+/// `moreau` with `args` under a limit of 2 blocks (1 or 2 KiB) on the size of the files it
+/// writes: with `killed`, a write past it kills the process; otherwise it fails, as on a full
+/// disk.
+fn moreau_limited(args: &[&std::ffi::OsStr], killed: bool) -> Result<std::process::Output> {
+    let script = if killed {
+        "ulimit -f 2; exec \"$0\" \"$@\""
+    } else {
+        "trap '' XFSZ; ulimit -f 2; exec \"$0\" \"$@\""
+    };
+    Ok(std::process::Command::new("sh")
+        .args(["-c", script, env!("CARGO_BIN_EXE_moreau")])
+        .args(args)
+        .output()?)
+}
+
+#[test]
+fn a_write_stopped_by_a_full_disk_or_a_kill_leaves_the_former_files() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let d = dir.path();
+    // A part of 40 members, some 4 KB: more than the limit.
+    let eps: Vec<String> = (1..=40).map(|i| format!("{:.2}", f64::from(i) / 100.0)).collect();
+    let eps = format!("eps_n={}", eps.join(","));
+    let axes = vec![Axis::parse(&eps)?, Axis::parse("t_end=0.05")?];
+    let part = d.join("part.csv");
+    sweep(&SweepOptions::new("ball", axes), &part)?;
+    ensure!(std::fs::metadata(&part)?.len() > 2048);
+    let out = d.join("out.csv");
+    let former = "a former output\n".repeat(500);
+    std::fs::write(&out, &former)?;
+    let merge_args = ["merge".as_ref(), out.as_os_str(), part.as_os_str()];
+    // A merge whose write fails ends in an error naming the file, and leaves the output.
+    let o = moreau_limited(&merge_args, false)?;
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    ensure!(o.status.code() == Some(1), "{:?}: {stderr}", o.status);
+    ensure!(stderr.contains("out.csv.tmp: cannot be written"), "{stderr}");
+    ensure!(stderr.contains("out.csv is left as it was"), "{stderr}");
+    ensure!(std::fs::read_to_string(&out)? == former, "the former output was changed");
+    ensure!(listing(d)? == ["out.csv", "part.csv"], "{:?}", listing(d)?);
+    // A merge killed while writing leaves it too.
+    let o = moreau_limited(&merge_args, true)?;
+    ensure!(!o.status.success(), "{:?}", o.status);
+    ensure!(std::fs::read_to_string(&out)? == former, "the former output was changed");
+    std::fs::remove_file(lock_path(&out))?;
+    // The next merge replaces what the killed one left.
+    merge(&out, &[&part])?;
+    ensure!(std::fs::read(&out)? == std::fs::read(&part)?);
+    ensure!(listing(d)? == ["out.csv", "part.csv"], "{:?}", listing(d)?);
+    // A resumed sweep whose rewrite of its unfinished rows fails keeps them, and the output.
+    let resumed = d.join("resumed.csv");
+    std::fs::write(&resumed, &former)?;
+    let text = std::fs::read_to_string(&part)?;
+    let cut = text[..3000].rfind('\n').context("a line end")? + 1;
+    std::fs::write(partial_path(&resumed), &text[..cut])?;
+    let resume_args = [
+        "sweep".as_ref(),
+        "ball".as_ref(),
+        "--set".as_ref(),
+        eps.as_ref(),
+        "--set".as_ref(),
+        "t_end=0.05".as_ref(),
+        "--resume".as_ref(),
+        "--out".as_ref(),
+        resumed.as_os_str(),
+    ];
+    let o = moreau_limited(&resume_args, false)?;
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    ensure!(o.status.code() == Some(1), "{:?}: {stderr}", o.status);
+    ensure!(std::fs::read_to_string(partial_path(&resumed))? == text[..cut], "rows were lost");
+    ensure!(std::fs::read_to_string(&resumed)? == former, "the former output was changed");
     Ok(())
 }
