@@ -142,11 +142,12 @@ pub enum CliError {
         /// What is wrong.
         reason: String,
     },
-    /// An output whose lock file exists: another run writes it, or a run that wrote it was
-    /// killed before it could remove the lock.
+    /// An output whose lock file exists and whose process runs, or may run since it cannot be
+    /// seen (another host's, a lock without a host, no `/proc`); a lock whose process is seen
+    /// to be gone is taken over instead (`output::OutputLock`).
     #[error(
-        "output {output} is locked by {lock} (process {holder}): another run is writing it; \
-         wait for that run to end, or remove {lock} if no run is going on"
+        "output {output} is locked by {lock}: {why}; wait for that run to end, or remove \
+         {lock} if no run is going on"
     )]
     Locked {
         /// The output as given.
@@ -155,6 +156,8 @@ pub enum CliError {
         lock: PathBuf,
         /// The process id the lock file holds (`unknown` when it holds none).
         holder: String,
+        /// Whether its process runs, or why that cannot be seen.
+        why: String,
     },
     /// A sweep part that does not belong with the others.
     #[error("{part}: {reason}")]

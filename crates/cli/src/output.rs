@@ -10,14 +10,17 @@
 //! regular file (a folder, a FIFO, a device, a socket) is refused, and so is an output that is the same file
 //! as an input of the run or as another of its outputs, comparing files, not path texts. While
 //! a run writes `OUT`, it holds `OUT.lock` (created only when absent, holding the run's process
-//! id, removed when the run ends); a run that finds the lock refuses to start
-//! ([`CliError::Locked`]).
+//! id and host, removed when the run ends); a run that finds the lock refuses to start
+//! ([`CliError::Locked`]), unless the lock's process is gone ([`OutputLock`]).
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 use crate::error::CliError;
+
+mod lock;
+pub use lock::{LockOwner, OutputLock};
 
 /// The longest chain of symbolic links followed to an output's file.
 const MAX_LINKS: usize = 40;
@@ -344,59 +347,6 @@ pub fn check_distinct(inputs: &[&Path], outputs: &[&Output]) -> Result<(), CliEr
         }
     }
     Ok(())
-}
-
-/// The lock a run holds on an output while it writes it: `<out>.lock`, created only when
-/// absent and holding the run's process id; removed when dropped, whether the run succeeded
-/// or not.
-#[derive(Debug)]
-pub struct OutputLock {
-    path: PathBuf,
-}
-
-impl OutputLock {
-    /// Takes the lock of `output`.
-    ///
-    /// # Errors
-    /// [`CliError::Locked`] when the lock file exists (another run writes the output, or a
-    /// run was killed); [`CliError::Output`] when it cannot be created.
-    pub fn acquire(output: &Output) -> Result<Self, CliError> {
-        let path = output.lock();
-        let file = std::fs::OpenOptions::new().write(true).create_new(true).open(&path);
-        let mut file = match file {
-            Ok(file) => file,
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                let holder = std::fs::read_to_string(&path).unwrap_or_default();
-                let holder = holder.trim();
-                return Err(CliError::Locked {
-                    output: output.given.clone(),
-                    holder: if holder.is_empty() { "unknown".into() } else { holder.to_owned() },
-                    lock: path,
-                });
-            }
-            Err(e) => {
-                return Err(CliError::Output { path, reason: format!("cannot be created: {e}") });
-            }
-        };
-        let lock = Self { path };
-        writeln!(file, "{}", std::process::id()).map_err(|e| CliError::Output {
-            path: lock.path.clone(),
-            reason: format!("cannot be written: {e}"),
-        })?;
-        Ok(lock)
-    }
-
-    /// The lock file.
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-}
-
-impl Drop for OutputLock {
-    fn drop(&mut self) {
-        // A lock that cannot be removed is named by the next run that finds it.
-        let _ = std::fs::remove_file(&self.path);
-    }
 }
 
 /// Removes `path`, a file left by an earlier run of the same output that does not describe

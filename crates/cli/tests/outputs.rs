@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, ensure};
 use moreau_cli::CliError;
 use moreau_cli::grid::Axis;
-use moreau_cli::output::lock_path;
+use moreau_cli::output::{LockOwner, lock_path};
 use moreau_cli::parts::merge;
 use moreau_cli::simulate::{SimulateOptions, partial_path, run_to_csv};
 use moreau_cli::sweep::{SweepOptions, run as sweep};
@@ -317,8 +317,7 @@ fn a_write_stopped_by_a_full_disk_or_a_kill_leaves_the_former_files() -> Result<
     let o = moreau_limited(&merge_args, true)?;
     ensure!(!o.status.success(), "{:?}", o.status);
     ensure!(std::fs::read_to_string(&out)? == former, "the former output was changed");
-    std::fs::remove_file(lock_path(&out))?;
-    // The next merge replaces what the killed one left.
+    // The next merge replaces what the killed one left, its lock included.
     merge(&out, &[&part])?;
     ensure!(std::fs::read(&out)? == std::fs::read(&part)?);
     ensure!(listing(d)? == ["out.csv", "part.csv"], "{:?}", listing(d)?);
@@ -344,5 +343,51 @@ fn a_write_stopped_by_a_full_disk_or_a_kill_leaves_the_former_files() -> Result<
     ensure!(o.status.code() == Some(1), "{:?}: {stderr}", o.status);
     ensure!(std::fs::read_to_string(partial_path(&resumed))? == text[..cut], "rows were lost");
     ensure!(std::fs::read_to_string(&resumed)? == former, "the former output was changed");
+    Ok(())
+}
+
+#[test]
+fn a_lock_left_by_a_killed_run_is_taken_over_and_a_running_ones_kept() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let d = dir.path();
+    let out = d.join("ball.csv");
+    let lock = lock_path(&out);
+    let moreau = |tf: &str| {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_moreau"));
+        c.args(["simulate", "ball", "--tf", tf, "--out"]).arg(&out);
+        c
+    };
+    // A run of 10^7 steps, killed once it holds its lock.
+    let mut long = moreau("10000").stderr(std::process::Stdio::null()).spawn()?;
+    let start = std::time::Instant::now();
+    while !lock.exists() {
+        ensure!(start.elapsed().as_secs() < 60, "the run took no lock");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    long.kill()?;
+    long.wait()?;
+    let left = LockOwner::parse(&std::fs::read_to_string(&lock)?);
+    ensure!(left.pid == Some(long.id()) && left.host.is_some(), "{left:?}");
+    // The next run takes the lock over, says so, and removes it at its end.
+    let o = moreau("0.05").output()?;
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    ensure!(o.status.success(), "{stderr}");
+    let note = format!("note: took over the lock {} of process {}", lock.display(), long.id());
+    ensure!(stderr.contains(&note), "{stderr}");
+    ensure!(std::fs::read_to_string(&out)?.lines().count() == 52);
+    ensure!(!lock.exists());
+    // A lock of a process that runs (this one), or of another host, is kept.
+    let running = LockOwner::this_process();
+    let elsewhere = LockOwner { host: Some("elsewhere.example".into()), ..left };
+    for (owner, why) in [
+        (&running, format!("its process {} runs", std::process::id())),
+        (&elsewhere, format!("process {} runs on host elsewhere.example", long.id())),
+    ] {
+        std::fs::write(&lock, owner.text())?;
+        let o = moreau("0.05").output()?;
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        ensure!(o.status.code() == Some(1) && stderr.contains(&why), "{stderr}");
+        ensure!(std::fs::read_to_string(&lock)? == owner.text());
+    }
     Ok(())
 }
