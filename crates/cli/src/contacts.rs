@@ -29,6 +29,7 @@ use moreau_models::bodies::{LocatedContact, Multibody};
 use moreau_stepper::{ContactState, StepReport};
 
 use crate::error::CliError;
+use crate::number;
 use crate::output::csv_record;
 
 /// The midpoint of the step from (q_A, u_A, t_A) with step `dt`: q_M = q_A + Δt/2 u_A into
@@ -132,11 +133,13 @@ impl<W: Write> ContactLog<W> {
                     ContactState::Stick => "stick",
                     ContactState::Slip => "slip",
                 };
-                writeln!(
+                number::write(&mut self.out, t)?;
+                write!(
                     self.out,
-                    "{t},{id},{},{},{},{},{},{},{},{},{},{},{},{},{},{state},{}",
-                    self.names[located.bodies[0]],
-                    self.names[located.bodies[1]],
+                    ",{id},{},{}",
+                    self.names[located.bodies[0]], self.names[located.bodies[1]]
+                )?;
+                for x in [
                     g.point_a[0],
                     g.point_a[1],
                     g.point_b[0],
@@ -148,8 +151,10 @@ impl<W: Write> ContactLog<W> {
                     c.p_t,
                     c.gamma_n,
                     c.gamma_t,
-                    u8::from(c.impact),
-                )?;
+                ] {
+                    number::write_next(&mut self.out, x)?;
+                }
+                writeln!(self.out, ",{state},{}", u8::from(c.impact))?;
                 self.rows += 1;
             }
         }

@@ -22,9 +22,10 @@
 //! too, located on their bodies ([`contacts`]: the force network of a pile at each recorded
 //! step). Records stream to disk in batches; sweep rows are written as members finish, each
 //! sweep part names its sweep, and [`parts::merge`] refuses mixed, incomplete or damaged sets.
-//! Outputs ([`output`]) are written through a symbolic link to its file, never over an input
-//! of the run, another output of it or a file that is not a regular file, and under a lock
-//! file that keeps a second run off them.
+//! Numbers go to CSV in the shortest text that reads back exactly, with an exponent when that
+//! is shorter ([`number`]). Outputs ([`output`]) are written through a symbolic link to its
+//! file, never over an input of the run, another output of it or a file that is not a regular
+//! file, whole or not at all, and under a lock file that keeps a second run off them.
 //! A run that stops on a step problem its solver leaves unsolved writes that problem in
 //! Siconos' format ([`failed`]), and [`solve`] solves such a file (or any LCP or FC2D file of
 //! Siconos' collection) with any of `moreau-lcp`'s solvers.
@@ -58,6 +59,7 @@ pub mod failed;
 pub mod grid;
 pub mod guard;
 pub mod keys;
+pub mod number;
 pub mod output;
 pub mod parts;
 pub mod runs;

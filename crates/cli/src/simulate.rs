@@ -14,6 +14,7 @@ use crate::contacts::ContactLog;
 use crate::error::CliError;
 use crate::failed::{self, failed_problem_path};
 use crate::guard::{self, DEFAULT_MAX_STEPS};
+use crate::number;
 pub use crate::output::partial_path;
 use crate::output::{self, Output, OutputLock, csv_record};
 use crate::runs::{RunResult, RunSpec, run_info};
@@ -279,23 +280,24 @@ pub fn header(model: &AnyModel) -> Vec<String> {
     h
 }
 
-/// Writes rows `rows` of a record as CSV lines (numbers in shortest round-trip form).
+/// Writes rows `rows` of a record as CSV lines (numbers as [`number`] writes them).
 fn write_rows(w: &mut impl Write, r: &Record, rows: std::ops::Range<usize>) -> Result<()> {
     for k in rows {
-        write!(w, "{}", r.t[k])?;
+        number::write(w, r.t[k])?;
         let (q, u) = (r.q.get(k).unwrap_or(&[]), r.u.get(k).unwrap_or(&[]));
-        for x in q.iter().chain(u) {
-            write!(w, ",{x}")?;
+        for &x in q.iter().chain(u) {
+            number::write_next(w, x)?;
         }
         let (p_n, p_t) = (r.p_n.get(k).unwrap_or(&[]), r.p_t.get(k).unwrap_or(&[]));
-        for (a, b) in p_n.iter().zip(p_t) {
-            write!(w, ",{a},{b}")?;
+        for (&a, &b) in p_n.iter().zip(p_t) {
+            number::write_next(w, a)?;
+            number::write_next(w, b)?;
         }
         for &a in r.active.get(k).unwrap_or(&[]) {
             write!(w, ",{}", u8::from(a))?;
         }
-        for x in r.joint_impulses.get(k).unwrap_or(&[]) {
-            write!(w, ",{x}")?;
+        for &x in r.joint_impulses.get(k).unwrap_or(&[]) {
+            number::write_next(w, x)?;
         }
         writeln!(w)?;
     }

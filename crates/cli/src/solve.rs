@@ -25,6 +25,7 @@ use moreau_lcp::{
 };
 
 use crate::error::CliError;
+use crate::number;
 use crate::output::{self, Output, OutputLock, csv_record};
 
 /// The solvers of an LCP, by name; the first is the default.
@@ -211,13 +212,13 @@ pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) ->
     }
 }
 
-/// Writes a solution as CSV (numbers in shortest round-trip form, indices as integers).
+/// Writes a solution as CSV (numbers as [`number`] writes them, indices as integers).
 fn write_csv(solved: &Solved, mut w: impl Write) -> Result<()> {
     writeln!(w, "{}", csv_record(&solved.columns)?)?;
     for row in &solved.rows {
         write!(w, "{}", row[0] as usize)?;
-        for x in &row[1..] {
-            write!(w, ",{x}")?;
+        for &x in &row[1..] {
+            number::write_next(&mut w, x)?;
         }
         writeln!(w)?;
     }

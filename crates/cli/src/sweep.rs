@@ -15,6 +15,7 @@ use crate::failed::{self, failed_problem_path};
 use crate::grid::{Axis, Grid, Progress, Shard};
 use crate::guard::{self, DEFAULT_MAX_STEPS};
 use crate::keys;
+use crate::number;
 use crate::output::{self, Output, OutputLock, suffixed};
 use crate::parts::{self, PartHeader, fnv64, row_check};
 use crate::runs::{RunResult, RunSpec, run_info};
@@ -82,11 +83,17 @@ pub fn header(model: &AnyModel, axes: &[Axis]) -> Vec<String> {
     h
 }
 
+/// A key number's cell: empty when it is not defined or not finite.
 fn cell(x: Option<f64>) -> String {
     match x {
-        Some(v) if v.is_finite() => v.to_string(),
+        Some(v) if v.is_finite() => number::text(v),
         _ => String::new(),
     }
+}
+
+/// A wall time's cell: to the microsecond.
+fn seconds(s: f64) -> String {
+    number::text((s * 1e6).round() / 1e6)
 }
 
 /// The id of a sweep: a hash of the model, the base scene, the axes, the step limit and the
@@ -185,7 +192,7 @@ fn member_row(
             row.push(result.sim.steps.to_string());
             row.push(result.sim.lcp_solves.to_string());
             row.push(result.sim.inexact_steps.to_string());
-            row.push(format!("{:.6}", result.sim.wall_seconds));
+            row.push(seconds(result.sim.wall_seconds));
             row.extend(["ok".to_owned(), String::new()]);
         }
         Err(e) => {
@@ -197,7 +204,7 @@ fn member_row(
             let e = failed::with_failed_problem(e, &failed_problem_path(&member));
             empty(&mut row);
             row.extend([String::new(), String::new(), String::new()]);
-            row.push(format!("{:.6}", start.elapsed().as_secs_f64()));
+            row.push(seconds(start.elapsed().as_secs_f64()));
             row.extend([status.to_owned(), format!("{e:#}")]);
         }
     }

@@ -37,8 +37,9 @@ impl Table {
         self.columns.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_slice())
     }
 
-    /// Writes the table as CSV with the header row first; numbers use Rust's shortest
-    /// round-trip formatting, so the file is the same on every run.
+    /// Writes the table as CSV with the header row first; numbers are written as
+    /// [`crate::number`] writes them (the shortest text that reads back exactly), so the file
+    /// is the same on every run.
     ///
     /// # Errors
     /// When the file cannot be written.
@@ -50,7 +51,7 @@ impl Table {
             w.write_record(
                 self.columns
                     .iter()
-                    .map(|(_, v)| v.get(r).map_or(String::new(), |x| format!("{x}"))),
+                    .map(|(_, v)| v.get(r).map_or(String::new(), |&x| crate::number::text(x))),
             )?;
         }
         w.flush()?;
@@ -116,7 +117,7 @@ mod tests {
         let path = dir.path().join("t.csv");
         t.write_csv(&path)?;
         let text = std::fs::read_to_string(&path)?;
-        assert_eq!(text, "t,y\n0,1\n0.1,-0.00000025\n0.2,\n");
+        assert_eq!(text, "t,y\n0,1\n0.1,-2.5e-7\n0.2,\n");
         assert_eq!(Table::read_csv(&path)?, t);
         Ok(())
     }
