@@ -236,6 +236,25 @@ pub enum CliError {
         /// What is wrong.
         reason: String,
     },
+    /// A problem file whose problem is followed by data that the sizes it announces leave out
+    /// (a size too small, two problems in one file): it is not solved as a smaller problem.
+    #[error(
+        "problem file {path} is {kind} followed by unexpected data '{found}' on line {line}, \
+         after its {after}: the sizes the file announces end the problem there; correct them, \
+         or remove what follows"
+    )]
+    TrailingData {
+        /// The file.
+        path: PathBuf,
+        /// What it reads as up to the data (`an LCP file`, `an FC2D file`, `a GFC2D file`).
+        kind: &'static str,
+        /// 1-based line number of the first unexpected token.
+        line: usize,
+        /// That token.
+        found: String,
+        /// The problem's last part (`q`, `μ`).
+        after: &'static str,
+    },
     /// A kind of problem other than `lcp`, `fc2d` and `gfc2d`.
     #[error("unknown kind of problem '{kind}'; the kinds are lcp, fc2d and gfc2d")]
     UnknownProblemKind {

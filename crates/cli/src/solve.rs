@@ -20,8 +20,8 @@ use moreau_lcp::fc2d::{
     Newton, NewtonOptions, Nsgs, NsgsOptions, Proximal, ProximalOptions,
 };
 use moreau_lcp::{
-    Auto, AutoOptions, Enumeration, EnumerationOptions, Lcp, Lemke, LemkeOptions, Method, Pgs,
-    PgsOptions, Solution, Solver, Status,
+    Auto, AutoOptions, Enumeration, EnumerationOptions, Lcp, LcpError, Lemke, LemkeOptions, Method,
+    Pgs, PgsOptions, Solution, Solver, Status,
 };
 
 use crate::error::CliError;
@@ -69,11 +69,24 @@ impl Problem {
 /// whichever of the three formats accepts the file. A global problem is reduced on reading.
 ///
 /// # Errors
+/// [`CliError::TrailingData`] naming the line when the file holds a problem (of the kind
+/// given, or of a kind the file reads as up to there) followed by data its sizes leave out
+/// (Siconos' free-text comment after an LCP, and the flag after an FC2D problem, are read);
 /// [`CliError::Problem`] when the file cannot be read, is not of the kind given, is of no
 /// kind (with each reader's reason) or of more than one, or is a global problem whose M
 /// cannot be factored; [`CliError::UnknownProblemKind`] for another kind.
 pub fn read(path: &Path, kind: Option<&str>) -> Result<Problem> {
     let refuse = |reason: String| CliError::Problem { path: path.to_owned(), reason };
+    let trailing = |kind: &'static str, e: &LcpError| match e {
+        LcpError::TrailingData { line, found, after } => Some(CliError::TrailingData {
+            path: path.to_owned(),
+            kind,
+            line: *line,
+            found: found.clone(),
+            after,
+        }),
+        _ => None,
+    };
     let text = std::fs::read_to_string(path).map_err(|e| refuse(format!("cannot be read: {e}")))?;
     let bytes = text.as_bytes();
     let read_as = |kind: &str| match kind {
@@ -86,7 +99,9 @@ pub fn read(path: &Path, kind: Option<&str>) -> Result<Problem> {
         let Some(&(_, name)) = kinds.iter().find(|(k, _)| *k == kind) else {
             return Err(CliError::UnknownProblemKind { kind: kind.to_owned() }.into());
         };
-        return Ok(read_as(kind).map_err(|e| refuse(format!("is not {name}: {e}")))?);
+        return Ok(read_as(kind).map_err(|e| {
+            trailing(name, &e).unwrap_or_else(|| refuse(format!("is not {name}: {e}")))
+        })?);
     }
     let readers = kinds.map(|(kind, name)| (kind, name, read_as(kind)));
     let (read, refused): (Vec<_>, Vec<_>) = readers.into_iter().partition(|(_, _, r)| r.is_ok());
@@ -97,6 +112,13 @@ pub fn read(path: &Path, kind: Option<&str>) -> Result<Problem> {
             Err(refuse(format!("reads both as {a} and as {b}; say which with --problem")).into())
         }
         (None, _) => {
+            // A problem followed by data is told as such, whatever the other readers say.
+            if let Some(e) = refused
+                .iter()
+                .find_map(|(_, name, r)| r.as_ref().err().and_then(|e| trailing(name, e)))
+            {
+                return Err(e.into());
+            }
             let reasons: Vec<String> = refused
                 .into_iter()
                 .filter_map(|(_, name, r)| r.err().map(|e| format!("{name} ({e})")))

@@ -213,3 +213,48 @@ fn a_solve_that_succeeds_removes_the_last_iterate_of_an_earlier_one() -> Result<
     assert_eq!((header.as_str(), rows), ("i,z,w", vec![vec![0.0, 1.0, 0.0]]));
     Ok(())
 }
+
+#[test]
+fn a_problem_followed_by_data_is_refused_naming_the_line() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let siconos = Path::new(env!("CARGO_MANIFEST_DIR")).join("../lcp/tests/data/siconos");
+    // An LCP of 2 rows (its q on line 8), then three numbers that its size leaves out.
+    let lcp = dir.path().join("lcp.dat");
+    let text = std::fs::read_to_string(siconos.join("lcp/lcp_deudeu.dat"))?;
+    std::fs::write(&lcp, format!("{text}\n7 8 9\n"))?;
+    // An FC2D problem of 2 contacts, then a second μ.
+    let fc2d = dir.path().join("fc2d.dat");
+    let text = std::fs::read_to_string(siconos.join("fc2d/FC2D_SliderCrankLagrangian00000.dat"))?;
+    let mu_line = text.lines().count();
+    std::fs::write(&fc2d, format!("{text}0.3 0.3\n"))?;
+    for (file, kind, line, found, after) in [
+        (&lcp, None, 9, "7", "q"),
+        (&lcp, Some("lcp"), 9, "7", "q"),
+        (&fc2d, None, mu_line + 1, "0.3", "μ"),
+    ] {
+        let e = read(file, kind).expect_err("data after the problem");
+        let text = format!("{e:#}");
+        anyhow::ensure!(
+            matches!(cli_error(&e), Some(CliError::TrailingData { line: l, found: f, after: a, .. })
+                if *l == line && f == found && *a == after),
+            "{text}"
+        );
+        anyhow::ensure!(text.contains(&format!("'{found}' on line {line}, after its {after}")));
+    }
+    // Through the command: exit status 1 and the line on stderr.
+    let o =
+        std::process::Command::new(env!("CARGO_BIN_EXE_moreau")).arg("solve").arg(&lcp).output()?;
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    anyhow::ensure!(o.status.code() == Some(1), "{stderr}");
+    anyhow::ensure!(
+        stderr.contains("is an LCP file followed by unexpected data '7' on line 9"),
+        "{stderr}"
+    );
+    // Siconos' comments after an LCP, and the flag after an FC2D problem, are read as before.
+    for name in
+        ["lcp/lcp_CPS_1.dat", "lcp/lcp_exp_murty.dat", "fc2d/FrictionContactProblem00031.dat"]
+    {
+        read(&siconos.join(name), None)?;
+    }
+    Ok(())
+}

@@ -79,6 +79,20 @@ pub enum LcpError {
         /// What went wrong.
         message: String,
     },
+    /// Data after the last value of a problem in a text file: the sizes the file announces end
+    /// the problem before them (a size too small, or two problems in one file).
+    #[error(
+        "unexpected data '{found}' on line {line} after {after}, where the problem ends by the \
+         sizes the file announces"
+    )]
+    TrailingData {
+        /// 1-based line number of the first unexpected token.
+        line: usize,
+        /// That token.
+        found: String,
+        /// The problem's last part (`q`, `μ`).
+        after: &'static str,
+    },
     /// A Siconos file names a matrix storage that does not exist.
     #[error(
         "unknown Siconos matrix storage type {storage} (0 = dense, 1 = sparse block, 2 = sparse)"

@@ -125,7 +125,7 @@ fn parse_errors_name_the_line() {
     );
     let err = Lcp::read_plain("1\n1\n1\n5\n".as_bytes()).unwrap_err();
     assert!(
-        matches!(&err, LcpError::Parse { line: 4, message } if message.contains("after q")),
+        matches!(&err, LcpError::TrailingData { line: 4, found, after: "q" } if found == "5"),
         "{err}"
     );
     let err = Lcp::read_plain("0\n".as_bytes()).unwrap_err();
@@ -167,4 +167,41 @@ fn io_errors_are_wrapped() {
     }
     assert!(matches!(Lcp::read_plain(Broken), Err(LcpError::Io(_))));
     assert!(matches!(Lcp::read_siconos(Broken), Err(LcpError::Io(_))));
+}
+
+#[test]
+fn data_after_a_siconos_problem_is_refused_naming_its_line() {
+    use moreau_lcp::fc2d::{Fc2d, Gfc2d};
+    let trailing = |err: LcpError, at: usize, token: &str, part: &str| {
+        assert!(
+            matches!(&err, LcpError::TrailingData { line, found, after }
+                if *line == at && found == token && *after == part),
+            "{err}"
+        );
+        assert!(err.to_string().contains(&format!("'{token}' on line {at} after {part}")), "{err}");
+    };
+    // An LCP of one row: n, M dense 1 x 1, q; then a comment, or a number.
+    let lcp = "1\n0\n1\n1\n1 1\n2\n-1\n";
+    assert!(Lcp::read_siconos(lcp.as_bytes()).is_ok());
+    assert!(Lcp::read_siconos(format!("{lcp}\nExample 4.4.7 CPS 2009\n").as_bytes()).is_ok());
+    assert!(Lcp::read_siconos(format!("{lcp}# from Murty (1988)\n").as_bytes()).is_ok());
+    trailing(Lcp::read_siconos(format!("{lcp}\n7 8 9\n").as_bytes()).unwrap_err(), 9, "7", "q");
+    trailing(Lcp::read_siconos(format!("{lcp}-1e-3\n").as_bytes()).unwrap_err(), 8, "-1e-3", "q");
+    // A contact problem of one contact: W dense 2 x 2, q, μ; then the flag, or more.
+    let fc2d = "2\n1\n0\n2\n2\n2 2\n1 0 0 1\n-1 0\n0.5\n";
+    assert!(Fc2d::read_siconos(fc2d.as_bytes()).is_ok());
+    assert!(Fc2d::read_siconos(format!("{fc2d}1\n").as_bytes()).is_ok());
+    assert!(Fc2d::read_siconos(format!("{fc2d}0\n\n").as_bytes()).is_ok());
+    trailing(
+        Fc2d::read_siconos(format!("{fc2d}0.3 0.3\n").as_bytes()).unwrap_err(),
+        10,
+        "0.3",
+        "μ",
+    );
+    trailing(Fc2d::read_siconos(format!("{fc2d}1\n2\n").as_bytes()).unwrap_err(), 11, "2", "μ");
+    trailing(Fc2d::read_siconos(format!("{fc2d}x\n").as_bytes()).unwrap_err(), 10, "x", "μ");
+    // A global one: M dense 2 x 2, H dense 2 x 2, q, b, μ; then nothing.
+    let gfc2d = "2\n1\n0\n2\n2\n2 2\n1 0 0 1\n0\n2\n2\n2 2\n1 0 0 1\n0 -1\n0 0\n0.5\n";
+    assert!(Gfc2d::read_siconos(gfc2d.as_bytes()).is_ok());
+    trailing(Gfc2d::read_siconos(format!("{gfc2d}1\n").as_bytes()).unwrap_err(), 16, "1", "μ");
 }

@@ -3,10 +3,12 @@
 //!
 //! FC2D: the dimension (2), the number of contacts n_c, W as a NumericsMatrix
 //! (`2 n_c x 2 n_c`, any storage), q (`2 n_c` numbers), μ (n_c numbers). Rows are ordered
-//! `(N, T)` per contact.
+//! `(N, T)` per contact. Nothing may follow μ but the flag `0` or `1` alone that Siconos'
+//! former writer added (`isComplete`; five files of Siconos' collection end with it).
 //!
 //! GFC2D: the dimension (2), n_c, M (`n x n`), H (`n x 2 n_c`), q (n numbers), b
-//! (`2 n_c` numbers), μ (n_c numbers), for `M v = q + H r` and `u = Hᵀ v + b`.
+//! (`2 n_c` numbers), μ (n_c numbers), for `M v = q + H r` and `u = Hᵀ v + b`. Nothing may
+//! follow μ.
 
 use std::io::{Read, Write};
 
@@ -17,7 +19,7 @@ use faer::sparse::linalg::solvers::{Llt, Lu};
 use faer::sparse::{SparseColMat, Triplet};
 
 use super::numerics::{self, NumericsMatrix, write_numbers};
-use super::tokens::{Tokens, check_count};
+use super::tokens::{Tokens, Trailer, check_count};
 use crate::LcpError;
 use crate::fc2d::{Fc2d, Fc2dBuilder};
 
@@ -75,7 +77,8 @@ impl Fc2d {
     ///
     /// # Errors
     /// [`LcpError::Io`], [`LcpError::Parse`] (with the line), a dimension other than 2,
-    /// [`LcpError::UnsupportedStorage`], or a validation error of
+    /// [`LcpError::UnsupportedStorage`], [`LcpError::TrailingData`] (with the line) for data
+    /// after μ other than the flag `0` or `1`, or a validation error of
     /// [`Fc2dRef::from_parts`](crate::fc2d::Fc2dRef::from_parts).
     pub fn read_siconos<R: Read>(mut reader: R) -> Result<Fc2d, LcpError> {
         let mut text = String::new();
@@ -85,6 +88,7 @@ impl Fc2d {
         let w = numerics::read_matrix(&mut t, text.len(), sized("W", 2 * n_c, 2 * n_c))?;
         let q = numbers(&mut t, 2 * n_c, "an entry of q", text.len())?;
         let mu = numbers(&mut t, n_c, "a friction coefficient", text.len())?;
+        t.end("μ", Trailer::Flag)?;
         let mut builder = Fc2dBuilder::new(n_c);
         for &(i, j, v) in &w.entries {
             if v != 0.0 || w.storage != 0 {
@@ -215,7 +219,8 @@ impl Gfc2d {
     ///
     /// # Errors
     /// [`LcpError::Io`], [`LcpError::Parse`] (with the line), a dimension other than 2,
-    /// sizes that do not agree, non-finite entries or a negative μ.
+    /// sizes that do not agree, [`LcpError::TrailingData`] (with the line) for data after μ,
+    /// non-finite entries or a negative μ.
     pub fn read_siconos<R: Read>(mut reader: R) -> Result<Gfc2d, LcpError> {
         let mut text = String::new();
         reader.read_to_string(&mut text)?;
@@ -230,6 +235,7 @@ impl Gfc2d {
         let q = numbers(&mut t, n, "an entry of q", len)?;
         let b = numbers(&mut t, 2 * n_c, "an entry of b", len)?;
         let mu = numbers(&mut t, n_c, "a friction coefficient", len)?;
+        t.end("μ", Trailer::Nothing)?;
         for (what, entries) in [("M", &m.entries), ("H", &h.entries)] {
             if let Some(&(i, j, _)) = entries.iter().find(|e| !e.2.is_finite()) {
                 return Err(LcpError::NonFinite { what, index: (i, j) });

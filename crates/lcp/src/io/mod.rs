@@ -2,7 +2,8 @@
 //! files, and the matrix storages they share.
 //!
 //! **Plain** (whitespace-separated, `#` starts a comment that runs to the end of the
-//! line): n, then M row by row (n^2 numbers), then q (n numbers). Nothing else may follow.
+//! line): n, then M row by row (n^2 numbers), then q (n numbers). Nothing else may follow
+//! ([`LcpError::TrailingData`]).
 //!
 //! **Siconos** (the format of `linearComplementarity_newFromFile` /
 //! `linearComplementarity_printInFile` of Siconos numerics):
@@ -12,7 +13,8 @@
 //! M                  (a NumericsMatrix: storage type, rows, columns, then the storage's
 //!                     layout, see below; dense, sparse block and sparse are read)
 //! q                  (n numbers)
-//! anything else      (a free-text comment, ignored)
+//! anything else      (a free-text comment, ignored; it may not start with a number, which
+//!                     would be data beyond the announced sizes)
 //! ```
 //!
 //! The matrix storages are described in the `numerics` module; the FC2D files in `fc2d`.
@@ -27,7 +29,7 @@ mod tokens;
 
 pub use fc2d::{Gfc2d, Reduced, SiconosStorage};
 pub(crate) use numerics::write_numbers;
-use tokens::{Tokens, check_count};
+use tokens::{Tokens, Trailer, check_count};
 
 fn parse_plain(text: &str) -> Result<Lcp, LcpError> {
     let mut t = Tokens::new(text, true);
@@ -41,12 +43,7 @@ fn parse_plain(text: &str) -> Result<Lcp, LcpError> {
         }
     }
     let q = (0..n).map(|_| t.number("an entry of q")).collect::<Result<Vec<f64>, _>>()?;
-    if let Some((line, tok)) = t.next_token() {
-        return Err(LcpError::Parse {
-            line,
-            message: format!("unexpected data '{tok}' after q (plain format ends with q)"),
-        });
-    }
+    t.end("q", Trailer::Nothing)?;
     Lcp::from_column_major(n, &m, &q)
 }
 
@@ -67,6 +64,7 @@ fn parse_siconos(text: &str) -> Result<Lcp, LcpError> {
         }
     })?;
     let q = (0..n).map(|_| t.number("an entry of q")).collect::<Result<Vec<f64>, _>>()?;
+    t.end("q", Trailer::Comment)?;
     Lcp::from_column_major(n, &m.to_column_major(), &q)
 }
 
@@ -101,8 +99,8 @@ impl Lcp {
     /// Reads the plain format.
     ///
     /// # Errors
-    /// [`LcpError::Io`], [`LcpError::Parse`] with the line number, or a validation error
-    /// of [`Lcp::new`].
+    /// [`LcpError::Io`], [`LcpError::Parse`] with the line number,
+    /// [`LcpError::TrailingData`] for data after q, or a validation error of [`Lcp::new`].
     pub fn read_plain<R: Read>(mut r: R) -> Result<Lcp, LcpError> {
         let mut text = String::new();
         r.read_to_string(&mut text)?;
@@ -113,7 +111,9 @@ impl Lcp {
     ///
     /// # Errors
     /// [`LcpError::Io`], [`LcpError::Parse`], [`LcpError::UnsupportedStorage`] for an
-    /// unknown storage type, [`LcpError::NotSquare`] or a validation error of [`Lcp::new`].
+    /// unknown storage type, [`LcpError::NotSquare`], [`LcpError::TrailingData`] (with the
+    /// line) for a number after q (a comment may follow it), or a validation error of
+    /// [`Lcp::new`].
     pub fn read_siconos<R: Read>(mut r: R) -> Result<Lcp, LcpError> {
         let mut text = String::new();
         r.read_to_string(&mut text)?;

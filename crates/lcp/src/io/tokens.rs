@@ -102,6 +102,35 @@ impl<'a> Tokens<'a> {
     }
 }
 
+/// What a format lets follow the last value of a problem.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Trailer {
+    /// Nothing but whitespace.
+    Nothing,
+    /// A free-text comment, which must not start with a number (Siconos' LCP files).
+    Comment,
+    /// The flag `0` or `1` alone, which Siconos' former FC2D writer added (`isComplete`).
+    Flag,
+}
+
+impl Tokens<'_> {
+    /// Refuses data after the last value of a problem, `after`, except what `trailer` lets
+    /// follow it.
+    pub(crate) fn end(&mut self, after: &'static str, trailer: Trailer) -> Result<(), LcpError> {
+        let Some((line, found)) = self.next_token() else { return Ok(()) };
+        let refuse =
+            |line, found: &str| LcpError::TrailingData { line, found: found.to_owned(), after };
+        match trailer {
+            Trailer::Comment if found.parse::<f64>().is_err() => Ok(()),
+            Trailer::Flag if found == "0" || found == "1" => match self.next_token() {
+                None => Ok(()),
+                Some((line, found)) => Err(refuse(line, found)),
+            },
+            _ => Err(refuse(line, found)),
+        }
+    }
+}
+
 /// Refuses a number of values that could not possibly be in a text of `len` bytes (each
 /// value takes at least two bytes with its separator), so that a corrupt size cannot make
 /// a reader allocate without bound.
