@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use moreau_models::{AnyModel, ModelKind, Scene, Simulation};
+use moreau_models::{AnyModel, ModelError, ModelKind, Scene, Simulation};
 use moreau_stepper::{Mechanism, Observer, Record, Recorder, StepReport};
 
 use crate::contacts::ContactLog;
@@ -18,6 +18,7 @@ use crate::number;
 pub use crate::output::partial_path;
 use crate::output::{self, Output, OutputLock, csv_record};
 use crate::runs::{RunResult, RunSpec, run_info};
+use crate::unknown_key::unknown_key;
 
 /// What to simulate.
 #[derive(Clone, Debug, Default)]
@@ -111,8 +112,9 @@ pub fn base_scene(model: Option<&str>, scene: Option<&Path>) -> Result<Scene> {
 /// the solver's name chooses its kind, whose fields a later key may then set.
 ///
 /// # Errors
-/// [`CliError::RepeatedKey`] naming both keys and the entry; an unknown key or a bad value
-/// (naming the override).
+/// [`CliError::RepeatedKey`] naming both keys and the entry; [`CliError::UnknownKey`] for a
+/// key the scene does not have, with the keys of the level where it leaves the scene's and
+/// the nearest of them; a bad value (naming the override).
 pub fn apply_sets(scene: &mut Scene, sets: &[(String, String)]) -> Result<()> {
     apply_labelled(scene, sets.iter().map(|(k, v)| (k.as_str(), k.as_str(), v.as_str())))
 }
@@ -132,7 +134,7 @@ fn apply_labelled<'a>(
     };
     let mut seen: Vec<(&str, Vec<String>)> = Vec::new();
     for (label, key, value) in sets {
-        let targets = scene.targets(key).with_context(|| format!("--set {key}={value}"))?;
+        let targets = scene.targets(key).map_err(|e| refused(scene, key, value, e))?;
         for (first, earlier) in &seen {
             let repeated =
                 targets.iter().find_map(|t| earlier.iter().find(|e| overlap(e, t)).map(|e| (t, e)));
@@ -147,10 +149,20 @@ fn apply_labelled<'a>(
                 .into());
             }
         }
-        scene.set(key, value).with_context(|| format!("--set {key}={value}"))?;
+        scene.set(key, value).map_err(|e| refused(scene, key, value, e))?;
         seen.push((label, targets));
     }
     Ok(())
+}
+
+/// The scene's refusal `error` of `--set key=value`: [`CliError::UnknownKey`] when it is the
+/// key that the scene lacks, `error` itself otherwise.
+fn refused(scene: &Scene, key: &str, value: &str, error: ModelError) -> anyhow::Error {
+    let context = format!("--set {key}={value}");
+    match unknown_key(scene, key, &error) {
+        Some(unknown) => anyhow::Error::new(unknown).context(context),
+        None => anyhow::Error::new(error).context(context),
+    }
 }
 
 /// The scene of the options: the scene file or the model's report scene, with overrides.

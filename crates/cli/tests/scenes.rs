@@ -358,3 +358,58 @@ mu = 0.5
     }
     Ok(())
 }
+
+#[test]
+fn an_unknown_key_is_told_as_such_with_the_keys_of_its_level() -> Result<()> {
+    let ball = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies/ball.toml");
+    let b = ball.to_str().context("path")?;
+    for (args, said) in [
+        (
+            vec!["simulate", "--scene", b, "--set", "zzz=1"],
+            "--set zzz=1: unknown key `zzz`; the keys of the scene are dt, t_end, record_every, \
+             solver, stop_at, projection, inexact_residual, gravity, bodies, joints, forces, \
+             contacts, contacts_auto, contact_set, fill",
+        ),
+        (
+            vec!["simulate", "--scene", b, "--set", "bodies.ball.masss=2"],
+            "unknown key `bodies.ball.masss`: `bodies.ball` has no key `masss` (did you mean \
+             `bodies.ball.mass`?); the keys of `bodies.ball` are name, type, mass, inertia,",
+        ),
+        (
+            vec!["simulate", "--scene", b, "--set", "bodies.bal.mass=2"],
+            "`bodies` has no key `bal` (did you mean `bodies.ball.mass`?); the keys of `bodies` \
+             are floor, ball",
+        ),
+        (
+            vec!["sweep", "ball", "--set", "eps_nn=0.1,0.2"],
+            "unknown key `eps_nn` (did you mean `eps_n`?); the keys of the scene are solver, dt, \
+             record_every, t_end, eps_n, g, init.v0, init.y0, m, r",
+        ),
+        (
+            vec!["simulate", "ball", "--set", "init.y00=2"],
+            "unknown key `init.y00`: `init` has no key `y00` (did you mean `init.y0`?); the keys \
+             of `init` are v0, y0",
+        ),
+    ] {
+        let o = moreau(&[args.as_slice(), &["--out", "unused.csv"]].concat());
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        ensure!(o.status.code() == Some(1), "{args:?}: {stderr}");
+        ensure!(stderr.contains(said) && !stderr.contains("bad value"), "{args:?}: {stderr}");
+    }
+    // Typed, with the optional fields of a body among the keys; a bad value stays one.
+    let options = |set: &str| SimulateOptions {
+        scene: Some(ball.clone()),
+        sets: vec![set.to_owned()],
+        ..Default::default()
+    };
+    let e = scene(&options("bodies.ball.masss=2")).expect_err("unknown");
+    let Some(CliError::UnknownKey { level, name, valid, suggestion, .. }) = cli_error(&e) else {
+        anyhow::bail!("{e:#}")
+    };
+    ensure!(level == "bodies.ball" && name == "masss", "{e:#}");
+    ensure!(suggestion.as_deref() == Some("bodies.ball.mass"), "{e:#}");
+    ensure!(valid.iter().any(|k| k == "density"), "{valid:?}");
+    let e = scene(&options("bodies.ball.mass=-1")).expect_err("bad value");
+    ensure!(cli_error(&e).is_none() && format!("{e:#}").contains("bad value `-1`"), "{e:#}");
+    Ok(())
+}
