@@ -156,6 +156,23 @@ pub enum CliError {
         /// The scene entry both set.
         entry: String,
     },
+    /// A sweep whose run (its shard) holds more members than one run may.
+    #[error(
+        "the sweep's run holds {members} members (of {total} in the sweep), more than the \
+         {limit} one run may hold: its rows are read back and sorted in memory at its end, and \
+         its members are checked one by one before the first runs; split it with --shard K/N, \
+         N >= {shards}, and merge the parts"
+    )]
+    SweepTooLarge {
+        /// Members of the run (of its shard).
+        members: u64,
+        /// Members of the whole sweep.
+        total: u64,
+        /// The most members one run may hold (`sweep::MAX_MEMBERS`).
+        limit: u64,
+        /// The fewest shards that bring each run under the limit.
+        shards: u64,
+    },
     /// A sweep whose every row is written but some of whose members diverged or failed.
     #[error(
         "{diverged} members diverged and {failed} failed of the {rows} in {out}; each row's \

@@ -129,17 +129,30 @@ impl Shard {
     }
 }
 
-/// Progress of a batch of runs: a bar on a terminal, plain lines otherwise.
+/// Progress of a batch of runs: a bar on a terminal; plain lines otherwise, or nothing.
 pub struct Progress {
     bar: Option<indicatif::ProgressBar>,
     done: Mutex<usize>,
     total: usize,
     what: String,
+    /// Whether plain lines are written when standard error is not a terminal.
+    lines: bool,
 }
 
 impl Progress {
-    /// Progress over `total` items described as `what`.
+    /// Progress over `total` items described as `what`: a bar on a terminal, a line per item
+    /// otherwise.
     pub fn new(total: usize, what: &str) -> Self {
+        Self::with_lines(total, what, true)
+    }
+
+    /// Progress over `total` items described as `what`: a bar on a terminal, nothing
+    /// otherwise (a log is not filled with a line per item).
+    pub fn on_terminal(total: usize, what: &str) -> Self {
+        Self::with_lines(total, what, false)
+    }
+
+    fn with_lines(total: usize, what: &str, lines: bool) -> Self {
         let bar = std::io::stderr().is_terminal().then(|| {
             let bar = indicatif::ProgressBar::new(total as u64);
             if let Ok(style) = indicatif::ProgressStyle::with_template(
@@ -150,7 +163,7 @@ impl Progress {
             bar.set_message(what.to_owned());
             bar
         });
-        Self { bar, done: Mutex::new(0), total, what: what.to_owned() }
+        Self { bar, done: Mutex::new(0), total, what: what.to_owned(), lines }
     }
 
     /// Marks one item done, with a short note.
@@ -159,14 +172,24 @@ impl Progress {
         *done += 1;
         match &self.bar {
             Some(bar) => bar.inc(1),
-            None => eprintln!("{}: {}/{} done ({note})", self.what, *done, self.total),
+            None if self.lines => {
+                eprintln!("{}: {}/{} done ({note})", self.what, *done, self.total)
+            }
+            None => {}
         }
     }
 
-    /// Ends the progress display.
+    /// Ends the progress display, leaving the bar.
     pub fn finish(&self) {
         if let Some(bar) = &self.bar {
             bar.finish();
+        }
+    }
+
+    /// Ends the progress display, removing the bar.
+    pub fn clear(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
         }
     }
 }

@@ -21,6 +21,15 @@ use crate::parts::{self, PartHeader, fnv64, row_check};
 use crate::runs::{RunResult, RunSpec, run_info};
 use crate::simulate::{apply_sets, base_scene, check_record_every, run_scene};
 
+/// The most members one run of a sweep (its shard) may hold: a larger run is refused before
+/// anything is checked or run ([`CliError::SweepTooLarge`]), and is split with `--shard`.
+/// Each member's scene is checked before the first runs, and the rows are read back and
+/// sorted in memory at the end: 10⁶ members of the ball take 1.5 GB there.
+pub const MAX_MEMBERS: u64 = 1_000_000;
+
+/// Members checked at once, in parallel, before the first runs.
+const CHECK_CHUNK: usize = 4096;
+
 /// What to sweep.
 #[derive(Clone, Debug)]
 pub struct SweepOptions {
@@ -222,7 +231,9 @@ fn member_row(
 /// finished members; with `resume` such a file of the same sweep is continued without running
 /// its members again (a row cut off by the interruption is run again), and a finished `out`
 /// of the same sweep is left as it is ([`SweepSummary::finished_before`]), while one of
-/// another sweep is refused. A sweep that starts anew removes the
+/// another sweep is refused. A run of more than [`MAX_MEMBERS`] members is refused first. On a
+/// terminal, a progress bar shows the members checked and then those run; elsewhere nothing
+/// is shown. A sweep that starts anew removes the
 /// `<out>.member-<i>.failed.dat` files of an earlier one. At the end the rows are written
 /// sorted by member to `<out>.tmp`, which is renamed over `out` once written in full (a sweep
 /// killed or stopped by a full disk then leaves the former `out` as it was), and
@@ -231,7 +242,8 @@ fn member_row(
 /// numbers. The members are enumerated lazily, never listed.
 ///
 /// # Errors
-/// Unknown model, bad scene, a key given twice, unknown keys or bad values, a member whose
+/// [`CliError::SweepTooLarge`] for a run of more than [`MAX_MEMBERS`] members; unknown
+/// model, bad scene, a key given twice, unknown keys or bad values, a member whose
 /// step plan is refused, an unfinished run at `<out>.partial` without `resume` (or of another
 /// sweep), with `resume` a finished `out` of another sweep ([`CliError::MixedParts`]), an
 /// output that is the scene file or not a regular file ([`CliError::Output`]) or that another
@@ -259,19 +271,47 @@ pub fn run_with_warnings(
     let max_steps = options.max_steps.unwrap_or(DEFAULT_MAX_STEPS);
     let grid = Grid::new(options.axes.clone())?;
     let shard = options.shard.unwrap_or(Shard::all());
+    let members = shard.count(grid.len());
+    if members > MAX_MEMBERS {
+        return Err(CliError::SweepTooLarge {
+            members,
+            total: grid.len(),
+            limit: MAX_MEMBERS,
+            shards: grid.len().div_ceil(MAX_MEMBERS),
+        }
+        .into());
+    }
     // Member 0 first, so that a repeated or unknown key is refused whatever the shard.
     if !grid.is_empty() {
         member_scene(&base, &grid, 0, max_steps)?;
     }
+    // Every member, in parallel by chunks, the first refusal and the warnings in member order.
     let mut warned = BTreeSet::new();
-    for i in shard.members(grid.len()) {
-        let scene = member_scene(&base, &grid, i, max_steps)?;
-        for w in guard::gap_warnings(&scene.build()?) {
-            if warned.len() < 20 && warned.insert(w.clone()) {
-                warn(&format!("member {i}: {w}"));
+    let checking = Progress::on_terminal(members as usize, &format!("checking sweep {kind}"));
+    let mut to_check = shard.members(grid.len());
+    loop {
+        let chunk: Vec<u64> = to_check.by_ref().take(CHECK_CHUNK).collect();
+        if chunk.is_empty() {
+            break;
+        }
+        let checked: Vec<Result<Vec<String>>> = chunk
+            .par_iter()
+            .map(|&i| {
+                let scene = member_scene(&base, &grid, i, max_steps)?;
+                let warnings = guard::gap_warnings(&scene.build()?);
+                checking.tick("");
+                Ok(warnings)
+            })
+            .collect();
+        for (i, warnings) in chunk.into_iter().zip(checked) {
+            for w in warnings? {
+                if warned.len() < 20 && warned.insert(w.clone()) {
+                    warn(&format!("member {i}: {w}"));
+                }
             }
         }
     }
+    checking.clear();
     let identity = PartHeader {
         id: sweep_id(&base, grid.axes(), max_steps),
         model: kind.name().to_owned(),
@@ -355,7 +395,7 @@ pub fn run_with_warnings(
     let writer = Mutex::new(csv::Writer::from_writer(file));
     let todo = shard.count(grid.len()) - done.len() as u64;
     faer::set_global_parallelism(faer::Par::Seq);
-    let progress = Progress::new(todo as usize, &format!("sweep {kind}"));
+    let progress = Progress::on_terminal(todo as usize, &format!("sweep {kind}"));
     let ran = Mutex::new(0u64);
     let failure: Mutex<Option<anyhow::Error>> = Mutex::new(None);
     (0..shard.count(grid.len())).into_par_iter().for_each(|j| {

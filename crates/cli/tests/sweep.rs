@@ -169,3 +169,81 @@ fn the_declared_ball_gives_its_first_impact_at_the_report_models_time() -> Resul
     assert!((times[0] - 0.4285).abs() < 1e-12, "{}", times[0]);
     Ok(())
 }
+
+/// `key=v1,...` with `n` distinct values from `first` by `step`.
+fn axis(key: &str, n: usize, first: f64, step: f64) -> String {
+    let values: Vec<String> = (0..n).map(|i| format!("{}", first + step * i as f64)).collect();
+    format!("{key}={}", values.join(","))
+}
+
+#[test]
+fn a_sweep_too_large_for_one_run_is_refused_before_anything_is_done() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("huge.csv");
+    // 10^9 members: the command answers at once, where it used to check them for hours.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_moreau"))
+        .args(["sweep", "ball", "--set", &axis("eps_n", 1000, 0.1, 1e-4)])
+        .args(["--set", &axis("init.y0", 1000, 1.0, 1e-3), "--set"])
+        .arg(axis("t_end", 1000, 0.01, 0.01))
+        .arg("--out")
+        .arg(&out)
+        .stderr(std::process::Stdio::piped())
+        .spawn()?;
+    let start = std::time::Instant::now();
+    while child.try_wait()?.is_none() {
+        if start.elapsed().as_secs() > 30 {
+            child.kill()?;
+            child.wait()?;
+            anyhow::bail!("a sweep of 10^9 members was not refused within 30 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let o = child.wait_with_output()?;
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    ensure!(o.status.code() == Some(1), "{stderr}");
+    ensure!(stderr.contains("holds 1000000000 members"), "{stderr}");
+    ensure!(stderr.contains("split it with --shard K/N, N >= 1000"), "{stderr}");
+    ensure!(std::fs::read_dir(dir.path())?.next().is_none(), "it left files");
+    // Typed, counting the members of the run: 1001 x 1000 members are too many for one run.
+    let axes = vec![
+        Axis::parse(&axis("eps_n", 1001, 0.1, 1e-4))?,
+        Axis::parse(&axis("t_end", 1000, 0.01, 0.01))?,
+    ];
+    let e = run(&SweepOptions::new("ball", axes), &out).expect_err("too large");
+    let too_large = e.chain().find_map(|c| c.downcast_ref::<moreau_cli::CliError>());
+    ensure!(
+        matches!(
+            too_large,
+            Some(moreau_cli::CliError::SweepTooLarge {
+                members: 1_001_000,
+                total: 1_001_000,
+                limit: 1_000_000,
+                shards: 2
+            })
+        ),
+        "{e:#}"
+    );
+    Ok(())
+}
+
+#[test]
+fn a_sweep_shows_its_progress_on_a_terminal_only() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("k.csv");
+    let args = ["sweep", "ball", "--set", "eps_n=0.5,0.7", "--set", "t_end=0.05", "--out"];
+    // Standard error is a pipe: no line per member.
+    let o =
+        std::process::Command::new(env!("CARGO_BIN_EXE_moreau")).args(args).arg(&out).output()?;
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    ensure!(o.status.success() && stderr.is_empty(), "{stderr}");
+    // On a terminal (`script` gives the command one), a bar counts the members.
+    let command = format!("{} {} {}", env!("CARGO_BIN_EXE_moreau"), args.join(" "), out.display());
+    match std::process::Command::new("script").args(["-qec", &command, "/dev/null"]).output() {
+        Ok(o) if o.status.success() => {
+            let screen = String::from_utf8_lossy(&o.stdout);
+            ensure!(screen.contains("sweep ball") && screen.contains("2/2"), "{screen}");
+        }
+        _ => println!("script is not available: the terminal is not tried"),
+    }
+    Ok(())
+}
