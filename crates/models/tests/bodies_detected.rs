@@ -504,7 +504,11 @@ mu = 0.3
             // Falling from 0.3 m, the square moves at most 2.5 mm per step.
             assert!(jump < 3e-3, "{shape}, {contact_set}: a step moved it by {jump} m");
             assert!(deepest < 1e-3, "{shape}, {contact_set}: {deepest} m deep");
-            assert!((last[1] - 0.1).abs() < 1e-6 && last[2].abs() < 1e-6, "{last:?}");
+            // It rests on its face within the projection's tolerance of 2 g Δt² = 1.96e-5 m,
+            // which leaves its corners as deep as the scheme puts them (3.0e-6 m here).
+            let tolerance = 2.0 * 9.81 * 1e-3 * 1e-3;
+            assert!((last[1] - 0.1).abs() < tolerance, "{last:?}");
+            assert!(last[2].abs() < tolerance / 0.1, "{last:?}");
             ends.push(last);
         }
         assert_eq!(ends[0], ends[1], "{contact_set}: profile and polygon");

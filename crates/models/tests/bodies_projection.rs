@@ -98,10 +98,12 @@ fn a_light_box_pinched_between_heavy_ones_is_not_pushed_out() {
 
 /// Five boxes of 0.4 × 0.5 m, each 1 cm to the right of the one below and released 1 mm above
 /// it, of 1 kg/m² from the bottom and `density` for the second and the fourth, μ = 0.5, 2 s
-/// at Δt = 1e-3 s: the positions and velocities at the end.
-fn stack(contact_set: &str, density: f64) -> (Vec<f64>, Vec<f64>) {
+/// at Δt = 1e-3 s, taking islands up to the natural residual `inexact`: the positions and
+/// velocities at the end, and the steps taken above the solvers' tolerance.
+fn stack(contact_set: &str, density: f64, inexact: f64) -> (Vec<f64>, Vec<f64>, usize) {
     let mut text = format!(
         "dt = 1e-3\nt_end = 2.0\ngravity = [0.0, -9.81]\ncontact_set = \"{contact_set}\"\n\
+         inexact_residual = {inexact:e}\n\
          [[bodies]]\nname = \"floor\"\ntype = \"fixed\"\nposition = [0.0, 0.0]\n\
          shapes = [{{ type = \"half_plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }}]\n\
          [contacts_auto]\neps_n = 0.0\neps_t = 0.0\nmu = 0.5\n"
@@ -117,14 +119,21 @@ fn stack(contact_set: &str, density: f64) -> (Vec<f64>, Vec<f64>) {
     }
     let scene = Scene::from_toml_str(&text).expect("scene reads");
     let mut stepper = scene.stepper().expect("scene steps");
-    stepper.run_until(2.0, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).expect("run");
-    (stepper.q().to_vec(), stepper.u().to_vec())
+    let mut inexact_steps = 0;
+    stepper
+        .run_until(2.0, &mut |s: &StepReport<'_>| {
+            inexact_steps += usize::from(s.lcp.is_some_and(|info| info.inexact().is_some()));
+            ControlFlow::Continue(())
+        })
+        .expect("run");
+    (stepper.q().to_vec(), stepper.u().to_vec(), inexact_steps)
 }
 
 #[test]
 fn a_stack_of_boxes_comes_to_rest_on_fixed_contacts_as_on_detected_ones() {
     for contact_set in ["fixed", "detected"] {
-        let (q, u) = stack(contact_set, 1.0);
+        let (q, u, inexact) = stack(contact_set, 1.0, 0.0);
+        assert_eq!(inexact, 0);
         // A contact the projection has pushed out is left open by round-off (a threshold of
         // 1e-13 m keeps them all closed here). Counted as open, it sat out the next step; a
         // box landing on the box it supported then pushed both down and set the stack
@@ -162,12 +171,19 @@ fn assert_rests(case: &str, q: &[f64], u: &[f64], within: f64) {
 ///
 /// On detected contacts at 10⁶, an island of 10 contacts at step 574 (impulses of 2,000
 /// cancelling through boxes of 0.2 kg) was left 5.7e-6 off by pivoting and unsolved by every
-/// other stage; Newton's step from pivoting's candidate finishes it.
+/// other stage; Newton's step from pivoting's candidate finishes it. There, a light box
+/// pinched between heavy ones meets each with two corners whose tangential rows of W nearly
+/// repeat each other: at step 126, an island of 9 such contacts has no solution near its
+/// impulses of 4,000 N s with a natural residual below 1.5e-9 (Siconos' relative error
+/// 3e-13), where sticking at both corners makes its system singular. The scene takes such
+/// islands up to 1e-7 (`inexact_residual`), and 12 of its 2,000 steps are counted inexact.
 #[test]
 fn stacks_of_heavy_and_light_boxes_come_to_rest() {
     for contact_set in ["fixed", "detected"] {
         for density in [1e-3, 1e3, 1e6, 1e-6] {
-            let (q, u) = stack(contact_set, density);
+            let heavy = density == 1e6 && contact_set == "detected";
+            let (q, u, inexact_steps) = stack(contact_set, density, if heavy { 1e-7 } else { 0.0 });
+            assert!(inexact_steps <= if heavy { 12 } else { 0 }, "{inexact_steps} inexact steps");
             // The boxes settle by up to 6e-4 m sideways (ρ = 10³ on detected contacts).
             assert_rests(&format!("{contact_set}, density {density:e}"), &q, &u, 1e-3);
         }
@@ -201,4 +217,45 @@ fn the_projection_leaves_a_dense_column_no_deeper_than_without_it() {
     let (with, without) = (column_penetration(true), column_penetration(false));
     assert!(without > 1e-3 && without < 3e-3, "{without:e}");
     assert!(with <= 1.25 * without, "{with:e} with the projection, {without:e} without");
+}
+
+/// A box of 0.2 × 0.1 m and 1 kg dropped 2 mm onto a floor, turned by 0.01 rad, μ = 0.5, at
+/// Δt = 1 ms with the projection of a scene file, for 10 s: its pose and velocities at the
+/// end.
+fn dropped_box(contact_set: &str, eps_n: f64) -> (Vec<f64>, Vec<f64>) {
+    let text = format!(
+        "dt = 1e-3\nt_end = 10.0\ngravity = [0.0, -9.81]\ncontact_set = \"{contact_set}\"\n\
+         [[bodies]]\nname = \"floor\"\ntype = \"fixed\"\nposition = [0.0, 0.0]\n\
+         shapes = [{{ type = \"half_plane\", point = [0.0, 0.0], normal = [0.0, 1.0] }}]\n\
+         [[bodies]]\nname = \"box\"\ntype = \"dynamic\"\nmass = 1.0\ninertia = {}\n\
+         position = [0.0, 0.052]\nangle = 0.01\nshapes = [{{ type = \"polygon\", vertices = \
+         [[-0.1, -0.05], [0.1, -0.05], [0.1, 0.05], [-0.1, 0.05]] }}]\n\
+         [contacts_auto]\neps_n = {eps_n}\neps_t = 0.0\nmu = 0.5\n",
+        (0.2f64 * 0.2 + 0.1 * 0.1) / 12.0
+    );
+    let scene = Scene::from_toml_str(&text).expect("scene reads");
+    let mut stepper = scene.stepper().expect("scene steps");
+    stepper.run_until(10.0, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).expect("run");
+    (stepper.q().to_vec(), stepper.u().to_vec())
+}
+
+/// The projection moves q_E and keeps u_E. Projected onto g_N = 0 whenever a corner sank
+/// below 1e-6 of the scene's size (1.2e-7 m), a resting box started each step on the floor
+/// but still moving into it: at the next midpoint only one corner was inside, whose impulse
+/// stopped the fall but not the turn, and the two corners took turns. At ε_N = 0.5 and 0 the
+/// box never came to rest, and walked 1.2 cm and 4 mm in 10 s. Sinking by less than
+/// 2 g Δt² is now the scheme's own, left alone.
+#[test]
+fn a_box_dropped_on_a_floor_comes_to_rest_under_the_projection() {
+    for contact_set in ["fixed", "detected"] {
+        for eps_n in [0.5, 0.0] {
+            let (q, u) = dropped_box(contact_set, eps_n);
+            let case = format!("{contact_set}, eps_n = {eps_n}");
+            let fastest = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            assert!(fastest < 1e-9, "{case}: still moving at {fastest:e}");
+            // On its long face, within the projection's tolerance of 2 g Δt² = 1.96e-5 m.
+            assert!((q[1] - 0.05).abs() < 2e-5 && q[2].abs() < 2e-4, "{case}: at {q:?}");
+            assert!(q[0].abs() < 1e-3, "{case}: walked {} m", q[0]);
+        }
+    }
 }
