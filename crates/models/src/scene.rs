@@ -315,25 +315,29 @@ impl Scene {
         self.params.build()
     }
 
-    /// The stepper's options: Δt, the solver and the projection; a declared mechanism stepped
-    /// with the projection gets its projection tolerance
-    /// ([`crate::bodies::Multibody::projection_tolerance`]) and gap tolerance
-    /// ([`crate::bodies::Multibody::gap_tolerance`]), which keep resting contacts closed, and
-    /// its joint tolerance ([`crate::bodies::Multibody::joint_tolerance`]), all relative to
-    /// its size.
+    /// The stepper's options: Δt, the solver and the projection. A declared mechanism gets its
+    /// gap tolerance ([`crate::bodies::Multibody::gap_tolerance`]), which keeps resting
+    /// contacts closed whatever round-off leaves in their gaps, and, stepped with the
+    /// projection, its projection tolerance
+    /// ([`crate::bodies::Multibody::projection_tolerance`]) and joint tolerance
+    /// ([`crate::bodies::Multibody::joint_tolerance`]), all relative to its size.
     pub fn stepper_options(&self) -> StepperOptions {
         let options = StepperOptions::new(self.dt)
             .with_solver(self.solver)
             .with_projection(self.projection)
             .with_inexact_residual(self.inexact_residual);
         match &self.params {
-            ModelParams::Declared(spec) if self.projection => match spec.build() {
+            ModelParams::Declared(spec) => match spec.build() {
                 Ok(m) => {
                     let declared = m.stepper_options(self.dt);
-                    options
-                        .with_projection_tolerance(declared.projection_tolerance)
-                        .with_gap_tolerance(declared.gap_tolerance)
-                        .with_joint_tolerance(declared.joint_tolerance)
+                    let options = options.with_gap_tolerance(declared.gap_tolerance);
+                    if self.projection {
+                        options
+                            .with_projection_tolerance(declared.projection_tolerance)
+                            .with_joint_tolerance(declared.joint_tolerance)
+                    } else {
+                        options
+                    }
                 }
                 // The build's error surfaces where the scene is built.
                 Err(_) => options,
