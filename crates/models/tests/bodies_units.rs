@@ -3,7 +3,10 @@
 //! scales, and the same balance of forces; a chain whose links' masses differ a million times
 //! moves alike on the paths of fixed and of detected contacts.
 
-use moreau_models::Scene;
+use std::ops::ControlFlow;
+
+use moreau_models::{ModelParams, Scene};
+use moreau_stepper::StepReport;
 
 const G: f64 = 9.81;
 
@@ -262,4 +265,44 @@ fn a_chain_of_links_a_million_times_heavier_or_lighter_than_the_next_moves_alike
         let worst = fixed.iter().zip(&detected).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         assert!(worst < 1e-12, "ratio {ratio}: {worst:e}");
     }
+}
+
+/// A box of 0.2 × 0.1 m dropped tilted onto a floor drawn as a slab `half_length` long on
+/// either side, 2 s at Δt = 1 ms with the projection: its size and its pose at the end.
+fn box_on_a_slab(half_length: f64) -> (f64, Vec<f64>) {
+    let text = format!(
+        "dt = 1e-3\nt_end = 2.0\ngravity = [0.0, -9.81]\n\
+         [[bodies]]\nname = \"floor\"\ntype = \"fixed\"\nposition = [0.0, 0.0]\n\
+         shapes = [{{ type = \"polygon\", vertices = [[-{half_length}, -1.0], \
+         [{half_length}, -1.0], [{half_length}, 0.0], [-{half_length}, 0.0]] }}]\n\
+         [[bodies]]\nname = \"box\"\ntype = \"dynamic\"\nmass = 1.0\ninertia = {}\n\
+         position = [0.0, 0.1]\nangle = 0.05\nshapes = [{{ type = \"polygon\", vertices = \
+         [[-0.1, -0.05], [0.1, -0.05], [0.1, 0.05], [-0.1, 0.05]] }}]\n\
+         [[contacts]]\nname = \"c\"\nbody_a = \"floor\"\nbody_b = \"box\"\neps_n = 0.0\n\
+         eps_t = 0.0\nmu = 0.5\n",
+        (0.2f64 * 0.2 + 0.1 * 0.1) / 12.0
+    );
+    let scene = Scene::from_toml_str(&text).expect("scene reads");
+    let ModelParams::Declared(spec) = &scene.params else { panic!("a declared scene") };
+    let size = spec.build().expect("builds").size();
+    let mut stepper = scene.stepper().expect("scene steps");
+    stepper.run_until(2.0, &mut |_: &StepReport<'_>| ControlFlow::Continue(())).expect("run");
+    (size, stepper.q().to_vec())
+}
+
+/// The size that the tolerances are relative to is the moving bodies': the box on a slab
+/// 2 km long came to rest 0.6 mm deep and tilted, the slab making the size 1,200 m and the
+/// projection's tolerance 1.2 mm. Whatever the slab's length, the box now ends where it ends
+/// on a slab 2 m long, to the bit.
+#[test]
+fn the_fixed_geometry_drawn_around_a_mechanism_does_not_set_its_tolerances() {
+    let (short_size, short) = box_on_a_slab(1.0);
+    let (long_size, long) = box_on_a_slab(1000.0);
+    // 0.6 times the diagonal of the box around the box turned by 0.05 rad.
+    let (c, s) = (0.05f64.cos(), 0.05f64.sin());
+    let diagonal = (0.2 * c + 0.1 * s).hypot(0.1 * c + 0.2 * s);
+    assert!((short_size - 0.6 * diagonal).abs() < 1e-15, "{short_size}");
+    assert_eq!(short_size, long_size);
+    assert_eq!(short, long);
+    assert!((long[1] - 0.05).abs() < 2e-5 && long[2].abs() < 1e-6, "{long:?}");
 }

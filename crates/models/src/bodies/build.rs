@@ -589,8 +589,12 @@ impl SystemSpec {
             dynamic,
             constant_mass,
             extent: ([0.0; 2], 1.0),
+            size: 1.0,
         };
-        mb.extent = extent(&mb.bodies);
+        mb.extent = extent(&mb.bodies, |_| true);
+        let moves = |b: &Body| !matches!(b.kind, Kind::Fixed(_));
+        mb.size =
+            if mb.bodies.iter().any(moves) { extent(&mb.bodies, moves).1 } else { mb.extent.1 };
         mb.q0 = assemble(&mb)?;
         Ok(mb)
     }
@@ -648,11 +652,13 @@ fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
     ))
 }
 
-/// The centre and 0.6 times the diagonal of the box around the bodies' origins and finite
-/// shapes at t = 0: the mechanism's size, in its own length unit, so that what is relative to
-/// it (the projection's tolerance, the reach of a drawn half-plane) is the same in any unit.
-/// A box of no size (every origin and shape at one point) gives 1.
-fn extent(bodies: &[Body]) -> ([f64; 2], f64) {
+/// The centre and 0.6 times the diagonal of the box around the origins and finite shapes at
+/// t = 0 of the bodies that `counts`. Over every body it is the scene's extent, within which a
+/// half-plane is drawn; over the bodies that move it is the mechanism's size, in its own length
+/// unit, so that what is relative to it (the tolerances, the guards of a run) is the same in
+/// any unit and whatever the length of the fixed geometry drawn around it. A box of no size
+/// (every origin and shape at one point) gives 1.
+fn extent(bodies: &[Body], counts: impl Fn(&Body) -> bool) -> ([f64; 2], f64) {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     let mut grow = |p: [f64; 2], q: [f64; 2]| {
         for k in 0..2 {
@@ -660,11 +666,12 @@ fn extent(bodies: &[Body]) -> ([f64; 2], f64) {
             hi[k] = hi[k].max(q[k]);
         }
     };
-    for body in bodies.iter().filter(|b| b.name != GROUND || !b.shapes.is_empty()) {
-        let frame = match body.kind {
-            Kind::Dynamic { .. } => super::body::Frame::at(body.pose0, [0.0; 2], 0.0, None),
-            _ => body.frame(&[], 0.0),
-        };
+    let frame = |body: &Body| match body.kind {
+        Kind::Dynamic { .. } => super::body::Frame::at(body.pose0, [0.0; 2], 0.0, None),
+        _ => body.frame(&[], 0.0),
+    };
+    for body in bodies.iter().filter(|b| (b.name != GROUND || !b.shapes.is_empty()) && counts(b)) {
+        let frame = frame(body);
         grow(frame.p, frame.p);
         for shape in &body.shapes {
             let b = shape.aabb(&frame.pose());
