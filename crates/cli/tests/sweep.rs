@@ -103,8 +103,25 @@ fn simulate_writes_named_columns() -> Result<()> {
     assert_eq!(
         h,
         [
-            "t", "y", "phiM", "phiS", "v", "omegaM", "omegaS", "PN1", "PT1", "PN2", "PT2", "PN3",
-            "PT3", "A1", "A2", "A3"
+            "t",
+            "y",
+            "phiM",
+            "phiS",
+            "v",
+            "omegaM",
+            "omegaS",
+            "PN1",
+            "PT1",
+            "PN2",
+            "PT2",
+            "PN3",
+            "PT3",
+            "A1",
+            "A2",
+            "A3",
+            "T",
+            "V",
+            "dissipated"
         ]
     );
     let rows: Vec<csv::StringRecord> = r.records().collect::<Result<_, _>>()?;
