@@ -185,13 +185,15 @@ impl<'a> LcpRef<'a> {
     ///
     /// # Errors
     /// [`LcpError::Empty`] for n = 0, [`LcpError::DimensionMismatch`] when `m` does not
-    /// have n² entries or `q` n, [`LcpError::NonFinite`] for a non-finite entry and
+    /// have n² entries (`expected` is `usize::MAX` when n² overflows) or `q` n, [`LcpError::NonFinite`] for a non-finite entry and
     /// [`LcpError::OutOfRange`] for one above [`MAX_ENTRY`] in magnitude.
     pub fn from_column_major(n: usize, m: &'a [f64], q: &'a [f64]) -> Result<Self, LcpError> {
-        if m.len() != n * n {
+        // n² beyond usize cannot be the length of a slice: no m matches it.
+        let entries = n.checked_mul(n);
+        if entries != Some(m.len()) {
             return Err(LcpError::DimensionMismatch {
                 what: "M (column-major, n*n entries)",
-                expected: n * n,
+                expected: entries.unwrap_or(usize::MAX),
                 found: m.len(),
             });
         }

@@ -317,10 +317,11 @@ impl Residual {
     /// [`Self::compute`] for M given as a column-major slice of order n (`m[i + j n] =
     /// M_ij`), without building an [`LcpRef`]: for callers that assemble small problems in
     /// their own buffers and solve some of them without a solver (a time-stepper's one-contact
-    /// problems). Entries that are not finite give [`Residual::INFINITE`].
+    /// problems). Entries that are not finite, or slices of the wrong lengths, give
+    /// [`Residual::INFINITE`].
     #[inline]
     pub fn compute_column_major(n: usize, m: &[f64], q: &[f64], z: &[f64], w: &[f64]) -> Residual {
-        if m.len() != n * n || q.len() != n {
+        if n.checked_mul(n) != Some(m.len()) || q.len() != n {
             return Residual::INFINITE;
         }
         Self::from_entries(n, |i, j| m[i + j * n], |i| q[i], z, w)

@@ -314,6 +314,25 @@ fn non_finite_and_malformed_input_is_rejected() {
 }
 
 #[test]
+fn a_size_whose_square_overflows_is_a_dimension_mismatch() {
+    // n² beyond usize: no slice has that many entries, so the sizes disagree (no overflow).
+    for n in [1usize << 32, usize::MAX] {
+        assert!(matches!(
+            LcpRef::from_column_major(n, &[], &[]),
+            Err(LcpError::DimensionMismatch { expected: usize::MAX, found: 0, .. })
+        ));
+        assert!(matches!(
+            Lcp::from_column_major(n, &[1.0], &[-1.0]),
+            Err(LcpError::DimensionMismatch { expected: usize::MAX, found: 1, .. })
+        ));
+        assert_eq!(Residual::compute_column_major(n, &[], &[], &[], &[]), Residual::INFINITE);
+    }
+    // The same entry points still take a problem of the size they are given.
+    let r = Residual::compute_column_major(1, &[2.0], &[-1.0], &[0.5], &[0.0]);
+    assert_eq!((r.relative, r.equation), (0.0, 0.0));
+}
+
+#[test]
 fn warm_start_errors() {
     let lcp = Lcp::from_rows(&[vec![1.0]], &[-1.0]).unwrap();
     let mut out = Solution::new();
