@@ -454,3 +454,31 @@ fn a_contact_the_lcp_route_leaves_sliding_lies_on_its_cones_edge_exactly() {
     }
     assert!(sliding >= 2 && small >= 1, "{sliding} sliding, {small} of them with r_N < 1e-12");
 }
+
+#[test]
+fn the_default_problem_and_builder_are_the_problem_without_contacts() {
+    let empty = Fc2d::default();
+    assert_eq!((empty.n_contacts(), empty.n_rows(), empty.n_blocks()), (0, 0, 0));
+    assert_eq!((empty.view().n_groups(), empty.view().n_bilateral()), (0, 0));
+    // The same problem as the one a builder of no contacts, or a 0 x 0 W, gives.
+    assert_eq!(Fc2dBuilder::default().build(&[], &[]).unwrap(), empty);
+    assert_eq!(Fc2d::from_dense(Mat::<f64>::zeros(0, 0).as_ref(), &[], &[]).unwrap(), empty);
+    let solvers: [(&str, Box<dyn Fc2dSolver>); 4] = [
+        ("nsgs", Box::new(Nsgs::default())),
+        ("lcp", Box::new(LcpRoute::default())),
+        ("newton", Box::new(Newton::default())),
+        ("auto", Box::new(Fc2dAuto::default())),
+    ];
+    for (name, mut solver) in solvers {
+        let s = solver.solve(&empty).unwrap();
+        assert_eq!(s.status, Status::Solved, "{name}");
+        assert!(s.r.is_empty() && s.u.is_empty() && s.residual.natural == 0.0, "{name}: {s:?}");
+    }
+    // A default builder numbers its first bilateral group 0, and builds that one row.
+    let mut builder = Fc2dBuilder::default();
+    assert_eq!(builder.bilateral_group(1), 0);
+    builder.add_entry(0, 0, 2.0);
+    let joint = builder.build(&[-1.0], &[]).unwrap();
+    let s = Nsgs::default().solve(&joint).unwrap();
+    assert!(s.is_solved() && s.r == [0.5] && s.u == [0.0], "{s:?}");
+}

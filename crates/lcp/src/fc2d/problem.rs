@@ -60,8 +60,9 @@ pub struct Fc2dRef<'a> {
 }
 
 /// A validated planar frictional-contact problem (FC2D) that owns its data; see
-/// [`Fc2dRef`] for the problem and [`Fc2dParts`] for the layout.
-#[derive(Clone, Debug, Default, PartialEq)]
+/// [`Fc2dRef`] for the problem and [`Fc2dParts`] for the layout. The default is the problem
+/// without contacts or bilateral rows.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Fc2d {
     n_contacts: usize,
     group_start: Vec<usize>,
@@ -70,6 +71,22 @@ pub struct Fc2d {
     blocks: Vec<[f64; 4]>,
     q: Vec<f64>,
     mu: Vec<f64>,
+}
+
+impl Default for Fc2d {
+    /// The problem without contacts or bilateral rows (one group start and one row pointer,
+    /// both 0), which every solver solves with r empty.
+    fn default() -> Self {
+        Fc2d {
+            n_contacts: 0,
+            group_start: vec![0],
+            row_ptr: vec![0],
+            col: Vec::new(),
+            blocks: Vec::new(),
+            q: Vec::new(),
+            mu: Vec::new(),
+        }
+    }
 }
 
 fn structure(message: String) -> LcpError {
@@ -565,12 +582,19 @@ impl Fc2dParts<'_> {
 /// # Ok(())
 /// # }
 /// ```
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Fc2dBuilder {
     n_contacts: usize,
     group_start: Vec<usize>,
     /// `(row group, column group, block)`.
     entries: Vec<(u32, u32, [f64; 4])>,
+}
+
+impl Default for Fc2dBuilder {
+    /// A builder without contacts: [`Fc2dBuilder::new`]`(0)`.
+    fn default() -> Self {
+        Fc2dBuilder::new(0)
+    }
 }
 
 impl Fc2dBuilder {
