@@ -8,7 +8,7 @@ use faer::Mat;
 use faer::linalg::solvers::Solve;
 use moreau_lcp::fc2d::{
     Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dBuilder, Fc2dResidual, Fc2dSolution, Fc2dSolver, LcpRoute,
-    Newton, NewtonOptions, Rho,
+    Newton, NewtonOptions, Proximal, Rho,
 };
 use moreau_lcp::{Method, Status};
 
@@ -348,4 +348,34 @@ fn a_tolerance_below_round_off_is_met_at_round_off() {
     let mut u = vec![0.0; n];
     let measured = Fc2dResidual::compute(light.view(), &s.r, &mut u);
     assert!(measured.natural <= 1e-14 && measured.round_off < 1e-14, "{measured:?}");
+}
+
+#[test]
+fn a_residual_beyond_the_range_of_f64_meets_no_tolerance() {
+    // One contact pressed into the ground, W = I, μ = 0.5: r = (1, 0), u = 0. Started from
+    // r = (1e300, 0), a point of the cone whose natural map squares beyond f64's range.
+    let problem = Fc2d::from_dense(Mat::<f64>::identity(2, 2).as_ref(), &[-1.0, 0.0], &[0.5])
+        .expect("valid problem");
+    let warm = [1e300, 0.0];
+    let mut u = vec![0.0; 2];
+    let measured = Fc2dResidual::compute(problem.view(), &warm, &mut u);
+    assert!(measured.natural.is_infinite() && measured.round_off.is_infinite(), "{measured:?}");
+    assert!(!measured.meets(1e-8) && !measured.meets(f64::MAX));
+    // Newton and the proximal method start from it: they end on the solution or say that
+    // they did not, never `Solved` at r = 1e300.
+    let solvers: [(&str, Box<dyn Fc2dSolver>); 2] =
+        [("newton", Box::new(Newton::default())), ("proximal", Box::new(Proximal::default()))];
+    for (name, mut solver) in solvers {
+        let mut s = Fc2dSolution::new();
+        solver.solve_into(problem.view(), Some(&warm), &mut s).unwrap();
+        assert_honest(name, &s, 1e-8);
+        if s.is_solved() {
+            assert!((s.r[0] - 1.0).abs() <= 1e-8 && s.r[1].abs() <= 1e-8, "{name}: {s:?}");
+        } else {
+            assert!(s.status == Status::NumericalFailure, "{name}: {s:?}");
+        }
+    }
+    // A round-off that is not finite does not stand in for the tolerance either.
+    let r = Fc2dResidual { natural: 1.0, round_off: f64::INFINITY, ..Fc2dResidual::default() };
+    assert!(!r.meets(1e-8) && r.meets(1.0));
 }

@@ -89,10 +89,12 @@ pub struct Fc2dResidual {
 
 impl Fc2dResidual {
     /// Whether r is a solution to `tolerance`: `natural <= max(tolerance, round_off)`, the
-    /// test of every solver's [`Status::Solved`](crate::Status).
+    /// test of every solver's [`Status::Solved`](crate::Status). A residual that is not
+    /// finite (r, u or the natural map beyond f64's range, every field `+∞`) meets no
+    /// tolerance, and neither does an infinite `round_off` stand in for one.
     #[inline]
     pub fn meets(&self, tolerance: f64) -> bool {
-        self.natural <= tolerance.max(self.round_off)
+        self.natural <= tolerance || (self.natural <= self.round_off && self.round_off.is_finite())
     }
 
     /// Recomputes `u = W r + q` into `u` and measures r.
