@@ -326,6 +326,30 @@ fn lcp_route_reports_size_and_certified_infeasibility() {
     assert_ne!(s.status, Status::Solved);
 }
 
+#[test]
+fn a_friction_coefficient_beyond_the_lcps_range_is_a_status_of_the_lcp_route() {
+    // W = I, q = (-1, 0), μ = 1e200: the contact sticks with r = (1, 0). The LCP's entry
+    // W_TN - W_TT μ = -1e200 is beyond what the LCP solvers take; the problem itself is valid.
+    let identity = Mat::<f64>::identity(2, 2);
+    let problem = Fc2d::from_dense(identity.as_ref(), &[-1.0, 0.0], &[1e200]).unwrap();
+    let s = LcpRoute::default().solve(&problem).unwrap();
+    assert_eq!(s.status, Status::NumericalFailure, "{s:?}");
+    assert!(s.r == [0.0, 0.0] && s.u == [-1.0, 0.0], "{s:?}");
+    // Gauss-Seidel finds it exactly, the default solver (over-relaxed sweeps) to 1e-8.
+    let s = Nsgs::default().solve(&problem).unwrap();
+    assert!(s.is_solved() && s.r == [1.0, 0.0] && s.u == [0.0, 0.0], "{s:?}");
+    let s = Fc2dAuto::default().solve(&problem).unwrap();
+    assert!(s.is_solved() && (s.r[0] - 1.0).abs() <= 1e-8 && s.r[1] == 0.0, "{s:?}");
+    // With a bilateral row whose elimination stays in range, the same: a status, no error.
+    let mut builder = Fc2dBuilder::new(1);
+    let joint = builder.bilateral_group(1);
+    builder.add_block(0, 0, [1.0, 0.0, 0.0, 1.0]);
+    builder.add_block(joint, joint, [1.0, 0.0, 0.0, 0.0]);
+    let with_joint = builder.build(&[-1.0, 0.0, 0.5], &[1e200]).unwrap();
+    let s = LcpRoute::default().solve(&with_joint).unwrap();
+    assert_eq!(s.status, Status::NumericalFailure, "{s:?}");
+}
+
 /// An island of 10 contacts of a stack of boxes of 0.2 and 2e5 kg in turn
 /// (tests/data/moreau/README.md): impulses of about 2,000 N s cancel through the light boxes.
 /// Pivoting ends 5.7e-6 off, Gauss-Seidel and Newton started cold stall far from a solution,

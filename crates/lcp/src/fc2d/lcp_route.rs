@@ -76,7 +76,9 @@ impl Default for LcpRouteOptions {
 /// The LCP's solution is mapped back to `r_T = r_R - μ r_N`, λ and u = W r + q, and
 /// judged by the FC2D residual. [`Status::NoSolution`] is reported only when the LCP
 /// solver's enumeration proved that the LCP has none; problems above `max_contacts`
-/// return [`Status::TooLarge`] without a solve. Warm starts are not used. The
+/// return [`Status::TooLarge`] without a solve, and those whose LCP has an entry beyond
+/// the range the LCP solvers compute in ([`MAX_ENTRY`](crate::MAX_ENTRY), as a μ of 1e200
+/// gives) end at r = 0 with [`Status::NumericalFailure`] unless r = 0 solves them. Warm starts are not used. The
 /// elimination, the LCP and its solver work on buffers kept from one solve to the next:
 /// once the sizes have been seen, a solve does not allocate.
 ///
@@ -307,7 +309,14 @@ impl Fc2dSolver for LcpRoute {
                     0.0
                 }
             }));
-            let lcp = LcpRef::from_column_major(m, &self.a, &self.b)?;
+            let Ok(lcp) = LcpRef::from_column_major(m, &self.a, &self.b) else {
+                // The problem is valid but its LCP is not: an entry beyond the range the LCP
+                // solvers compute in (a μ or a W so large that W_TN - W_TT μ passes
+                // `MAX_ENTRY`, or an elimination that overflowed). No pivoting: r = 0 is
+                // judged as it stands.
+                out.certify(problem, tolerance, Status::NumericalFailure);
+                return Ok(());
+            };
             let sol = &mut self.solution;
             self.pivoting.solve_into(lcp, None, sol)?;
             out.lcp_method = Some(sol.method);
