@@ -172,6 +172,34 @@ fn validation_names_the_problem() {
 }
 
 #[test]
+fn a_builders_block_is_kept_in_the_groups_it_names_or_refused() {
+    // Group 2^32 is no group of a one-contact problem: refused, not taken for group 0.
+    let far = 1usize << 32;
+    for (row, col) in [(far, 0), (0, far), (far + 1, far)] {
+        let mut b = Fc2dBuilder::new(1);
+        b.add_block(0, 0, [1.0, 0.0, 0.0, 1.0]);
+        b.add_block(row, col, [5.0, 0.0, 0.0, 5.0]);
+        let err = b.build(&[-1.0, 0.0], &[0.3]).unwrap_err();
+        let expected = format!("block ({row}, {col}) outside the 1 groups");
+        assert!(matches!(&err, LcpError::Structure(m) if *m == expected), "{err}");
+    }
+    // A bilateral group of an absurd number of rows is reported, not an overflow.
+    let mut b = Fc2dBuilder::new(1);
+    b.bilateral_group(usize::MAX);
+    b.add_block(0, 0, [1.0, 0.0, 0.0, 1.0]);
+    let err = b.build(&[-1.0, 0.0, 0.0], &[0.3]).unwrap_err();
+    assert!(matches!(&err, LcpError::Structure(m) if m.starts_with("group 1 has")), "{err}");
+    // Blocks within the groups, given in any order and repeated, add up where they name.
+    let mut b = Fc2dBuilder::new(2);
+    b.add_block(1, 1, [1.0, 0.0, 0.0, 1.0]);
+    b.add_block(0, 0, [2.0, 0.0, 0.0, 2.0]);
+    b.add_block(1, 1, [1.0, 0.0, 0.0, 1.0]);
+    let problem = b.build(&[-1.0, 0.0, -1.0, 0.0], &[0.3, 0.3]).unwrap();
+    let dense = problem.view().to_dense();
+    assert_eq!((dense[0], dense[5], dense[10], dense[15]), (2.0, 2.0, 2.0, 2.0));
+}
+
+#[test]
 fn residual_is_zero_at_planted_solutions_and_siconos_normalised() {
     // One contact, W = I: slip with r = (1, -0.5), μ = 0.5, u = (0, 2): q = u - r.
     let w = Mat::<f64>::identity(2, 2);

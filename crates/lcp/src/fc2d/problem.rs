@@ -586,8 +586,8 @@ impl Fc2dParts<'_> {
 pub struct Fc2dBuilder {
     n_contacts: usize,
     group_start: Vec<usize>,
-    /// `(row group, column group, block)`.
-    entries: Vec<(u32, u32, [f64; 4])>,
+    /// `(row group, column group, block)`, as given (checked by [`Fc2dBuilder::build`]).
+    entries: Vec<(usize, usize, [f64; 4])>,
 }
 
 impl Default for Fc2dBuilder {
@@ -611,13 +611,14 @@ impl Fc2dBuilder {
     /// [`Fc2dBuilder::build`]) after the existing groups; returns its group index.
     pub fn bilateral_group(&mut self, rows: usize) -> usize {
         let last = *self.group_start.last().unwrap_or(&0);
-        self.group_start.push(last + rows);
+        self.group_start.push(last.saturating_add(rows));
         self.group_start.len() - 2
     }
 
-    /// Adds a 2x2 block `[W_00, W_01, W_10, W_11]` between group `row` and group `col`.
+    /// Adds a 2x2 block `[W_00, W_01, W_10, W_11]` between group `row` and group `col`
+    /// (groups outside those declared are reported by [`Fc2dBuilder::build`]).
     pub fn add_block(&mut self, row: usize, col: usize, block: [f64; 4]) {
-        self.entries.push((row as u32, col as u32, block));
+        self.entries.push((row, col, block));
     }
 
     /// Adds `value` to the entry W_ij (rows and columns numbered as in q).
@@ -629,7 +630,7 @@ impl Fc2dBuilder {
         let (gj, c) = self.locate(j);
         let mut block = [0.0; 4];
         block[2 * a + c] = value;
-        self.entries.push((gi as u32, gj as u32, block));
+        self.entries.push((gi, gj, block));
     }
 
     fn locate(&self, row: usize) -> (usize, usize) {
@@ -646,18 +647,20 @@ impl Fc2dBuilder {
     /// [`LcpError::Structure`].
     pub fn build(&self, q: &[f64], mu: &[f64]) -> Result<Fc2d, LcpError> {
         let groups = self.group_start.len() - 1;
-        if let Some(&(i, j, _)) =
-            self.entries.iter().find(|(i, j, _)| *i as usize >= groups || *j as usize >= groups)
+        if groups > u32::MAX as usize {
+            return Err(structure(format!("{groups} groups exceed the u32 column indices")));
+        }
+        if let Some(&(i, j, _)) = self.entries.iter().find(|(i, j, _)| *i >= groups || *j >= groups)
         {
             return Err(structure(format!("block ({i}, {j}) outside the {groups} groups")));
         }
         let mut entries = self.entries.clone();
-        entries.extend((0..groups as u32).map(|g| (g, g, [0.0; 4])));
+        entries.extend((0..groups).map(|g| (g, g, [0.0; 4])));
         entries.sort_by_key(|&(i, j, _)| (i, j));
         let mut row_ptr = vec![0; groups + 1];
         let mut col: Vec<u32> = Vec::with_capacity(entries.len());
         let mut blocks: Vec<[f64; 4]> = Vec::with_capacity(entries.len());
-        let mut last: Option<(u32, u32)> = None;
+        let mut last: Option<(usize, usize)> = None;
         for (i, j, b) in entries {
             if last == Some((i, j)) {
                 let dst = blocks.last_mut().expect("a block was pushed for this key");
@@ -665,9 +668,10 @@ impl Fc2dBuilder {
                     *d += s;
                 }
             } else {
-                col.push(j);
+                // j < groups <= u32::MAX, checked above.
+                col.push(j as u32);
                 blocks.push(b);
-                row_ptr[i as usize + 1] += 1;
+                row_ptr[i + 1] += 1;
                 last = Some((i, j));
             }
         }
