@@ -6,6 +6,7 @@ use std::cell::Cell;
 use serde::{Deserialize, Serialize};
 
 use crate::dense::{Lu, refine};
+use crate::error::rules;
 
 /// Above this relative residual a candidate gets a step of iterative refinement.
 const REFINE_ABOVE: f64 = 1e-14;
@@ -29,7 +30,8 @@ pub struct EnumerationOptions {
     /// 2^n LU factorisations of size up to n. Default 20 (about a million bases, around a
     /// second); at most 26.
     pub max_n: usize,
-    /// Acceptance tolerance on [`Residual::relative`] (dimensionless). Default 1e-9.
+    /// Acceptance tolerance on [`Residual::relative`] (dimensionless), in (0, 1). Default
+    /// 1e-9.
     pub tolerance: f64,
     /// Largest n for the second, complete vertex search that runs when some principal
     /// submatrix `M_αα` is singular: sum over k of C(n, k)^2 = C(2n, n) square systems
@@ -57,10 +59,7 @@ impl EnumerationOptions {
                 format!("must not exceed max_n nor {MAX_N_DEGENERATE_LIMIT}"),
             );
         }
-        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
-            return bad("tolerance", "must be finite and > 0".to_string());
-        }
-        Ok(())
+        rules::relative_tolerance(self.tolerance)
     }
 }
 

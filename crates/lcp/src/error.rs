@@ -191,8 +191,9 @@ pub(crate) mod rules {
         }
     }
 
-    /// A tolerance on the shared LCP residual's relative measure, which never exceeds 1: in
-    /// (0, 1), since 1 or more would accept any z.
+    /// A tolerance on the shared LCP residual's relative measure: in (0, 1), since z = 0
+    /// (w = q) measures at most 1 whatever the problem, so 1 or more would accept it for an
+    /// LCP that has no solution.
     pub(crate) fn relative_tolerance(value: f64) -> Result<(), LcpError> {
         if value > 0.0 && value < 1.0 {
             Ok(())

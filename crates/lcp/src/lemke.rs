@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use kernels::{Isa, LANES};
 
 use crate::dense::{Lu, TINY_MAX, refine, solve_tiny};
+use crate::error::rules;
 use crate::solution::{Chunk, check_warm_start, finish_row_major, finish_sparse, residual_of_zero};
 use crate::{LcpError, LcpRef, Method, Residual, Solution, Solver, Status};
 
@@ -53,8 +54,8 @@ pub struct LemkeOptions {
     /// Default 131072 = 2^17, enough for Murty's n = 16 problem (2^16 - 1 pivots);
     /// Murty's problem of size n needs 2^n - 1.
     pub max_pivots: usize,
-    /// Acceptance tolerance on [`Residual::relative`] of the final z (dimensionless).
-    /// Default 1e-9, the robust recipe of the step LCP.
+    /// Acceptance tolerance on [`Residual::relative`] of the final z (dimensionless), in
+    /// (0, 1). Default 1e-9, the robust recipe of the step LCP.
     pub tolerance: f64,
     /// A tableau entry takes part in the ratio test only when its magnitude exceeds this
     /// fraction of the largest magnitude in the entering column (dimensionless).
@@ -87,9 +88,7 @@ impl LemkeOptions {
         if self.max_pivots == 0 {
             return bad("max_pivots", "must be at least 1");
         }
-        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
-            return bad("tolerance", "must be finite and > 0");
-        }
+        rules::relative_tolerance(self.tolerance)?;
         if !(self.pivot_tolerance.is_finite()
             && self.pivot_tolerance > 0.0
             && self.pivot_tolerance < 1.0)

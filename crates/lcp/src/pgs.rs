@@ -22,8 +22,8 @@ pub struct PgsOptions {
 }
 
 impl PgsOptions {
-    /// Checks the options: `0 < omega < 2`, `0 < tolerance < 1` (the relative residual never
-    /// exceeds 1), `max_iterations >= 1`.
+    /// Checks the options: `0 < omega < 2`, `0 < tolerance < 1` (z = 0 measures at most 1,
+    /// so 1 or more would accept it whatever the problem), `max_iterations >= 1`.
     ///
     /// # Errors
     /// [`LcpError::InvalidOption`] naming the first field out of range.

@@ -364,6 +364,32 @@ fn options_are_validated() {
     assert!(
         Lemke::new(LemkeOptions { tolerance: f64::INFINITY, ..LemkeOptions::default() }).is_err()
     );
+    // z = 0 measures at most 1 on any problem (w = q), so a tolerance of 1 or more would call
+    // it a solution of M = [-1], q = [-1], which has none: every LCP solver refuses it.
+    let infeasible = Lcp::from_rows(&[vec![-1.0]], &[-1.0]).unwrap();
+    let at_zero = Residual::compute(infeasible.view(), &[0.0], &[-1.0]);
+    assert_eq!(at_zero.relative, 1.0);
+    for tolerance in [1.0, 1.5, 0.0, -1e-9, f64::NAN] {
+        let refused = |r: Result<(), LcpError>| {
+            matches!(r, Err(LcpError::InvalidOption { name: "tolerance", .. }))
+        };
+        let lemke = Lemke::new(LemkeOptions { tolerance, ..LemkeOptions::default() });
+        let enumeration =
+            Enumeration::new(EnumerationOptions { tolerance, ..EnumerationOptions::default() });
+        let pgs = Pgs::new(PgsOptions { tolerance, ..PgsOptions::default() });
+        let auto = Auto::new(moreau_lcp::AutoOptions {
+            lemke: LemkeOptions { tolerance, ..LemkeOptions::default() },
+            ..Default::default()
+        });
+        assert!(refused(lemke.map(|_| ())), "lemke, tolerance {tolerance}");
+        assert!(refused(enumeration.map(|_| ())), "enumeration, tolerance {tolerance}");
+        assert!(refused(pgs.map(|_| ())), "pgs, tolerance {tolerance}");
+        assert!(refused(auto.map(|_| ())), "auto, tolerance {tolerance}");
+    }
+    // Just below 1 is taken, and the infeasible problem is still not solved.
+    let mut loose =
+        Lemke::new(LemkeOptions { tolerance: 0.999, ..LemkeOptions::default() }).unwrap();
+    assert_eq!(loose.solve(&infeasible).unwrap().status, Status::RayTermination);
     assert!(matches!(
         Lemke::new(LemkeOptions {
             covering: Covering::Custom(vec![1.0, 0.0]),
