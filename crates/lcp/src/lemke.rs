@@ -131,6 +131,11 @@ impl LemkeOptions {
 /// basis seen again (found by a hash of the basic set, Brent's cycle detection) ends the
 /// method with [`Status::NumericalFailure`].
 ///
+/// **Scale.** The tableau's rows are equilibrated by powers of two, and its covering column
+/// is brought to their scale by a power of two when it is more than 2^20 away from it (the
+/// covering vector c d, the same pivots in exact arithmetic), so that (M, q) scaled by any
+/// s > 0 is solved with the pivots of (M, q).
+///
 /// **Accuracy.** After a complementary basis is reached, the tableau's basic values are
 /// taken as z (α = basic z), w is recomputed as `M z + q`, and the result is accepted
 /// (`Status::Solved`) only when [`Residual::relative`] `<= tolerance`. Otherwise the same

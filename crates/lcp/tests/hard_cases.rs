@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{Rng, assert_solves, friction, murty, rel_dist};
+use common::{Rng, assert_solves, friction, murty, planted, random_spd, rel_dist};
 use faer::{Col, Mat};
 use moreau_lcp::{Auto, Enumeration, Lcp, Lemke, LemkeOptions, Method, Solver, Status};
 
@@ -256,4 +256,35 @@ fn friction_lcp_zero_impulse_when_separating() {
     assert!(s.is_solved());
     let du = f.delta_u(&s.z);
     assert!(du.iter().all(|v| v.abs() < 1e-12), "{du:?}");
+}
+
+#[test]
+fn lemke_with_d_1_solves_a_positive_definite_problem_at_any_scale() {
+    // (M, q) times s > 0 has the same solutions. With d = 1, M of order 1e-12 put z_0's row
+    // below the pivot tolerance once z_0 was basic, and the method ended on a secondary ray,
+    // which for a positive definite M claims that there is no solution; at 1e12 it failed.
+    let small = Lcp::from_rows(&[vec![1e-12, 0.0], vec![0.0, 1e-12]], &[-1e-12, -2e-12]).unwrap();
+    let s = Lemke::default().solve(&small).unwrap();
+    assert_eq!(s.status, Status::Solved, "{s:?}");
+    assert_eq!(s.z, [1.0, 2.0]);
+    let mut rng = Rng::new(21);
+    for trial in 0..24 {
+        let n = [2, 3, 5, 9, 20, 40][trial % 6];
+        let (base, z_star) = planted(random_spd(n, &mut rng), &mut rng, trial % 2 == 0);
+        let at_one = Lemke::default().solve(&base).unwrap();
+        assert_eq!(at_one.status, Status::Solved, "trial {trial}");
+        for scale in [1e-30, 1e-12, 1e-11, 2f64.powi(-40), 1e12, 2f64.powi(40), 1e30, 1e100] {
+            let lcp = Lcp::new(
+                Mat::from_fn(n, n, |i, j| scale * base.m()[(i, j)]),
+                Col::from_fn(n, |i| scale * base.q()[i]),
+            )
+            .unwrap();
+            let s = Lemke::default().solve(&lcp).unwrap();
+            assert_eq!(s.status, Status::Solved, "trial {trial}, n = {n}, scale {scale:e}: {s:?}");
+            assert!(rel_dist(&z_star, &s.z) < 1e-9, "trial {trial}, scale {scale:e}");
+            assert!(s.residual.relative <= 1e-9);
+            // The covering vector's scale changes z_0 alone: the same pivots as at scale 1.
+            assert_eq!(s.iterations, at_one.iterations, "trial {trial}, scale {scale:e}");
+        }
+    }
 }

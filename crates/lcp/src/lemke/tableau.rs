@@ -6,6 +6,11 @@
 
 use super::kernels::{self, Isa, LANES, Lanes4, Ratio, WithLanes};
 use super::*;
+use crate::dense::pow2_inverse;
+
+/// The covering column of the tableau is rescaled when its largest entry lies outside
+/// [1 / `COVER_SPAN`, `COVER_SPAN`] (2^20): see [`Workspace::balance_covering`].
+const COVER_SPAN: f64 = 1_048_576.0;
 
 impl Workspace {
     pub(super) fn prepare(&mut self, n: usize) {
@@ -101,6 +106,9 @@ impl Workspace {
             &mut self.q_pad,
             &mut self.scratch,
         );
+        if !self.row_scaled {
+            self.balance_covering();
+        }
         self.init_basis::<H>();
         let ended = self.pivot_loop::<S, H>(simd, opts);
         self.tableau_candidate::<S, H>(simd, out, 0.0);
@@ -121,6 +129,27 @@ impl Workspace {
             }
         }
         ended
+    }
+
+    /// Brings the covering column of the tableau (z_0's column, `r_i d_i` after the rows'
+    /// equilibration) to the scale of M's columns, whose row-equilibrated entries are at most
+    /// 2 in magnitude, when its largest entry lies outside [2^-20, 2^20]: the column is
+    /// multiplied by the power of two that puts that entry in [1, 2). This is the covering
+    /// vector c d for a c > 0, which changes z_0's scale and nothing else: the pivots are the
+    /// same in exact arithmetic. Without it, d = 1 on an M of order 1e-12 (or 1e12) leaves
+    /// z_0's row, once z_0 is basic, 1e12 times smaller (larger) than the others, below (or
+    /// setting) the pivot tolerance of every entering column: the method ended on a secondary
+    /// ray, or failed, on positive definite problems scaled by 1e-11 or 1e12.
+    fn balance_covering(&mut self) {
+        let (n, nb) = (self.n, self.nb);
+        let column = &mut self.tab[n * nb..(n + 1) * nb].as_flattened_mut()[..n];
+        let big = column.iter().fold(0.0, |m, v| fmax(m, v.abs()));
+        if !(1.0 / COVER_SPAN..=COVER_SPAN).contains(&big) {
+            let c = pow2_inverse(big);
+            for v in column.iter_mut() {
+                *v *= c;
+            }
+        }
     }
 
     /// Chunks per column: H / [`LANES`], or `self.nb` for H = 0.
