@@ -150,11 +150,15 @@ impl Enumeration {
 
     /// Every solution found by the complete search, deduplicated (z within 1e-7 of
     /// `max(1, ‖z‖∞)`), each with status [`Status::Solved`]. An empty vector means no
-    /// solution, unless the vertex pass was needed but n > `max_n_degenerate`.
+    /// solution.
     ///
     /// # Errors
-    /// [`LcpError::TooLarge`] when n > `max_n`; [`LcpError::Overflow`] when some basis gave
-    /// a z or a w = M z + q beyond f64's range, so that the list may miss solutions.
+    /// [`LcpError::TooLarge`] when n > `max_n`, or when some `M_αα` is singular and
+    /// n > `max_n_degenerate` (`max` is then `max_n_degenerate`): the vertex pass that a
+    /// complete search needs is beyond the size guard, so the list may miss solutions, as
+    /// [`Status::TooLarge`] says for [`Solver::solve_into`]; [`LcpError::Overflow`] when
+    /// some basis gave a z or a w = M z + q beyond f64's range, so that the list may miss
+    /// solutions.
     pub fn solve_all(&mut self, lcp: LcpRef<'_>) -> Result<Vec<Solution>, LcpError> {
         let n = self.prepare(lcp)?;
         let mut found: Vec<Solution> = Vec::new();
@@ -180,7 +184,12 @@ impl Enumeration {
             Next::Continue
         };
         let singular = self.principal_pass(n, &mut z, &mut w, &mut examined, &mut keep);
-        if singular > 0 && n <= self.options.max_n_degenerate {
+        let max = self.options.max_n_degenerate;
+        let complete = singular == 0 || n <= max;
+        if !complete {
+            return Err(LcpError::TooLarge { n, max });
+        }
+        if singular > 0 {
             self.vertex_pass(n, &mut z, &mut w, &mut examined, &mut keep);
         }
         if self.overflowed {

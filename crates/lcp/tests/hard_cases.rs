@@ -6,7 +6,7 @@ mod common;
 
 use common::{Rng, assert_solves, friction, murty, planted, random_spd, rel_dist};
 use faer::{Col, Mat};
-use moreau_lcp::{Auto, Enumeration, Lcp, Lemke, LemkeOptions, Method, Solver, Status};
+use moreau_lcp::{Auto, Enumeration, Lcp, LcpError, Lemke, LemkeOptions, Method, Solver, Status};
 
 /// Murty's matrix transposed: lower triangular, 1 on the diagonal and 2 below.
 fn murty_lower(n: usize, q: impl Fn(usize) -> f64) -> Lcp {
@@ -201,6 +201,23 @@ fn solution_hidden_from_principal_bases_is_found_by_the_vertex_pass() {
     })
     .unwrap();
     assert_eq!(short.solve(&lcp).unwrap().status, Status::TooLarge);
+    // And the list of every solution is not given as if it were complete (it was empty).
+    assert!(matches!(short.solve_all(lcp.view()), Err(LcpError::TooLarge { n: 2, max: 1 })));
+    // The same above the default guard of the vertex pass (n = 12): the problem padded with
+    // 11 rows z_i = 0, w_i = 1 has the one solution z = e_1, which no principal basis holds.
+    let n = 13;
+    let m =
+        Mat::from_fn(n, n, |i, j| if (i, j) == (1, 0) || (i == j && i >= 2) { 1.0 } else { 0.0 });
+    let q = Col::from_fn(n, |i| [0.0, -1.0, 1.0][i.min(2)]);
+    let padded = Lcp::new(m, q).unwrap();
+    let e1: Vec<f64> = (0..n).map(|i| if i == 0 { 1.0 } else { 0.0 }).collect();
+    let w: Vec<f64> = (0..n).map(|i| if i >= 2 { 1.0 } else { 0.0 }).collect();
+    assert_eq!(moreau_lcp::Residual::compute(padded.view(), &e1, &w).relative, 0.0);
+    assert!(matches!(
+        Enumeration::default().solve_all(padded.view()),
+        Err(LcpError::TooLarge { n: 13, max: 12 })
+    ));
+    assert_eq!(Enumeration::default().solve(&padded).unwrap().status, Status::TooLarge);
 }
 
 #[test]
