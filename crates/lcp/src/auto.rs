@@ -13,7 +13,7 @@ use crate::{
 
 /// Options of [`Auto`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct AutoOptions {
     /// Options of the first Lemke attempt (its covering vector is the first one tried).
     /// Default [`LemkeOptions::default`].

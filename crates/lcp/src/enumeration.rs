@@ -24,7 +24,7 @@ const DEDUP_RELATIVE: f64 = 1e-7;
 
 /// Options of [`Enumeration`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct EnumerationOptions {
     /// Size guard: problems with n > `max_n` return [`LcpError::TooLarge`]. The work is
     /// 2^n LU factorisations of size up to n. Default 20 (about a million bases, around a

@@ -48,7 +48,7 @@ pub enum Covering {
 
 /// Options of [`Lemke`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct LemkeOptions {
     /// Largest number of pivots before giving up with [`Status::IterationLimit`].
     /// Default 131072 = 2^17, enough for Murty's n = 16 problem (2^16 - 1 pivots);

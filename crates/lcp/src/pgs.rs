@@ -9,7 +9,7 @@ use crate::{LcpError, LcpRef, Method, Solution, Solver, Status};
 
 /// Options of [`Pgs`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct PgsOptions {
     /// Relaxation factor ω in (0, 2) (dimensionless). Default 1.0 (plain Gauss-Seidel).
     pub omega: f64,

@@ -535,6 +535,25 @@ fn solutions_and_options_serialize() {
     let opts: LemkeOptions = serde_json::from_str(r#"{"max_pivots": 10}"#).unwrap();
     assert_eq!(opts.max_pivots, 10);
     assert_eq!(opts.tolerance, LemkeOptions::default().tolerance);
+    // A misspelt field is refused, naming it, rather than left at its default unnoticed (as
+    // the FC2D solvers' options do).
+    let typo = r#"{"tolerence": 1e-3}"#;
+    let refusals = [
+        serde_json::from_str::<LemkeOptions>(typo).err(),
+        serde_json::from_str::<PgsOptions>(typo).err(),
+        serde_json::from_str::<EnumerationOptions>(typo).err(),
+        serde_json::from_str::<moreau_lcp::AutoOptions>(typo).err(),
+        serde_json::from_str::<moreau_lcp::AutoOptions>(r#"{"lemke": {"max_pivot": 5}}"#).err(),
+    ];
+    for e in refusals {
+        let e = e.expect("an unknown field is an error").to_string();
+        let named = e.contains("`tolerence`") || e.contains("`max_pivot`");
+        assert!(e.contains("unknown field") && named, "{e}");
+    }
+    let auto: moreau_lcp::AutoOptions =
+        serde_json::from_str(r#"{"lemke": {"tolerance": 1e-6}, "enumeration_max_n": 8}"#).unwrap();
+    assert_eq!((auto.lemke.tolerance, auto.enumeration_max_n), (1e-6, 8));
+    assert_eq!(auto.lemke.max_pivots, LemkeOptions::default().max_pivots);
 }
 
 #[test]
