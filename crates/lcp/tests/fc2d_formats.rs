@@ -200,6 +200,26 @@ fn a_builders_block_is_kept_in_the_groups_it_names_or_refused() {
 }
 
 #[test]
+fn the_natural_map_weighs_an_approaching_sliding_contact_by_one_over_sqrt_one_plus_mu_squared() {
+    // W = I, q = (-1, 1) and r = 0: u = (-1, 1), a contact sliding into the ground.
+    let w = Mat::<f64>::identity(2, 2);
+    for mu in [0.0, 0.5, 1.0, 10.0, 1e3, 1e9] {
+        let problem = Fc2d::from_dense(w.as_ref(), &[-1.0, 1.0], &[mu]).unwrap();
+        let mut u = vec![0.0; 2];
+        let r = Fc2dResidual::compute(problem.view(), &[0.0, 0.0], &mut u);
+        let expected = 1.0 / (1.0 + mu * mu).sqrt();
+        assert!((r.natural - expected).abs() <= 1e-15 * expected, "μ = {mu}: {r:?}");
+    }
+    // And velocities below 1 are measured absolutely: W = 1e-12 I, q = (-1e-12, 0), whose
+    // solution is r = (1, 0), has natural 1e-12 at r = 0.
+    let tiny = Mat::from_fn(2, 2, |i, j| if i == j { 1e-12 } else { 0.0 });
+    let problem = Fc2d::from_dense(tiny.as_ref(), &[-1e-12, 0.0], &[0.5]).unwrap();
+    let mut u = vec![0.0; 2];
+    assert_eq!(Fc2dResidual::compute(problem.view(), &[0.0, 0.0], &mut u).natural, 1e-12);
+    assert_eq!(Fc2dResidual::compute(problem.view(), &[1.0, 0.0], &mut u).natural, 0.0);
+}
+
+#[test]
 fn residual_is_zero_at_planted_solutions_and_siconos_normalised() {
     // One contact, W = I: slip with r = (1, -0.5), μ = 0.5, u = (0, 2): q = u - r.
     let w = Mat::<f64>::identity(2, 2);

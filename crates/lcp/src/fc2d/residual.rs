@@ -57,6 +57,15 @@ pub(crate) fn natural_map(r_n: f64, r_t: f64, u_n: f64, u_t: f64, mu: f64) -> (f
 /// whose q is of order 1 or below is measured absolutely, a larger one relatively to q.
 /// If r has a non-finite entry, every field is `+∞`.
 ///
+/// **What a tolerance bounds.** F_i is zero exactly at a solution, but its size is not the
+/// size of every violation: a contact with r_i = 0 that slides (u_T ≠ 0) while approaching
+/// (u_N < 0) has `‖F_i‖ = |u_N| / sqrt(1 + μ²)` (0.89 |u_N| at μ = 0.5, |u_N| / 10 at
+/// μ ≈ 10), so with a large μ such a contact passes a tolerance that its interpenetration
+/// velocity exceeds: at μ = 1e9, r = 0 with u = (-1, 1) has `natural` = 1e-9. A
+/// problem's `natural` is also absolute where ‖q‖∞ < 1: a problem of velocities of 1e-12
+/// is solved, at any tolerance above 1e-12, by r = 0. Scale such problems (W, q and r
+/// together) before solving them to a tolerance.
+///
 /// **Round-off.** Row k of u = W r + q sums terms as large as (|W| |r|)_k + |q_k|, and r_k
 /// is itself rounded: a residual below a few units of ε times the largest of these terms is
 /// not resolved by floating point at r. `round_off` is four such units, in the units of
