@@ -506,3 +506,26 @@ fn the_default_problem_and_builder_are_the_problem_without_contacts() {
     let s = Nsgs::default().solve(&joint).unwrap();
     assert!(s.is_solved() && s.r == [0.5] && s.u == [0.0], "{s:?}");
 }
+
+#[test]
+fn gauss_seidel_started_where_the_residual_overflows_goes_on_from_its_finite_iterate() {
+    // W = I, q = (-1, 0), μ = 0.5: r = (1, 0). From r = (1e300, 0), whose natural map squares
+    // beyond f64's range, the first sweep gives r = 0 (the contact's velocity without its own
+    // part, 1e300 - 1 - 1e300, cancels to 0), the second the solution, the third checks it.
+    let identity = Mat::<f64>::identity(2, 2);
+    let problem = Fc2d::from_dense(identity.as_ref(), &[-1.0, 0.0], &[0.5]).unwrap();
+    let warm = [1e300, 0.0];
+    let mut s = Fc2dSolution::new();
+    Nsgs::default().solve_into(problem.view(), Some(&warm), &mut s).unwrap();
+    assert_eq!(s.status, Status::Solved, "{s:?}");
+    assert!(s.r == [1.0, 0.0] && s.u == [0.0, 0.0] && s.iterations == 3, "{s:?}");
+    Fc2dAuto::default().solve_into(problem.view(), Some(&warm), &mut s).unwrap();
+    assert!(s.is_solved() && (s.r[0] - 1.0).abs() <= 1e-8 && s.r[1] == 0.0, "{s:?}");
+    // A W of 1e300 whose velocities overflow the residual at r = 0: the first sweep's
+    // r = (1, -0.3) (slipping, q_T > 0) is the solution, up to the round-off of its terms.
+    let big = Mat::from_fn(2, 2, |i, j| if i == j { 1e300 } else { 0.0 });
+    let problem = Fc2d::from_dense(big.as_ref(), &[-1e300, 1e300], &[0.3]).unwrap();
+    let s = Nsgs::default().solve(&problem).unwrap();
+    assert_eq!(s.status, Status::Solved, "{s:?}");
+    assert!(s.r == [1.0, -0.3] && s.u[0] == 0.0, "{s:?}");
+}
