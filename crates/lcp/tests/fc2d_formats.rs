@@ -5,7 +5,9 @@ use std::fs::File;
 use std::path::PathBuf;
 
 use faer::Mat;
-use moreau_lcp::fc2d::{Fc2d, Fc2dBuilder, Fc2dResidual, Gfc2d, SiconosStorage};
+use moreau_lcp::fc2d::{
+    Fc2d, Fc2dBuilder, Fc2dParts, Fc2dRef, Fc2dResidual, Gfc2d, SiconosStorage,
+};
 use moreau_lcp::{Lcp, LcpError};
 
 fn data(dir: &str) -> Vec<PathBuf> {
@@ -188,7 +190,25 @@ fn a_builders_block_is_kept_in_the_groups_it_names_or_refused() {
     b.bilateral_group(usize::MAX);
     b.add_block(0, 0, [1.0, 0.0, 0.0, 1.0]);
     let err = b.build(&[-1.0, 0.0, 0.0], &[0.3]).unwrap_err();
-    assert!(matches!(&err, LcpError::Structure(m) if m.starts_with("group 1 has")), "{err}");
+    let rows = format!("group 1 has {} rows, from 2 to {}", usize::MAX - 2, usize::MAX);
+    assert!(matches!(&err, LcpError::Structure(m) if m.starts_with(&rows)), "{err}");
+    // Parts that announce more contacts than any slice can hold, or groups that go back.
+    let n_contacts = usize::MAX;
+    let parts = |n_contacts, group_start| Fc2dParts {
+        n_contacts,
+        group_start,
+        row_ptr: &[0, 1],
+        col: &[0],
+        blocks: &[[1.0, 0.0, 0.0, 1.0]],
+        q: &[-1.0, 0.0],
+        mu: &[0.3],
+    };
+    let err = Fc2dRef::from_parts(parts(n_contacts, &[0, 2])).unwrap_err();
+    let expected = format!("2 group starts for {n_contacts} contacts");
+    assert!(matches!(&err, LcpError::Structure(m) if *m == expected), "{err}");
+    let err = Fc2dRef::from_parts(parts(0, &[0, 2, 1])).unwrap_err();
+    let expected = "group 1 has -1 rows, from 2 to 1";
+    assert!(matches!(&err, LcpError::Structure(m) if m.starts_with(expected)), "{err}");
     // Blocks within the groups, given in any order and repeated, add up where they name.
     let mut b = Fc2dBuilder::new(2);
     b.add_block(1, 1, [1.0, 0.0, 0.0, 1.0]);

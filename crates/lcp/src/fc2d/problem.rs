@@ -137,7 +137,7 @@ impl<'a> Fc2dRef<'a> {
     /// diagonal block (see [`PSD_TOLERANCE`]).
     pub fn from_parts(parts: Fc2dParts<'a>) -> Result<Self, LcpError> {
         let Fc2dParts { n_contacts, group_start, row_ptr, col, blocks, q, mu } = parts;
-        if group_start.len() < n_contacts + 1 {
+        if group_start.len() <= n_contacts {
             return Err(structure(format!(
                 "{} group starts for {n_contacts} contacts",
                 group_start.len()
@@ -151,9 +151,12 @@ impl<'a> Fc2dRef<'a> {
             let size = group_start[g + 1].wrapping_sub(group_start[g]);
             let ok = if g < n_contacts { size == 2 } else { size == 1 || size == 2 };
             if !ok {
+                let (start, end) = (group_start[g], group_start[g + 1]);
+                let rows =
+                    if end >= start { format!("{size}") } else { format!("-{}", start - end) };
                 return Err(structure(format!(
-                    "group {g} has {} rows (contacts have 2, bilateral groups 1 or 2)",
-                    group_start[g + 1] as i64 - group_start[g] as i64
+                    "group {g} has {rows} rows, from {start} to {end} (contacts have 2, \
+                     bilateral groups 1 or 2)"
                 )));
             }
         }
