@@ -150,6 +150,13 @@ fn parse_errors_name_the_line() {
     assert!(matches!(err, LcpError::DimensionMismatch { expected: 2, found: 3, .. }), "{err}");
     let err = Lcp::read_siconos("1\n0\n1\n1\n1\t1\n2\n".as_bytes()).unwrap_err();
     assert!(matches!(&err, LcpError::Parse { message, .. } if message.contains("q")), "{err}");
+    // A size whose n² + n values overflow is named as given, on its line.
+    let err = Lcp::read_plain("# size\n99999999999\n1\n".as_bytes()).unwrap_err();
+    let expected = "the size n = 99999999999 announces n² + n values, more than the input can hold";
+    assert!(matches!(&err, LcpError::Parse { line: 2, message } if message == expected), "{err}");
+    let err = Lcp::read_plain("3\n1 2\n".as_bytes()).unwrap_err();
+    let expected = "12 values announced, more than the input can hold";
+    assert!(matches!(&err, LcpError::Parse { line: 1, message } if message == expected), "{err}");
     // Non-finite numbers parse but are rejected by validation.
     let err = Lcp::read_plain("1\nnan\n1\n".as_bytes()).unwrap_err();
     assert!(matches!(err, LcpError::NonFinite { what: "M", index: (0, 0) }));

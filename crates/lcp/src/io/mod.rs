@@ -34,8 +34,12 @@ use tokens::{Tokens, Trailer, check_count};
 fn parse_plain(text: &str) -> Result<Lcp, LcpError> {
     let mut t = Tokens::new(text, true);
     let n = t.size("the size n")?;
-    let values = n.checked_mul(n).and_then(|m| m.checked_add(n));
-    check_count(values.unwrap_or(usize::MAX), text.len(), t.line)?;
+    let Some(values) = n.checked_mul(n).and_then(|m| m.checked_add(n)) else {
+        return Err(t.error(format!(
+            "the size n = {n} announces n² + n values, more than the input can hold"
+        )));
+    };
+    check_count(values, text.len(), t.line)?;
     let mut m = vec![0.0; n * n];
     for i in 0..n {
         for j in 0..n {
