@@ -267,9 +267,9 @@ pub fn run(options: &SimulateOptions) -> Result<RunResult> {
 /// `<joint>.Ln`, see `Multibody::bilateral_names`), `L1, L2, ...` otherwise. The last three
 /// columns are the energies at the row (J, or the scene's units of energy): `T`, the kinetic
 /// energy ½ uᵀ M u; `V`, the potential energy of gravity and springs; and `dissipated`, the
-/// energy the impulses of contacts and joints removed since row 0 (`Record::cumulative_dissipation`):
-/// under gravity and without the projection, T + V + dissipated stays at its row-0 value to
-/// round-off.
+/// energy the impulses of contacts and joints removed since row 0
+/// (`Record::cumulative_dissipation`): under gravity and without the projection,
+/// T + V + dissipated stays at its row-0 value to round-off.
 pub fn header(model: &AnyModel) -> Vec<String> {
     let mut h = vec!["t".to_owned()];
     h.extend(model.coordinate_names().iter().map(str::to_owned));

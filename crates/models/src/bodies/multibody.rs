@@ -88,10 +88,11 @@ pub struct Multibody {
 impl Multibody {
     /// The mechanism's size, in the length unit of its declaration: 0.6 times the diagonal of
     /// the box around its moving (dynamic and driven) bodies' origins and finite shapes at
-    /// t = 0; over every body when none moves, and 1 for a mechanism of no size. What must not depend on the unit is measured against it: the tolerances
-    /// below, and the guards of a run. The fixed geometry does not count: a box resting on a
-    /// floor drawn as a polygon 2 km long had a size of 1,200 m, a projection tolerance of
-    /// 1.2 mm, and came to rest 0.6 mm deep and tilted.
+    /// t = 0; over every body when none moves, and 1 for a mechanism of no size. What must
+    /// not depend on the unit is measured against it: the tolerances below, and the guards of
+    /// a run. The fixed geometry does not count: a box resting on a floor drawn as a polygon
+    /// 2 km long had a size of 1,200 m, a projection tolerance of 1.2 mm, and came to rest
+    /// 0.6 mm deep and tilted.
     pub fn size(&self) -> f64 {
         self.size
     }
