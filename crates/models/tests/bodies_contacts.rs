@@ -275,10 +275,9 @@ fn block_on_a_belt(dt: f64) -> (f64, f64) {
 }
 
 /// A block resting on a face has both corners' midpoint gaps at zero, up to round-off. Counted
-/// closed only at g_N <= 0, a corner whose gap round-off made +3.5e-18 m sat out a step: the
-/// block rocked, and stayed tilted by 3.7e-5 rad with a corner 4 µm deep (Δt = 1 ms, from
-/// 1.802 s), or tipped by 6.6e-3 rad (Δt = 10 ms). A scene file without the projection now
-/// closes contacts within 1e-9 of its size, as with it.
+/// closed only at g_N <= 0, a corner whose gap round-off made positive sat out a step and the
+/// block rocked: at Δt = 10 ms it tipped by 6.6e-3 rad. A scene file without the projection
+/// now closes contacts within 1e-9 of its size, as with it.
 #[test]
 fn a_block_on_a_belt_stays_flat_through_stick_slip_without_the_projection() {
     for dt in [1e-3, 1e-2] {
