@@ -570,6 +570,9 @@ impl SystemSpec {
         let constant_mass = dynamic
             .iter()
             .all(|&i| matches!(bodies[i].kind, Kind::Dynamic { com, .. } if com == [0.0; 2]));
+        let whole = extent(&bodies, |_| true);
+        let moves = |b: &Body| !matches!(b.kind, Kind::Fixed(_));
+        let size = if bodies.iter().any(moves) { extent(&bodies, moves).1 } else { whole.1 };
         let mut mb = Multibody {
             spec: original.clone(),
             bodies,
@@ -588,13 +591,9 @@ impl SystemSpec {
             u0,
             dynamic,
             constant_mass,
-            extent: ([0.0; 2], 1.0),
-            size: 1.0,
+            extent: whole,
+            size,
         };
-        mb.extent = extent(&mb.bodies, |_| true);
-        let moves = |b: &Body| !matches!(b.kind, Kind::Fixed(_));
-        mb.size =
-            if mb.bodies.iter().any(moves) { extent(&mb.bodies, moves).1 } else { mb.extent.1 };
         mb.q0 = assemble(&mb)?;
         Ok(mb)
     }
