@@ -121,8 +121,7 @@ fn default_mask() -> u32 {
 /// body's coordinates are the pose (x, y, θ) of its ORIGIN, which need not be its centre of
 /// mass: the mass matrix then couples translation and rotation (and depends on θ), and h gets
 /// the centrifugal term. Put the origin at the centre of mass to keep M constant and diagonal,
-/// or at the anchor of a revolute joint to a fixed body, which the step then holds exactly
-/// (see the module's Joints: elsewhere a joint removes energy at first order in Δt).
+/// or at the anchor of a revolute joint to a fixed body, where the joint's rows are constant.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {

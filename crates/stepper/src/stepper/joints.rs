@@ -3,10 +3,19 @@
 //! constraints.
 //!
 //! With n_B bilateral constraints g_B(q, t) = 0, force directions W_B = (∂g_B/∂q)ᵀ and
-//! rheonomic terms ŵ_B = ∂g_B/∂t, the step asks γ_B,E = W_Bᵀ u_E + ŵ_B = 0 with free
-//! impulses Λ_B. Eliminating Λ_B by the Schur complement S = W_Bᵀ M⁻¹ W_B (docs/theory.md
-//! section 9) leaves the contact problem of the unilateral contacts alone, with
-//! * the free velocity ũ' = ũ − M⁻¹ W_B S⁻¹ (W_Bᵀ ũ + ŵ_B), which satisfies the constraints;
+//! rheonomic terms ŵ_B = ∂g_B/∂t, the constraints' velocity is γ_B = W_Bᵀ u + ŵ_B. The step
+//! asks, with W_B and ŵ_B at the midpoint (γ_B,M) and at the start (γ_B,A),
+//!
+//!   γ_B,M(u_E) = −(γ_B,M(u_A) − γ_B,A(u_A)):
+//!
+//! the velocity of the constraints at the midpoint vanishes on the average of u_A and u_E once
+//! the violation at the start, γ_B,A(u_A), is taken away. A start that keeps the joints then
+//! gives g_B(q_E) − g_B(q_A) = O(Δt³) and impulses that do no work, and a start that violates
+//! them (a starting velocity, or one left by the step before) is brought onto them by an
+//! impulse that removes that violation's energy alone (docs/theory.md section 9). The impulses
+//! Λ_B are free; eliminating them by the Schur complement S = W_Bᵀ M⁻¹ W_B leaves the contact
+//! problem of the unilateral contacts alone, with b_B = ŵ_B,M + γ_B,M(u_A) − γ_B,A(u_A) and
+//! * the free velocity ũ' = ũ − M⁻¹ W_B S⁻¹ (W_Bᵀ ũ + b_B), which satisfies the constraints;
 //! * M̂⁻¹ w = M⁻¹ w − M⁻¹ W_B S⁻¹ W_Bᵀ M⁻¹ w in place of M⁻¹ w for each contact direction w.
 //!
 //! M̂⁻¹ is symmetric positive semidefinite, so the contact problem keeps the structure every
@@ -48,8 +57,9 @@ pub(super) struct Joints {
     w: Vec<f64>,
     /// M⁻¹ W_B, one column of length f per constraint.
     x: Vec<f64>,
-    /// ŵ_B and g_B of each constraint at the last assembly.
-    w_hat: Vec<f64>,
+    /// b_B = ŵ_B,M + γ_B,M(u_A) − γ_B,A(u_A) and g_B (at the midpoint) of each constraint at the
+    /// last assembly.
+    b: Vec<f64>,
     g: Vec<f64>,
     /// The constraints' scalars as the mechanism returns them.
     points: Vec<BilateralPoint>,
@@ -59,7 +69,7 @@ pub(super) struct Joints {
     /// The ridge added to S's diagonal when S is singular (constraints that repeat each
     /// other); 0 when S is positive definite.
     ridge: f64,
-    /// The largest |W_Bᵀ v + ŵ_B| of the last velocity constrained, before.
+    /// The largest |W_Bᵀ v + b_B| of the last velocity constrained, before.
     violation: f64,
     /// Scratch of length n_B for the refinement of a solve with the ridge.
     rhs: Vec<f64>,
@@ -86,7 +96,7 @@ impl Joints {
             f,
             w: vec![0.0; f * n],
             x: vec![0.0; f * n],
-            w_hat: vec![0.0; n],
+            b: vec![0.0; n],
             g: vec![0.0; n],
             points: vec![BilateralPoint::default(); n],
             s: vec![0.0; n * n],
@@ -109,8 +119,9 @@ impl Joints {
         self.g.iter().fold(0.0, |d, g| d.max(g.abs()))
     }
 
-    /// Evaluates the constraints at (q, t), forms S with the factor `chol` of M and factorises
-    /// it.
+    /// Evaluates the constraints at the start (`q_a`, `t_a`) and at the midpoint (`q_m`, `t_m`),
+    /// their offsets b_B = ŵ_B,M + γ_B,M(u_A) − γ_B,A(u_A) with the start velocity `u_a`, forms
+    /// S at the midpoint with the factor `chol` of M and factorises it.
     ///
     /// # Errors
     /// [`StepError::NonFinite`] for non-finite g_B, ŵ_B or W_B, and
@@ -119,21 +130,35 @@ impl Joints {
     pub(super) fn assemble<K: Mechanism>(
         &mut self,
         mech: &K,
-        q: &[f64],
-        t: f64,
+        (q_a, u_a, t_a): (&[f64], &[f64], f64),
+        q_m: &[f64],
+        t_m: f64,
         chol: &Cholesky,
     ) -> Result<(), StepError> {
         let (f, n) = (self.f, self.n);
-        mech.bilaterals(q, t, &mut self.w, &mut self.points);
+        // γ_B,A(u_A) into b, with W_B at the start in the projection's scratch.
+        mech.bilaterals(q_a, t_a, &mut self.w_end, &mut self.points);
+        for i in 0..n {
+            self.b[i] = -(dot(&self.w_end[i * f..][..f], u_a) + self.points[i].w_hat);
+            if !self.b[i].is_finite() {
+                return Err(StepError::NonFinite {
+                    what: "bilateral constraint",
+                    index: i,
+                    t: t_a,
+                });
+            }
+        }
+        let t = t_m;
+        mech.bilaterals(q_m, t, &mut self.w, &mut self.points);
         for i in 0..n {
             let w = &self.w[i * f..][..f];
             let point = self.points[i];
             self.g[i] = point.g;
-            self.w_hat[i] = point.w_hat;
             let finite = point.g.is_finite() && point.w_hat.is_finite();
             if !finite || w.iter().any(|v| !v.is_finite()) {
                 return Err(StepError::NonFinite { what: "bilateral constraint", index: i, t });
             }
+            self.b[i] += 2.0 * point.w_hat + dot(w, u_a);
             let x = &mut self.x[i * f..][..f];
             x.copy_from_slice(w);
             chol.solve(x);
@@ -218,7 +243,7 @@ impl Joints {
     }
 
     /// After [`Self::constrain`] of a velocity `v` with the ridge of redundant constraints,
-    /// checks that v keeps them: |W_Bᵀ v + ŵ_B| at most 1e-6 of the largest violation that
+    /// checks that v keeps them: |W_Bᵀ v + b_B| at most 1e-6 of the largest violation that
     /// the constraining removed (the ridge leaves about 1e-10 of it) plus round-off of its
     /// terms. Redundant rows that disagree (a mechanism locked by its joints) cannot all be
     /// kept, and the step is refused rather than taken off them.
@@ -233,8 +258,8 @@ impl Joints {
         for i in 0..self.n {
             let w = &self.w[i * f..][..f];
             let size: f64 =
-                w.iter().zip(v).map(|(a, b)| (a * b).abs()).sum::<f64>() + self.w_hat[i].abs();
-            let kept = dot(w, v) + self.w_hat[i];
+                w.iter().zip(v).map(|(a, b)| (a * b).abs()).sum::<f64>() + self.b[i].abs();
+            let kept = dot(w, v) + self.b[i];
             if kept.abs() > 1e-6 * self.violation + 1e-12 * size {
                 return Err(StepError::RedundantConstraints {
                     t,
@@ -248,7 +273,7 @@ impl Joints {
         Ok(())
     }
 
-    /// Applies the constraints to `v` (length f): v ← v − M⁻¹ W_B S⁻¹ (W_Bᵀ v + ŵ_B) when
+    /// Applies the constraints to `v` (length f): v ← v − M⁻¹ W_B S⁻¹ (W_Bᵀ v + b_B) when
     /// `rheonomic` (a velocity, such as ũ), and v ← v − M⁻¹ W_B S⁻¹ W_Bᵀ v otherwise (a
     /// column M⁻¹ w, which becomes M̂⁻¹ w).
     #[inline(always)]
@@ -263,8 +288,8 @@ impl Joints {
     fn apply(&mut self, v: &mut [f64], rheonomic: bool) {
         let (f, n) = (self.f, self.n);
         for i in 0..n {
-            let w_hat = if rheonomic { self.w_hat[i] } else { 0.0 };
-            self.y[i] = dot(&self.w[i * f..][..f], v) + w_hat;
+            let b = if rheonomic { self.b[i] } else { 0.0 };
+            self.y[i] = dot(&self.w[i * f..][..f], v) + b;
         }
         if rheonomic {
             self.violation = self.y.iter().fold(0.0f64, |m, y| m.max(y.abs()));
@@ -282,13 +307,13 @@ impl Joints {
 
     /// The joints' impulses Λ_B of the step into `out` (length n_B), from ũ before the
     /// joints (`u_free`) and the contacts' impulses W_c P (`contact_impulses`, length f):
-    /// M (u_E − ũ) = W_c P + W_B Λ_B and W_Bᵀ u_E + ŵ_B = 0 give
-    /// S Λ_B = −(W_Bᵀ ũ + ŵ_B) − (M⁻¹ W_B)ᵀ W_c P, with the midpoint's W_B, M⁻¹ W_B and S.
+    /// M (u_E − ũ) = W_c P + W_B Λ_B and W_Bᵀ u_E + b_B = 0 give
+    /// S Λ_B = −(W_Bᵀ ũ + b_B) − (M⁻¹ W_B)ᵀ W_c P, with the midpoint's W_B, M⁻¹ W_B and S.
     pub(super) fn impulses(&mut self, u_free: &[f64], contact_impulses: &[f64], out: &mut [f64]) {
         let (f, n) = (self.f, self.n);
         for (i, o) in out.iter_mut().enumerate().take(n) {
             *o = -(dot(&self.w[i * f..][..f], u_free)
-                + self.w_hat[i]
+                + self.b[i]
                 + dot(&self.x[i * f..][..f], contact_impulses));
         }
         self.solve_s(&mut out[..n]);

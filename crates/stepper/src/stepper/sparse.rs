@@ -6,7 +6,7 @@
 //! The joints are not eliminated by a Schur complement as on the path of fixed contacts
 //! (joints.rs), whose S = W_Bᵀ M⁻¹ W_B and rows of length f cost O(f n_B) per step and
 //! couple every body: their rows stay in each island's problem, whose solution keeps
-//! γ_B,E = 0 exactly as the elimination does, and their drift is corrected by the same
+//! W_Bᵀ u_E + b_B = 0 exactly as the elimination does, and their drift is corrected by the same
 //! sparse projection as the contacts' penetration.
 #![allow(non_snake_case)]
 
@@ -52,6 +52,8 @@ pub(super) struct BodyPath {
     /// The bilateral rows at the midpoint (then at q_E), and their groups.
     rows: Vec<BodyBilateral>,
     groups: Vec<JointGroup>,
+    /// The violation γ_B,A(u_A) = w_Bᵀ u_A + ŵ_B of each row at the step's start (joints.rs).
+    gamma_start: Vec<f64>,
     /// The joints' impulses Λ_B of the last step, in the mechanism's row order.
     joint_impulses: Vec<f64>,
     /// The groups at q_E during the projection, of which only g_B is used.
@@ -263,6 +265,7 @@ impl BodyPath {
             detected: Vec::new(),
             rows: vec![BodyBilateral::default(); n_bilaterals],
             groups: Vec::with_capacity(n_bilaterals),
+            gamma_start: vec![0.0; n_bilaterals],
             joint_impulses: Vec::with_capacity(n_bilaterals),
             end_groups: Vec::with_capacity(n_bilaterals),
             jointed: vec![false; nb],
@@ -406,6 +409,16 @@ impl Core {
             }
         }
 
+        if !b.rows.is_empty() {
+            structure.bilateral_rows(&self.q, self.t, &mut b.rows);
+            for (i, (r, gamma)) in b.rows.iter().zip(&mut b.gamma_start).enumerate() {
+                *gamma = side_dot(r.bodies, &r.w, &self.u) + r.point.w_hat;
+                if !gamma.is_finite() {
+                    let what = "bilateral constraint";
+                    return Err(StepError::NonFinite { what, index: i, t: self.t });
+                }
+            }
+        }
         let q_m = std::mem::take(&mut b.q_m);
         let drift = b.joints_at(structure, &q_m, t_m);
         b.q_m = q_m;
@@ -423,7 +436,17 @@ impl Core {
         // second thread.
         let nc = b.detected.len();
         let BodyPath {
-            islands, work, ids, inv, detected, groups, prev, joint_prev, u_free, ..
+            islands,
+            work,
+            ids,
+            inv,
+            detected,
+            groups,
+            gamma_start,
+            prev,
+            joint_prev,
+            u_free,
+            ..
         } = &mut *b;
         let u = &self.u;
         let mut link_work = || {
@@ -454,13 +477,18 @@ impl Core {
             });
             ids.clear();
             ids.extend(detected.iter().map(|c| c.id));
-            // The joint groups ask γ_B,E = w_Bᵀ u_E + ŵ_B = 0: q_B = w_Bᵀ ũ + ŵ_B,
-            // warm-started from the step before (the groups are the same at every step).
+            // The joint groups ask γ_B,M(u_E) = −(γ_B,M(u_A) − γ_B,A(u_A)) (joints.rs):
+            // q_B = w_Bᵀ ũ + ŵ_B + γ_B,M(u_A) − γ_B,A(u_A), warm-started from the step before
+            // (the groups are the same at every step). A group holds consecutive rows.
             let warm_joints = joint_prev.len() == groups.len();
+            let mut first = 0;
             for (g, (group, w)) in groups.iter().zip(&mut work[nc..]).enumerate() {
                 for row in 0..group.rows {
-                    w.b[row] = side_dot(group.bodies, &group.w[row], u_free) + group.w_hat[row];
+                    let (dir, w_hat) = (&group.w[row], group.w_hat[row]);
+                    let change = side_dot(group.bodies, dir, u) + w_hat - gamma_start[first + row];
+                    w.b[row] = side_dot(group.bodies, dir, u_free) + w_hat + change;
                 }
+                first += group.rows;
                 w.warm = if warm_joints { joint_prev[g] } else { [0.0; 2] };
             }
         };

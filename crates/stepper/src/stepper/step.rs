@@ -91,7 +91,8 @@ impl Core {
             // ũ becomes ũ', which satisfies the bilateral constraints; every M⁻¹ w below
             // becomes M̂⁻¹ w (joints.rs). ũ is kept for the report's work of the impulses.
             ws.u_unconstrained[..f].copy_from_slice(&ws.u_free[..f]);
-            ws.joints.assemble(mech, &ws.q_m[..f], t_m, &ws.chol)?;
+            let start = (&self.q[..f], &self.u[..f], self.t);
+            ws.joints.assemble(mech, start, &ws.q_m[..f], t_m, &ws.chol)?;
             ws.joints.constrain(&mut ws.u_free[..f], true);
             ws.joints.check_kept(&ws.u_free[..f], t_m)?;
             ws.joint_drift = ws.joints.drift();
