@@ -323,7 +323,7 @@ impl Joints {
     /// metric) while keeping the gaps of the contacts in `held` (their w_N, one column of
     /// length f each): q ← q − M⁻¹ V K⁻¹ r with V = [W_B W_H], K = Vᵀ M⁻¹ V and
     /// r = (g_B(q), 0), at most [`PROJECTION_ITERATIONS`] times, until
-    /// |g_B| ≤ 1e-12 (1 + |q|∞).
+    /// |g_B| ≤ `drift_tolerance` (1e-12 max(1, |q|∞) unless the options set one).
     ///
     /// The held contacts are those that carried an impulse in the step: resting or pressed,
     /// they sit at g_N ≈ 0, and a correction along M⁻¹ W_B alone would move them off it by
