@@ -74,7 +74,7 @@ pub(super) struct ContactWork {
     /// M_k⁻¹ w_N and M_k⁻¹ w_T restricted to the body of each side (zero for [`NO_BODY`]).
     pub(super) mw_n: [[f64; 3]; 2],
     pub(super) mw_t: [[f64; 3]; 2],
-    /// b = (b_N, b_T) = W ᵀũ + ŵ + ε γ_A (docs/theory.md section 7).
+    /// b = (b_N, b_T) = W ᵀũ + ŵ + ε γ_A (docs/theory.md section 10).
     pub(super) b: [f64; 2],
     /// γ_N,A and γ_T,A.
     pub(super) gamma_a: [f64; 2],

@@ -1,5 +1,5 @@
 //! The step of a mechanism with a [`BodyStructure`]: the same midpoint rule and impact law
-//! as the path of fixed contacts (docs/theory.md sections 4-7), with M kept as one 3 × 3
+//! as the path of fixed contacts (docs/theory.md sections 4-6), with M kept as one 3 × 3
 //! block per body, the contacts detected at the midpoint, and their problem solved island by
 //! island on sparse 2 × 2 blocks (section 10), the joints' rows in it as bilateral groups.
 //!
