@@ -11,13 +11,17 @@
 //! | [`lcp`] | `moreau-lcp` | LCP solvers (Lemke, PGS, enumeration) |
 //! | [`kinematics`] | `moreau-kinematics` | gaps, contact Jacobians, finite-difference checks |
 //! | [`stepper`] | `moreau-stepper` | the Moreau midpoint time-stepper |
-//! | [`models`] | `moreau-models` | the reference report's mechanisms |
+//! | [`models`] | `moreau-models` | the reference report's mechanisms, declared mechanisms and scene files |
 //! | [`nalgebra`] | `nalgebra` | the geometry types of [`kinematics::planar`] (points, vectors, Jacobians) |
 //!
 //! A mechanism of one's own implements [`stepper::Mechanism`] and
 //! [`kinematics::ContactKinematics`], both in [`stepper::prelude`] with what they use;
 //! `examples/box_on_incline` is one, with its Jacobians
 //! checked, its run, its record and its impacts, and `docs/theory.md` holds the equations.
+//!
+//! **Not for**: the `moreau` command and its sweeps (the `moreau-cli` crate, not re-exported
+//! here) or the report's figures (the repository's `cargo xtask`). A project that needs one
+//! part only, the LCP solvers say, can depend on that crate alone.
 //!
 //! # Example
 //! ```
