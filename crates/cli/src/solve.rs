@@ -159,7 +159,8 @@ pub struct Solved {
 macro_rules! options {
     ($options:ident, $tolerance:expr) => {{
         let default = $options::default();
-        $options { tolerance: $tolerance.unwrap_or(default.tolerance), ..default }
+        let tolerance = $tolerance.unwrap_or(default.tolerance);
+        default.with_tolerance(tolerance)
     }};
 }
 
@@ -179,11 +180,11 @@ pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) ->
         Problem::Lcp(lcp) => {
             let name = solver.unwrap_or(LCP_SOLVERS[0]);
             let mut solver: Box<dyn Solver> = match name {
-                "auto" => Box::new(Auto::new(AutoOptions {
-                    lemke: options!(LemkeOptions, tolerance),
-                    enumeration: options!(EnumerationOptions, tolerance),
-                    ..AutoOptions::default()
-                })?),
+                "auto" => Box::new(Auto::new(
+                    AutoOptions::default()
+                        .with_lemke(options!(LemkeOptions, tolerance))
+                        .with_enumeration(options!(EnumerationOptions, tolerance)),
+                )?),
                 "lemke" => Box::new(Lemke::new(options!(LemkeOptions, tolerance))?),
                 "pgs" => Box::new(Pgs::new(options!(PgsOptions, tolerance))?),
                 "enum" => Box::new(Enumeration::new(options!(EnumerationOptions, tolerance))?),

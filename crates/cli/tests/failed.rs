@@ -95,7 +95,7 @@ fn an_island_with_a_joint_is_written_as_its_contacts_alone() -> Result<()> {
     assert_eq!(problem.view().n_bilateral(), 2);
     assert_eq!(written, problem.view().without_bilateral()?);
     // The contact's reaction is the same solved alone as with the joint's rows.
-    let tight = Fc2dAutoOptions { tolerance: 1e-13, ..Default::default() };
+    let tight = Fc2dAutoOptions::default().with_tolerance(1e-13);
     let alone = Fc2dAuto::new(tight)?.solve(&written)?;
     let whole = LcpRoute::default().solve(&problem)?;
     assert_eq!((alone.status, whole.status), (Status::Solved, Status::Solved));

@@ -35,19 +35,21 @@ fn read(name: &str) -> Fc2d {
 fn make(solver: &str, tolerance: f64) -> Box<dyn Fc2dSolver> {
     match solver {
         "nsgs" => Box::new(
-            Nsgs::new(NsgsOptions { tolerance, max_sweeps: 100_000, ..Default::default() })
+            Nsgs::new(NsgsOptions::default().with_tolerance(tolerance).with_max_sweeps(100_000))
                 .expect("valid options"),
         ),
         "auto" => Box::new(
-            Fc2dAuto::new(Fc2dAutoOptions { tolerance, ..Default::default() })
+            Fc2dAuto::new(Fc2dAutoOptions::default().with_tolerance(tolerance))
                 .expect("valid options"),
         ),
         "newton" => Box::new(
-            Newton::new(NewtonOptions { tolerance, ..Default::default() }).expect("valid options"),
+            Newton::new(NewtonOptions::default().with_tolerance(tolerance)).expect("valid options"),
         ),
         _ => Box::new(
-            LcpRoute::new(LcpRouteOptions { tolerance, max_contacts: 300, ..Default::default() })
-                .expect("valid options"),
+            LcpRoute::new(
+                LcpRouteOptions::default().with_tolerance(tolerance).with_max_contacts(300),
+            )
+            .expect("valid options"),
         ),
     }
 }

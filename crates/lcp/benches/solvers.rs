@@ -67,7 +67,7 @@ fn benches(c: &mut Criterion) {
         run(c, "lemke", name, &mut lemke, set);
     }
     for k in [1, 4, 7] {
-        let options = LemkeOptions { max_pivots: k, ..LemkeOptions::default() };
+        let options = LemkeOptions::default().with_max_pivots(k);
         let mut capped = Lemke::new(options).expect("valid options");
         time_solves(c, &format!("lemke_pivots/friction_9/{k}"), &mut capped, &friction_9);
     }

@@ -62,24 +62,24 @@ fn make_solver(
     let err = |e: LcpError| e.to_string();
     Ok(match solver {
         "nsgs" => {
-            let options = NsgsOptions { tolerance, max_sweeps: 100_000, ..Default::default() };
+            let options = NsgsOptions::default().with_tolerance(tolerance).with_max_sweeps(100_000);
             (Box::new(Nsgs::new(options).map_err(err)?), "nsgs")
         }
         "lcp" => {
             let options =
-                LcpRouteOptions { tolerance, max_contacts: usize::MAX, ..Default::default() };
+                LcpRouteOptions::default().with_tolerance(tolerance).with_max_contacts(usize::MAX);
             (Box::new(LcpRoute::new(options).map_err(err)?), "lcp")
         }
         "auto" => {
-            let options = Fc2dAutoOptions { tolerance, ..Default::default() };
+            let options = Fc2dAutoOptions::default().with_tolerance(tolerance);
             (Box::new(Fc2dAuto::new(options).map_err(err)?), "auto")
         }
         "newton" => {
-            let options = NewtonOptions { tolerance, ..Default::default() };
+            let options = NewtonOptions::default().with_tolerance(tolerance);
             (Box::new(Newton::new(options).map_err(err)?), "newton")
         }
         "proximal" => {
-            let options = ProximalOptions { tolerance, ..Default::default() };
+            let options = ProximalOptions::default().with_tolerance(tolerance);
             (Box::new(Proximal::new(options).map_err(err)?), "proximal")
         }
         other => {

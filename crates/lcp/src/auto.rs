@@ -11,9 +11,30 @@ use crate::{
     Solver, Status,
 };
 
-/// Options of [`Auto`].
+/// Options of [`Auto`]: the default, changed field by field with the `with_*` setters
+/// (or by assigning the fields of a default value).
+///
+/// ```
+/// use moreau_lcp::{Auto, AutoOptions};
+///
+/// # fn main() -> Result<(), moreau_lcp::LcpError> {
+/// let options = AutoOptions::default().with_alternative_coverings(2).with_enumeration_max_n(8);
+/// assert_eq!((options.alternative_coverings, options.enumeration_max_n), (2, 8));
+/// let solver = Auto::new(options)?;
+/// # let _ = solver;
+/// # Ok(())
+/// # }
+/// ```
+///
+/// The struct is `#[non_exhaustive]`, so that fields added later keep their defaults in
+/// callers' code; a struct literal does not compile outside this crate:
+///
+/// ```compile_fail,E0639
+/// let options = moreau_lcp::AutoOptions { alternative_coverings: 2, ..Default::default() };
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct AutoOptions {
     /// Options of the first Lemke attempt (its covering vector is the first one tried).
     /// Default [`LemkeOptions::default`].
@@ -29,6 +50,13 @@ pub struct AutoOptions {
     /// Options of that enumeration. Default [`EnumerationOptions::default`].
     pub enumeration: EnumerationOptions,
 }
+
+with_setters!(AutoOptions {
+    with_lemke => lemke: LemkeOptions,
+    with_alternative_coverings => alternative_coverings: usize,
+    with_enumeration_max_n => enumeration_max_n: usize,
+    with_enumeration => enumeration: EnumerationOptions,
+});
 
 impl Default for AutoOptions {
     fn default() -> Self {

@@ -22,9 +22,30 @@ const MAX_N_DEGENERATE_LIMIT: usize = 14;
 /// Two solutions whose z differ by at most this fraction of `max(1, ‖z‖∞)` are the same.
 const DEDUP_RELATIVE: f64 = 1e-7;
 
-/// Options of [`Enumeration`].
+/// Options of [`Enumeration`]: the default, changed field by field with the `with_*` setters
+/// (or by assigning the fields of a default value).
+///
+/// ```
+/// use moreau_lcp::{Enumeration, EnumerationOptions};
+///
+/// # fn main() -> Result<(), moreau_lcp::LcpError> {
+/// let options = EnumerationOptions::default().with_max_n(14).with_tolerance(1e-10);
+/// assert_eq!((options.max_n, options.tolerance), (14, 1e-10));
+/// let solver = Enumeration::new(options)?;
+/// # let _ = solver;
+/// # Ok(())
+/// # }
+/// ```
+///
+/// The struct is `#[non_exhaustive]`, so that fields added later keep their defaults in
+/// callers' code; a struct literal does not compile outside this crate:
+///
+/// ```compile_fail,E0639
+/// let options = moreau_lcp::EnumerationOptions { max_n: 14, ..Default::default() };
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct EnumerationOptions {
     /// Size guard: problems with n > `max_n` return [`LcpError::TooLarge`]. The work is
     /// 2^n LU factorisations of size up to n. Default 20 (about a million bases, around a
@@ -39,6 +60,12 @@ pub struct EnumerationOptions {
     /// 14 and at most `max_n`.
     pub max_n_degenerate: usize,
 }
+
+with_setters!(EnumerationOptions {
+    with_max_n => max_n: usize,
+    with_tolerance => tolerance: f64,
+    with_max_n_degenerate => max_n_degenerate: usize,
+});
 
 impl Default for EnumerationOptions {
     fn default() -> Self {

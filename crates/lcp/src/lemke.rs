@@ -46,9 +46,30 @@ pub enum Covering {
     Custom(Vec<f64>),
 }
 
-/// Options of [`Lemke`].
+/// Options of [`Lemke`]: the default, changed field by field with the `with_*` setters
+/// (or by assigning the fields of a default value).
+///
+/// ```
+/// use moreau_lcp::{Lemke, LemkeOptions};
+///
+/// # fn main() -> Result<(), moreau_lcp::LcpError> {
+/// let options = LemkeOptions::default().with_max_pivots(1000).with_tolerance(1e-10);
+/// assert_eq!((options.max_pivots, options.tolerance), (1000, 1e-10));
+/// let solver = Lemke::new(options)?;
+/// # let _ = solver;
+/// # Ok(())
+/// # }
+/// ```
+///
+/// The struct is `#[non_exhaustive]`, so that fields added later keep their defaults in
+/// callers' code; a struct literal does not compile outside this crate:
+///
+/// ```compile_fail,E0639
+/// let options = moreau_lcp::LemkeOptions { max_pivots: 1000, ..Default::default() };
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct LemkeOptions {
     /// Largest number of pivots before giving up with [`Status::IterationLimit`].
     /// Default 131072 = 2^17, enough for Murty's n = 16 problem (2^16 - 1 pivots);
@@ -67,6 +88,14 @@ pub struct LemkeOptions {
     /// The covering vector d. Default [`Covering::Ones`].
     pub covering: Covering,
 }
+
+with_setters!(LemkeOptions {
+    with_max_pivots => max_pivots: usize,
+    with_tolerance => tolerance: f64,
+    with_pivot_tolerance => pivot_tolerance: f64,
+    with_tie_tolerance => tie_tolerance: f64,
+    with_covering => covering: Covering,
+});
 
 impl Default for LemkeOptions {
     fn default() -> Self {

@@ -153,6 +153,9 @@
 //!   Springer, 2008; Flores et al., Nonlinear Dynamics, 2010 (clearance joints via LCP).
 #![deny(missing_docs)]
 
+#[macro_use]
+mod setters;
+
 mod auto;
 mod dense;
 mod enumeration;

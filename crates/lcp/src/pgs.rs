@@ -7,9 +7,30 @@ use crate::error::rules;
 use crate::solution::{check_warm_start, finish_row_major};
 use crate::{LcpError, LcpRef, Method, Solution, Solver, Status};
 
-/// Options of [`Pgs`].
+/// Options of [`Pgs`]: the default, changed field by field with the `with_*` setters
+/// (or by assigning the fields of a default value).
+///
+/// ```
+/// use moreau_lcp::{Pgs, PgsOptions};
+///
+/// # fn main() -> Result<(), moreau_lcp::LcpError> {
+/// let options = PgsOptions::default().with_omega(1.2).with_tolerance(1e-9);
+/// assert_eq!((options.omega, options.tolerance), (1.2, 1e-9));
+/// let solver = Pgs::new(options)?;
+/// # let _ = solver;
+/// # Ok(())
+/// # }
+/// ```
+///
+/// The struct is `#[non_exhaustive]`, so that fields added later keep their defaults in
+/// callers' code; a struct literal does not compile outside this crate:
+///
+/// ```compile_fail,E0639
+/// let options = moreau_lcp::PgsOptions { omega: 1.2, ..Default::default() };
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct PgsOptions {
     /// Relaxation factor ω in (0, 2) (dimensionless). Default 1.0 (plain Gauss-Seidel).
     pub omega: f64,
@@ -20,6 +41,12 @@ pub struct PgsOptions {
     /// Largest number of sweeps over all rows. Default 10000.
     pub max_iterations: usize,
 }
+
+with_setters!(PgsOptions {
+    with_omega => omega: f64,
+    with_tolerance => tolerance: f64,
+    with_max_iterations => max_iterations: usize,
+});
 
 impl PgsOptions {
     /// Checks the options: `0 < omega < 2`, `0 < tolerance < 1` (z = 0 measures at most 1,

@@ -80,8 +80,7 @@ fn products_residuals_and_solves_do_not_depend_on_the_pool() {
         pool(threads).install(|| {
             let mut u = vec![0.0; p.n_rows()];
             let residual = Fc2dResidual::compute(p, &r, &mut u);
-            let mut nsgs =
-                Nsgs::new(NsgsOptions { tolerance: 1e-10, ..Default::default() }).unwrap();
+            let mut nsgs = Nsgs::new(NsgsOptions::default().with_tolerance(1e-10)).unwrap();
             let mut out = Fc2dSolution::new();
             nsgs.solve_into(p, None, &mut out).unwrap();
             (u, residual, out)

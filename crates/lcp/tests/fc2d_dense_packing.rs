@@ -18,7 +18,7 @@ fn column() -> Fc2d {
 /// The certified pivoting solution: the reference for u.
 fn pivoting(problem: &Fc2d) -> Fc2dSolution {
     let options =
-        LcpRouteOptions { tolerance: TOLERANCE, max_contacts: usize::MAX, ..Default::default() };
+        LcpRouteOptions::default().with_tolerance(TOLERANCE).with_max_contacts(usize::MAX);
     let s = LcpRoute::new(options).unwrap().solve(problem).unwrap();
     assert_eq!(s.status, Status::Solved, "{:?}", s.residual);
     s
@@ -43,17 +43,17 @@ fn the_column_is_solved_by_newton_smoothed_and_by_the_proximal_method() {
     assert_eq!(problem.n_contacts(), 388);
     let reference = pivoting(&problem);
     // The reactions are indeterminate: some other r gives the same u.
-    let smoothed = Newton::new(NewtonOptions {
-        tolerance: TOLERANCE,
-        smoothing_sweeps: 20,
-        nonmonotone: 10,
-        ..Default::default()
-    })
+    let smoothed = Newton::new(
+        NewtonOptions::default()
+            .with_tolerance(TOLERANCE)
+            .with_smoothing_sweeps(20)
+            .with_nonmonotone(10),
+    )
     .unwrap()
     .solve(&problem)
     .unwrap();
     assert_agrees("newton, smoothed", &smoothed, &reference);
-    let proximal = Proximal::new(ProximalOptions { tolerance: TOLERANCE, ..Default::default() })
+    let proximal = Proximal::new(ProximalOptions::default().with_tolerance(TOLERANCE))
         .unwrap()
         .solve(&problem)
         .unwrap();
@@ -66,12 +66,12 @@ fn monotone_newton_stalls_on_the_column() {
     // The monotone Armijo rule shrinks the step to nothing where contacts at the boundary
     // of two cases flip: the reason for the non-monotone rule and the smoothing sweeps.
     let problem = column();
-    let s = Newton::new(NewtonOptions {
-        tolerance: TOLERANCE,
-        nonmonotone: 1,
-        max_iterations: 40,
-        ..Default::default()
-    })
+    let s = Newton::new(
+        NewtonOptions::default()
+            .with_tolerance(TOLERANCE)
+            .with_nonmonotone(1)
+            .with_max_iterations(40),
+    )
     .unwrap()
     .solve(&problem)
     .unwrap();
@@ -83,13 +83,13 @@ fn monotone_newton_stalls_on_the_column() {
 fn proximal_options_are_checked() {
     use moreau_lcp::LcpError;
     for (options, name) in [
-        (ProximalOptions { tolerance: 0.0, ..Default::default() }, "tolerance"),
-        (ProximalOptions { max_outer: 0, ..Default::default() }, "max_outer"),
-        (ProximalOptions { inner_iterations: 0, ..Default::default() }, "inner_iterations"),
-        (ProximalOptions { nonmonotone: 0, ..Default::default() }, "nonmonotone"),
-        (ProximalOptions { initial_weight: 0.0, ..Default::default() }, "initial_weight"),
-        (ProximalOptions { shrink: 1.0, ..Default::default() }, "shrink"),
-        (ProximalOptions { grow: 1.0, ..Default::default() }, "grow"),
+        (ProximalOptions::default().with_tolerance(0.0), "tolerance"),
+        (ProximalOptions::default().with_max_outer(0), "max_outer"),
+        (ProximalOptions::default().with_inner_iterations(0), "inner_iterations"),
+        (ProximalOptions::default().with_nonmonotone(0), "nonmonotone"),
+        (ProximalOptions::default().with_initial_weight(0.0), "initial_weight"),
+        (ProximalOptions::default().with_shrink(1.0), "shrink"),
+        (ProximalOptions::default().with_grow(1.0), "grow"),
     ] {
         assert!(
             matches!(Proximal::new(options), Err(LcpError::InvalidOption { name: n, .. }) if n == name)

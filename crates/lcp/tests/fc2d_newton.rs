@@ -43,7 +43,7 @@ fn newton_solves_the_collection_or_says_why() {
         let max_iterations =
             if failure.is_some() { NEWTON_FAILURE_ITERATIONS } else { NEWTON_ITERATIONS };
         let mut newton =
-            Newton::new(NewtonOptions { max_iterations, ..Default::default() }).unwrap();
+            Newton::new(NewtonOptions::default().with_max_iterations(max_iterations)).unwrap();
         let s = newton.solve(problem).unwrap();
         assert_honest(name, &s, 1e-8);
         let mut u = vec![0.0; problem.n_rows()];
@@ -98,8 +98,7 @@ fn auto_reaches_1e_8_on_every_file() {
 
 #[test]
 fn auto_at_a_loose_tolerance_solves_every_file() {
-    let mut auto =
-        Fc2dAuto::new(Fc2dAutoOptions { tolerance: 1e-4, ..Default::default() }).unwrap();
+    let mut auto = Fc2dAuto::new(Fc2dAutoOptions::default().with_tolerance(1e-4)).unwrap();
     for (name, problem) in fc2d_collection() {
         let s = auto.solve(problem).unwrap();
         assert_eq!(s.status, Status::Solved, "{name}: {:?}", s.residual);
@@ -115,7 +114,7 @@ fn newton_agrees_with_the_lcp_route_on_the_small_files() {
             continue;
         }
         let lcp = LcpRoute::default().solve(problem).unwrap();
-        let newton = Newton::new(NewtonOptions { tolerance: 1e-12, ..Default::default() })
+        let newton = Newton::new(NewtonOptions::default().with_tolerance(1e-12))
             .unwrap()
             .solve(problem)
             .unwrap();
@@ -133,9 +132,9 @@ fn newton_agrees_with_the_lcp_route_on_the_small_files() {
 #[test]
 fn planted_solutions_with_a_joint_are_found() {
     let mut rng = Rng::new(41);
-    let mut newton = Newton::new(NewtonOptions { tolerance: 1e-12, ..Default::default() }).unwrap();
+    let mut newton = Newton::new(NewtonOptions::default().with_tolerance(1e-12)).unwrap();
     let mut fixed =
-        Newton::new(NewtonOptions { tolerance: 1e-12, rho: Rho::Fixed(1.0), ..Default::default() })
+        Newton::new(NewtonOptions::default().with_tolerance(1e-12).with_rho(Rho::Fixed(1.0)))
             .unwrap();
     let mut out = Fc2dSolution::new();
     for case in 0..30 {
@@ -168,7 +167,7 @@ fn a_newton_solve_does_not_depend_on_the_structures_solved_before() {
     let mut rng = Rng::new(43);
     let problems: Vec<Fc2d> =
         (0..12).map(|k| planted_fc2d(1 + k % 6, 0.6, k >= 6, &mut rng).problem).collect();
-    let options = NewtonOptions { tolerance: 1e-12, ..Default::default() };
+    let options = NewtonOptions::default().with_tolerance(1e-12);
     let fresh: Vec<Fc2dSolution> =
         problems.iter().map(|p| Newton::new(options.clone()).unwrap().solve(p).unwrap()).collect();
     let mut newton = Newton::new(options).unwrap();
@@ -189,7 +188,7 @@ fn newton_from_the_solution_takes_no_iteration_and_keeps_its_history() {
     let mut rng = Rng::new(43);
     let p = planted_fc2d(8, 0.5, true, &mut rng);
     let mut newton =
-        Newton::new(NewtonOptions { tolerance: 1e-12, keep_history: true, ..Default::default() })
+        Newton::new(NewtonOptions::default().with_tolerance(1e-12).with_keep_history(true))
             .unwrap();
     let mut out = Fc2dSolution::new();
     newton.solve_into(p.problem.view(), None, &mut out).unwrap();
@@ -211,21 +210,20 @@ fn newton_from_the_solution_takes_no_iteration_and_keeps_its_history() {
 fn an_iteration_limit_is_an_honest_status() {
     let mut rng = Rng::new(47);
     let p = planted_fc2d(10, 0.8, true, &mut rng);
-    let s =
-        Newton::new(NewtonOptions { max_iterations: 1, tolerance: 1e-14, ..Default::default() })
-            .unwrap()
-            .solve(&p.problem)
-            .unwrap();
+    let s = Newton::new(NewtonOptions::default().with_max_iterations(1).with_tolerance(1e-14))
+        .unwrap()
+        .solve(&p.problem)
+        .unwrap();
     assert_eq!((s.status, s.iterations), (Status::IterationLimit, 1));
     assert!(s.residual.natural > 1e-14);
     // A zero W with an approaching contact has no solution: never reported solved.
     let problem = Fc2d::from_dense(Mat::<f64>::zeros(2, 2).as_ref(), &[-1.0, 0.0], &[0.5]).unwrap();
-    let s = Newton::new(NewtonOptions { max_iterations: 20, ..Default::default() })
+    let s = Newton::new(NewtonOptions::default().with_max_iterations(20))
         .unwrap()
         .solve(&problem)
         .unwrap();
     assert_ne!(s.status, Status::Solved);
-    let s = Fc2dAuto::new(Fc2dAutoOptions { max_sweeps: 200, ..Default::default() })
+    let s = Fc2dAuto::new(Fc2dAutoOptions::default().with_max_sweeps(200))
         .unwrap()
         .solve(&problem)
         .unwrap();
@@ -235,11 +233,11 @@ fn an_iteration_limit_is_an_honest_status() {
 #[test]
 fn auto_options_are_checked() {
     for (options, name) in [
-        (Fc2dAutoOptions { tolerance: 0.0, ..Default::default() }, "tolerance"),
-        (Fc2dAutoOptions { window: 0, ..Default::default() }, "window"),
-        (Fc2dAutoOptions { max_sweeps: 0, ..Default::default() }, "max_sweeps"),
-        (Fc2dAutoOptions { stall_factor: 1.0, ..Default::default() }, "stall_factor"),
-        (Fc2dAutoOptions { omega: 2.0, ..Default::default() }, "omega"),
+        (Fc2dAutoOptions::default().with_tolerance(0.0), "tolerance"),
+        (Fc2dAutoOptions::default().with_window(0), "window"),
+        (Fc2dAutoOptions::default().with_max_sweeps(0), "max_sweeps"),
+        (Fc2dAutoOptions::default().with_stall_factor(1.0), "stall_factor"),
+        (Fc2dAutoOptions::default().with_omega(2.0), "omega"),
     ] {
         let result = Fc2dAuto::new(options);
         assert!(
@@ -316,13 +314,13 @@ fn a_tolerance_below_round_off_is_met_at_round_off() {
     let w = Mat::from_fn(n, n, |i, j| dense[i + j * n]);
     let minus_q = Mat::from_fn(n, 1, |i, _| -problem.view().q()[i]);
     let exact = w.full_piv_lu().solve(&minus_q);
-    let mut newton = Newton::new(NewtonOptions {
-        tolerance: 1e-15,
-        max_iterations: 50,
-        smoothing_sweeps: 20,
-        nonmonotone: 10,
-        ..Default::default()
-    })
+    let mut newton = Newton::new(
+        NewtonOptions::default()
+            .with_tolerance(1e-15)
+            .with_max_iterations(50)
+            .with_smoothing_sweeps(20)
+            .with_nonmonotone(10),
+    )
     .unwrap();
     let mut s = Fc2dSolution::new();
     newton.solve_into(problem.view(), Some(&warm), &mut s).unwrap();
@@ -340,10 +338,8 @@ fn a_tolerance_below_round_off_is_met_at_round_off() {
     // Reactions and velocities of order 1 have a round-off far below any tolerance: a tight
     // tolerance is met as asked.
     let light = pulled_chain(1.0, 1.0);
-    let s = Newton::new(NewtonOptions { tolerance: 1e-14, ..Default::default() })
-        .unwrap()
-        .solve(&light)
-        .unwrap();
+    let s =
+        Newton::new(NewtonOptions::default().with_tolerance(1e-14)).unwrap().solve(&light).unwrap();
     assert_eq!(s.status, Status::Solved);
     let mut u = vec![0.0; n];
     let measured = Fc2dResidual::compute(light.view(), &s.r, &mut u);

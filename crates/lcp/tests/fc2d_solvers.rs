@@ -32,7 +32,7 @@ const TIGHT_SWEEPS: usize = 2_000;
 const LCP_MAX_CONTACTS: usize = 100;
 
 fn nsgs(tolerance: f64, max_sweeps: usize) -> Nsgs {
-    Nsgs::new(NsgsOptions { tolerance, max_sweeps, ..Default::default() }).unwrap()
+    Nsgs::new(NsgsOptions::default().with_tolerance(tolerance).with_max_sweeps(max_sweeps)).unwrap()
 }
 
 fn assert_honest(name: &str, s: &Fc2dSolution, tolerance: f64) {
@@ -201,7 +201,7 @@ fn bilateral_rows_hold_and_both_solvers_agree() {
         let q: Vec<f64> = (0..rows).map(|_| rng.uniform(-1.0, 1.0)).collect();
         let problem = b.build(&q, &[0.3, 0.6]).unwrap();
         let gs = nsgs(1e-11, 100_000).solve(&problem).unwrap();
-        let lcp = LcpRoute::new(LcpRouteOptions { tolerance: 1e-9, ..Default::default() })
+        let lcp = LcpRoute::new(LcpRouteOptions::default().with_tolerance(1e-9))
             .unwrap()
             .solve(&problem)
             .unwrap();
@@ -267,12 +267,12 @@ fn redundant_bilateral_rows_end_the_lcp_route_as_a_numerical_failure() {
 fn warm_start_from_a_solution_takes_one_sweep_and_history_is_kept() {
     let mut rng = Rng::new(3);
     let p = planted_fc2d(8, 0.4, false, &mut rng);
-    let mut solver = Nsgs::new(NsgsOptions {
-        tolerance: 1e-12,
-        max_sweeps: 100_000,
-        keep_history: true,
-        ..Default::default()
-    })
+    let mut solver = Nsgs::new(
+        NsgsOptions::default()
+            .with_tolerance(1e-12)
+            .with_max_sweeps(100_000)
+            .with_keep_history(true),
+    )
     .unwrap();
     let mut out = Fc2dSolution::new();
     solver.solve_into(p.problem.view(), None, &mut out).unwrap();
@@ -283,12 +283,9 @@ fn warm_start_from_a_solution_takes_one_sweep_and_history_is_kept() {
     solver.solve_into(p.problem.view(), Some(&r), &mut out).unwrap();
     assert_eq!((out.status, out.iterations), (Status::Solved, 1));
     // Over-relaxation changes the path, not the answer.
-    let mut relaxed = Nsgs::new(NsgsOptions {
-        tolerance: 1e-12,
-        max_sweeps: 100_000,
-        omega: 1.3,
-        ..Default::default()
-    })
+    let mut relaxed = Nsgs::new(
+        NsgsOptions::default().with_tolerance(1e-12).with_max_sweeps(100_000).with_omega(1.3),
+    )
     .unwrap();
     let s = relaxed.solve(&p.problem).unwrap();
     assert_eq!(s.status, Status::Solved);
@@ -310,16 +307,13 @@ fn a_sweep_limit_is_an_honest_status() {
 fn lcp_route_reports_size_and_certified_infeasibility() {
     let mut rng = Rng::new(9);
     let p = planted_fc2d(6, 0.5, false, &mut rng);
-    let small = LcpRoute::new(LcpRouteOptions { max_contacts: 5, ..Default::default() }).unwrap();
+    let small = LcpRoute::new(LcpRouteOptions::default().with_max_contacts(5)).unwrap();
     let s = { small }.solve(&p.problem).unwrap();
     assert_eq!(s.status, Status::TooLarge);
     // A zero W with an approaching contact: no reaction can stop it.
     let problem = Fc2d::from_dense(Mat::<f64>::zeros(2, 2).as_ref(), &[-1.0, 0.0], &[0.5]).unwrap();
-    let mut enumeration = LcpRoute::new(LcpRouteOptions {
-        solver: LcpRouteSolver::Enumeration,
-        ..Default::default()
-    })
-    .unwrap();
+    let mut enumeration =
+        LcpRoute::new(LcpRouteOptions::default().with_solver(LcpRouteSolver::Enumeration)).unwrap();
     let s = enumeration.solve(&problem).unwrap();
     assert_eq!(s.status, Status::NoSolution);
     let s = nsgs(1e-8, 50).solve(&problem).unwrap();
@@ -361,7 +355,9 @@ fn the_lcp_routes_polish_finishes_a_candidate_that_pivoting_leaves_short() {
     let problem = Fc2d::read_siconos(text.as_bytes()).unwrap();
     assert_eq!(problem.n_contacts(), 10);
     let route = |polish_iterations| {
-        let options = LcpRouteOptions { tolerance: 1e-10, polish_iterations, ..Default::default() };
+        let options = LcpRouteOptions::default()
+            .with_tolerance(1e-10)
+            .with_polish_iterations(polish_iterations);
         LcpRoute::new(options).unwrap().solve(&problem).unwrap()
     };
     let pivoted = route(0);
@@ -413,7 +409,7 @@ fn gauss_seidel_cycles_off_a_solution_on_a_planted_chain_of_two_contacts() {
     }
     assert!((a[2] - b[2]).abs() > 0.7, "{a:?} vs {b:?}");
     let damped =
-        NsgsOptions { tolerance: 1e-12, max_sweeps: 1_000, omega: 0.5, ..Default::default() };
+        NsgsOptions::default().with_tolerance(1e-12).with_max_sweeps(1_000).with_omega(0.5);
     let damped = Nsgs::new(damped).unwrap().solve(&p.problem).unwrap();
     assert_eq!(damped.status, Status::Solved);
     let auto = Fc2dAuto::default().solve(&p.problem).unwrap();

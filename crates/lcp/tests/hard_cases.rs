@@ -69,8 +69,7 @@ fn murty_exponential_instances_take_two_to_the_n_pivots() {
 #[test]
 fn murty_sixteen_hits_a_lower_pivot_limit_honestly() {
     let lcp = murty_lower(16, |_| -1.0);
-    let mut lemke =
-        Lemke::new(LemkeOptions { max_pivots: 1000, ..LemkeOptions::default() }).unwrap();
+    let mut lemke = Lemke::new(LemkeOptions::default().with_max_pivots(1000)).unwrap();
     let s = lemke.solve(&lcp).unwrap();
     assert_eq!(s.status, Status::IterationLimit);
     assert_eq!(s.iterations, 1000);
@@ -150,7 +149,7 @@ fn infeasible_positive_semidefinite_problem_ends_on_a_ray() {
     assert_eq!((a.status, a.method), (Status::NoSolution, Method::Enumeration));
     // Without enumeration Auto reports Lemke's status and never claims NoSolution.
     let mut no_enum =
-        Auto::new(moreau_lcp::AutoOptions { enumeration_max_n: 0, ..Default::default() }).unwrap();
+        Auto::new(moreau_lcp::AutoOptions::default().with_enumeration_max_n(0)).unwrap();
     let a = no_enum.solve(&lcp).unwrap();
     assert_eq!((a.status, a.method), (Status::RayTermination, Method::Lemke));
 }
@@ -195,11 +194,9 @@ fn solution_hidden_from_principal_bases_is_found_by_the_vertex_pass() {
     assert!(a.is_solved());
     assert_solves(&lcp, &a.z, 1e-12);
     // With the vertex pass disabled the search is incomplete and says so.
-    let mut short = Enumeration::new(moreau_lcp::EnumerationOptions {
-        max_n_degenerate: 1,
-        ..Default::default()
-    })
-    .unwrap();
+    let mut short =
+        Enumeration::new(moreau_lcp::EnumerationOptions::default().with_max_n_degenerate(1))
+            .unwrap();
     assert_eq!(short.solve(&lcp).unwrap().status, Status::TooLarge);
     // And the list of every solution is not given as if it were complete (it was empty).
     assert!(matches!(short.solve_all(lcp.view()), Err(LcpError::TooLarge { n: 2, max: 1 })));

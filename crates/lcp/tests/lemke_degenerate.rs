@@ -126,8 +126,7 @@ fn a_zero_tie_tolerance_compares_exactly_and_still_ends_on_exact_data() {
     let n = 8;
     let m = Mat::from_fn(n, n, |i, j| if i == j { 2.0 } else { 0.0 });
     let lcp = Lcp::new(m, Col::from_fn(n, |i| if i % 2 == 0 { -2.0 } else { 0.0 })).unwrap();
-    let mut lemke =
-        Lemke::new(LemkeOptions { tie_tolerance: 0.0, ..LemkeOptions::default() }).unwrap();
+    let mut lemke = Lemke::new(LemkeOptions::default().with_tie_tolerance(0.0)).unwrap();
     let s = lemke.solve(&lcp).unwrap();
     assert_eq!(s.status, Status::Solved);
     let expected: Vec<f64> = (0..n).map(|i| if i % 2 == 0 { 1.0 } else { 0.0 }).collect();
@@ -148,7 +147,7 @@ fn a_basis_seen_again_ends_the_pivots() {
     let q: Vec<f64> = lcp.q().iter().copied().collect();
     let q_max = q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let d = q.iter().map(|v| v.abs().max(1e-3 * q_max)).collect();
-    let options = LemkeOptions { covering: Covering::Custom(d), ..LemkeOptions::default() };
+    let options = LemkeOptions::default().with_covering(Covering::Custom(d));
     let s = Lemke::new(options).unwrap().solve(&lcp).unwrap();
     assert_eq!(s.status, Status::NumericalFailure);
     assert!(s.iterations < 100, "{} pivots", s.iterations);

@@ -63,7 +63,7 @@ fn nsgs_with_the_same_sparsity_does_not_allocate() {
     use moreau_lcp::fc2d::{Fc2dSolution, Fc2dSolver, Nsgs, NsgsOptions};
     let (w, problems) = fc2d_chains(34);
     let n_c = problems[0].n_contacts();
-    let mut solver = Nsgs::new(NsgsOptions { tolerance: 1e-10, ..Default::default() }).unwrap();
+    let mut solver = Nsgs::new(NsgsOptions::default().with_tolerance(1e-10)).unwrap();
     let mut out = Fc2dSolution::new();
     let warm = vec![0.1; 2 * n_c];
     solver.solve_into(problems[0].view(), None, &mut out).unwrap();
@@ -121,7 +121,7 @@ fn newton_and_auto_with_the_same_sparsity_do_not_allocate() {
     use moreau_lcp::fc2d::{Fc2dAuto, Fc2dSolution, Fc2dSolver, Newton, NewtonOptions};
     let (_, problems) = fc2d_chains(35);
     let mut out = Fc2dSolution::new();
-    let mut newton = Newton::new(NewtonOptions { tolerance: 1e-10, ..Default::default() }).unwrap();
+    let mut newton = Newton::new(NewtonOptions::default().with_tolerance(1e-10)).unwrap();
     // Warm-up: the pattern of J, its symbolic LU and faer's numeric LU storage are sized.
     for p in &problems {
         newton.solve_into(p.view(), None, &mut out).unwrap();
@@ -178,7 +178,7 @@ fn newton_alternating_between_block_structures_does_not_allocate() {
     let (_, chains) = fc2d_chains(37);
     let mut rng = Rng::new(38);
     let jointed: Vec<_> = (0..10).map(|_| common::planted_fc2d(6, 0.5, true, &mut rng)).collect();
-    let mut newton = Newton::new(NewtonOptions { tolerance: 1e-10, ..Default::default() }).unwrap();
+    let mut newton = Newton::new(NewtonOptions::default().with_tolerance(1e-10)).unwrap();
     let mut out = Fc2dSolution::new();
     // Warm-up: faer's numeric LU storage of each structure grows to its largest fill.
     for (chain, jointed) in chains.iter().zip(&jointed) {

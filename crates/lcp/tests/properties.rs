@@ -19,7 +19,7 @@ proptest! {
         let (lcp, z_star) = planted(random_spd(n, &mut rng), &mut rng, degenerate);
         let lemke = Lemke::default().solve(&lcp).unwrap();
         let enumeration = Enumeration::default().solve(&lcp).unwrap();
-        let pgs = Pgs::new(PgsOptions { max_iterations: 200_000, ..PgsOptions::default() })
+        let pgs = Pgs::new(PgsOptions::default().with_max_iterations(200_000))
             .unwrap()
             .solve(&lcp)
             .unwrap();

@@ -67,7 +67,7 @@ fn larger_spd_problems_lemke_and_pgs_agree() {
         let lemke = Lemke::default().solve(&lcp).unwrap();
         assert_eq!(lemke.status, Status::Solved);
         assert!(rel_dist(&z_star, &lemke.z) < 1e-9, "n = {n}");
-        let pgs = Pgs::new(PgsOptions { max_iterations: 100_000, ..PgsOptions::default() })
+        let pgs = Pgs::new(PgsOptions::default().with_max_iterations(100_000))
             .unwrap()
             .solve(&lcp)
             .unwrap();
@@ -92,8 +92,7 @@ fn badly_scaled_matrix_is_solved_accurately() {
         let lcp = Lcp::new(m, q).unwrap();
         let z_star: Vec<f64> = (0..n).map(|j| z_base[j] / d2[j]).collect();
         let mut row_scaled =
-            Lemke::new(LemkeOptions { covering: Covering::RowScaled, ..LemkeOptions::default() })
-                .unwrap();
+            Lemke::new(LemkeOptions::default().with_covering(Covering::RowScaled)).unwrap();
         for (name, s) in [
             ("lemke", row_scaled.solve(&lcp).unwrap()),
             ("enum", Enumeration::default().solve(&lcp).unwrap()),
@@ -192,18 +191,12 @@ fn pgs_reports_iteration_limit_and_divergence_honestly() {
     // w1 = z1 - 2 z2 - 1, w2 = -2 z1 + z2 - 1: w1 + w2 = -(z1 + z2) - 2 < 0, infeasible.
     // PGS sets z1 = 1 + 2 z2, z2 = 1 + 2 z1: the iterates grow fourfold per sweep.
     let lcp = Lcp::from_rows(&[vec![1.0, -2.0], vec![-2.0, 1.0]], &[-1.0, -1.0]).unwrap();
-    let s = Pgs::new(PgsOptions { max_iterations: 50, ..PgsOptions::default() })
-        .unwrap()
-        .solve(&lcp)
-        .unwrap();
+    let s = Pgs::new(PgsOptions::default().with_max_iterations(50)).unwrap().solve(&lcp).unwrap();
     assert_eq!(s.status, Status::IterationLimit);
     assert_eq!(s.iterations, 50);
     assert!(s.residual.relative > 1e-10);
     // After 4^k overflows (k about 512) the last finite iterate is returned.
-    let s = Pgs::new(PgsOptions { max_iterations: 2000, ..PgsOptions::default() })
-        .unwrap()
-        .solve(&lcp)
-        .unwrap();
+    let s = Pgs::new(PgsOptions::default().with_max_iterations(2000)).unwrap().solve(&lcp).unwrap();
     assert_eq!(s.status, Status::NumericalFailure);
     assert!(s.iterations > 500 && s.iterations < 2000, "{}", s.iterations);
     assert!(s.z.iter().all(|v| v.is_finite()));
@@ -240,7 +233,7 @@ fn pgs_over_relaxation_converges_for_spd() {
     let mut rng = Rng::new(6);
     let (lcp, z_star) = planted(random_spd(8, &mut rng), &mut rng, false);
     for omega in [0.5, 1.0, 1.3, 1.8] {
-        let s = Pgs::new(PgsOptions { omega, max_iterations: 100_000, ..PgsOptions::default() })
+        let s = Pgs::new(PgsOptions::default().with_omega(omega).with_max_iterations(100_000))
             .unwrap()
             .solve(&lcp)
             .unwrap();
@@ -354,16 +347,14 @@ fn warm_start_errors() {
 fn options_are_validated() {
     for omega in [0.0, 2.0, -1.0, f64::NAN] {
         assert!(matches!(
-            Pgs::new(PgsOptions { omega, ..PgsOptions::default() }),
+            Pgs::new(PgsOptions::default().with_omega(omega)),
             Err(LcpError::InvalidOption { name: "omega", .. })
         ));
     }
-    assert!(Pgs::new(PgsOptions { tolerance: 0.0, ..PgsOptions::default() }).is_err());
-    assert!(Pgs::new(PgsOptions { max_iterations: 0, ..PgsOptions::default() }).is_err());
-    assert!(Lemke::new(LemkeOptions { max_pivots: 0, ..LemkeOptions::default() }).is_err());
-    assert!(
-        Lemke::new(LemkeOptions { tolerance: f64::INFINITY, ..LemkeOptions::default() }).is_err()
-    );
+    assert!(Pgs::new(PgsOptions::default().with_tolerance(0.0)).is_err());
+    assert!(Pgs::new(PgsOptions::default().with_max_iterations(0)).is_err());
+    assert!(Lemke::new(LemkeOptions::default().with_max_pivots(0)).is_err());
+    assert!(Lemke::new(LemkeOptions::default().with_tolerance(f64::INFINITY)).is_err());
     // z = 0 measures at most 1 on any problem (w = q), so a tolerance of 1 or more would call
     // it a solution of M = [-1], q = [-1], which has none: every LCP solver refuses it.
     let infeasible = Lcp::from_rows(&[vec![-1.0]], &[-1.0]).unwrap();
@@ -373,59 +364,45 @@ fn options_are_validated() {
         let refused = |r: Result<(), LcpError>| {
             matches!(r, Err(LcpError::InvalidOption { name: "tolerance", .. }))
         };
-        let lemke = Lemke::new(LemkeOptions { tolerance, ..LemkeOptions::default() });
-        let enumeration =
-            Enumeration::new(EnumerationOptions { tolerance, ..EnumerationOptions::default() });
-        let pgs = Pgs::new(PgsOptions { tolerance, ..PgsOptions::default() });
-        let auto = Auto::new(moreau_lcp::AutoOptions {
-            lemke: LemkeOptions { tolerance, ..LemkeOptions::default() },
-            ..Default::default()
-        });
+        let lemke = Lemke::new(LemkeOptions::default().with_tolerance(tolerance));
+        let enumeration = Enumeration::new(EnumerationOptions::default().with_tolerance(tolerance));
+        let pgs = Pgs::new(PgsOptions::default().with_tolerance(tolerance));
+        let auto = Auto::new(
+            moreau_lcp::AutoOptions::default()
+                .with_lemke(LemkeOptions::default().with_tolerance(tolerance)),
+        );
         assert!(refused(lemke.map(|_| ())), "lemke, tolerance {tolerance}");
         assert!(refused(enumeration.map(|_| ())), "enumeration, tolerance {tolerance}");
         assert!(refused(pgs.map(|_| ())), "pgs, tolerance {tolerance}");
         assert!(refused(auto.map(|_| ())), "auto, tolerance {tolerance}");
     }
     // Just below 1 is taken, and the infeasible problem is still not solved.
-    let mut loose =
-        Lemke::new(LemkeOptions { tolerance: 0.999, ..LemkeOptions::default() }).unwrap();
+    let mut loose = Lemke::new(LemkeOptions::default().with_tolerance(0.999)).unwrap();
     assert_eq!(loose.solve(&infeasible).unwrap().status, Status::RayTermination);
     assert!(matches!(
-        Lemke::new(LemkeOptions {
-            covering: Covering::Custom(vec![1.0, 0.0]),
-            ..LemkeOptions::default()
-        }),
+        Lemke::new(LemkeOptions::default().with_covering(Covering::Custom(vec![1.0, 0.0]))),
         Err(LcpError::InvalidOption { name: "covering", .. })
     ));
     assert!(matches!(
-        Enumeration::new(EnumerationOptions { max_n: 40, ..EnumerationOptions::default() }),
+        Enumeration::new(EnumerationOptions::default().with_max_n(40)),
         Err(LcpError::InvalidOption { name: "max_n", .. })
     ));
     assert!(matches!(
-        Enumeration::new(EnumerationOptions {
-            max_n_degenerate: 15,
-            ..EnumerationOptions::default()
-        }),
+        Enumeration::new(EnumerationOptions::default().with_max_n_degenerate(15)),
         Err(LcpError::InvalidOption { name: "max_n_degenerate", .. })
     ));
     assert!(
-        Enumeration::new(EnumerationOptions {
-            max_n: 10,
-            max_n_degenerate: 11,
-            ..Default::default()
-        })
-        .is_err()
+        Enumeration::new(EnumerationOptions::default().with_max_n(10).with_max_n_degenerate(11))
+            .is_err()
     );
     assert!(matches!(
-        Auto::new(moreau_lcp::AutoOptions { enumeration_max_n: 21, ..Default::default() }),
+        Auto::new(moreau_lcp::AutoOptions::default().with_enumeration_max_n(21)),
         Err(LcpError::InvalidOption { name: "enumeration_max_n", .. })
     ));
     // A covering vector of the wrong length is an input error at solve time.
-    let mut lemke = Lemke::new(LemkeOptions {
-        covering: Covering::Custom(vec![1.0, 2.0]),
-        ..LemkeOptions::default()
-    })
-    .unwrap();
+    let mut lemke =
+        Lemke::new(LemkeOptions::default().with_covering(Covering::Custom(vec![1.0, 2.0])))
+            .unwrap();
     let lcp = Lcp::from_rows(&[vec![1.0]], &[-1.0]).unwrap();
     assert!(matches!(
         lemke.solve(&lcp),
@@ -438,7 +415,7 @@ fn custom_covering_vector_gives_the_same_unique_solution() {
     let mut rng = Rng::new(7);
     let (lcp, z_star) = planted(random_p_matrix(7, &mut rng), &mut rng, false);
     let d: Vec<f64> = (0..7).map(|_| rng.uniform(0.2, 5.0)).collect();
-    let s = Lemke::new(LemkeOptions { covering: Covering::Custom(d), ..LemkeOptions::default() })
+    let s = Lemke::new(LemkeOptions::default().with_covering(Covering::Custom(d)))
         .unwrap()
         .solve(&lcp)
         .unwrap();
@@ -608,9 +585,10 @@ fn accepted_solutions_pass_the_residual_test_on_badly_scaled_problems() {
             for covering in [Covering::Ones, Covering::RowScaled] {
                 let name = format!("{covering:?}");
                 let covering_is_row_scaled = covering == Covering::RowScaled;
-                let mut lemke =
-                    Lemke::new(LemkeOptions { tolerance, covering, ..LemkeOptions::default() })
-                        .unwrap();
+                let mut lemke = Lemke::new(
+                    LemkeOptions::default().with_tolerance(tolerance).with_covering(covering),
+                )
+                .unwrap();
                 let s = lemke.solve(&lcp).unwrap();
                 // With d = 1 the column of z_0 spans the row magnitudes and the pivoting
                 // may end in a wrong basis (reported honestly); the row-scaled covering

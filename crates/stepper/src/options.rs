@@ -69,7 +69,10 @@ impl TryFrom<SolverTable> for SolverChoice {
             SolverTable::Pgs { tolerance, omega, max_iterations } => {
                 // The solver's own rules, so that a table is refused exactly when the
                 // solver would refuse its options.
-                PgsOptions { omega, tolerance, max_iterations }
+                PgsOptions::default()
+                    .with_omega(omega)
+                    .with_tolerance(tolerance)
+                    .with_max_iterations(max_iterations)
                     .validate()
                     .map_err(|e| format!("solver.{e}"))?;
                 Self::Pgs { tolerance, omega, max_iterations }

@@ -43,13 +43,12 @@ impl SolverImpl {
         Ok(match choice {
             SolverChoice::Auto => Self::Auto(Auto::default()),
             SolverChoice::Lemke => Self::Lemke(Lemke::default()),
-            SolverChoice::Pgs { tolerance, omega, max_iterations } => {
-                Self::Pgs(Pgs::new(PgsOptions {
-                    omega: *omega,
-                    tolerance: *tolerance,
-                    max_iterations: *max_iterations,
-                })?)
-            }
+            SolverChoice::Pgs { tolerance, omega, max_iterations } => Self::Pgs(Pgs::new(
+                PgsOptions::default()
+                    .with_omega(*omega)
+                    .with_tolerance(*tolerance)
+                    .with_max_iterations(*max_iterations),
+            )?),
             SolverChoice::Enumeration => Self::Enumeration(Enumeration::default()),
         })
     }
@@ -359,14 +358,12 @@ impl<M: Mechanism> Stepper<M> {
             fc_warm: vec![0.0; 2 * n],
             fc: Fc2d::default(),
             nsgs: match &options.solver {
-                SolverChoice::Pgs { tolerance, omega, max_iterations } => {
-                    Some(Nsgs::new(NsgsOptions {
-                        tolerance: *tolerance,
-                        omega: *omega,
-                        max_sweeps: *max_iterations,
-                        ..NsgsOptions::default()
-                    })?)
-                }
+                SolverChoice::Pgs { tolerance, omega, max_iterations } => Some(Nsgs::new(
+                    NsgsOptions::default()
+                        .with_tolerance(*tolerance)
+                        .with_omega(*omega)
+                        .with_max_sweeps(*max_iterations),
+                )?),
                 _ => None,
             },
             fc_auto: None,

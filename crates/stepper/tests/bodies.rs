@@ -284,7 +284,7 @@ fn the_last_islands_are_the_step_problems_that_gave_the_impulses() {
     let islands: Vec<Fc2d> = s.last_islands().map(|p| p.to_owned()).collect();
     // The resting column is one island: the floor and five contacts between disks.
     assert_eq!(islands.iter().map(|p| p.view().n_contacts()).collect::<Vec<_>>(), [6]);
-    let mut solver = Nsgs::new(NsgsOptions { tolerance: 1e-13, ..Default::default() }).unwrap();
+    let mut solver = Nsgs::new(NsgsOptions::default().with_tolerance(1e-13)).unwrap();
     let mut again = Vec::new();
     for p in &islands {
         let mut out = Fc2dSolution::new();

@@ -57,8 +57,7 @@ fn an_island_above_the_tolerance_ends_the_run_by_default() {
     assert!(seen.iter().all(|(s, _)| *s == Status::Solved), "{seen:?}");
     // The island's problem, solved cold with the same budget, is indeed far from 1e-12.
     let mut nsgs =
-        Nsgs::new(NsgsOptions { tolerance: 1e-12, max_sweeps: 3, ..NsgsOptions::default() })
-            .unwrap();
+        Nsgs::new(NsgsOptions::default().with_tolerance(1e-12).with_max_sweeps(3)).unwrap();
     let mut out = Fc2dSolution::new();
     nsgs.solve_into(problem.view(), None, &mut out).unwrap();
     assert!(out.residual.natural > 1e-9, "{:?}", out.residual);

@@ -12,10 +12,30 @@ use super::{
 use crate::error::rules;
 use crate::{LcpError, Method, Status};
 
-/// Options of [`Fc2dAuto`]. Build them as `Fc2dAutoOptions { tolerance: 1e-6, ..Default::default() }`
-/// so that fields added later keep their defaults.
+/// Options of [`Fc2dAuto`]: the default, changed field by field with the `with_*` setters
+/// (or by assigning the fields of a default value).
+///
+/// ```
+/// use moreau_lcp::fc2d::{Fc2dAuto, Fc2dAutoOptions};
+///
+/// # fn main() -> Result<(), moreau_lcp::LcpError> {
+/// let options = Fc2dAutoOptions::default().with_tolerance(1e-10).with_max_sweeps(500);
+/// assert_eq!((options.tolerance, options.max_sweeps), (1e-10, 500));
+/// let solver = Fc2dAuto::new(options)?;
+/// # let _ = solver;
+/// # Ok(())
+/// # }
+/// ```
+///
+/// The struct is `#[non_exhaustive]`, so that fields added later keep their defaults in
+/// callers' code; a struct literal does not compile outside this crate:
+///
+/// ```compile_fail,E0639
+/// let options = moreau_lcp::fc2d::Fc2dAutoOptions { tolerance: 1e-10, ..Default::default() };
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct Fc2dAutoOptions {
     /// Accept r when `natural <= max(tolerance, round_off)` ([`Fc2dResidual::meets`]).
     /// Default 1e-8.
@@ -49,6 +69,19 @@ pub struct Fc2dAutoOptions {
     /// 7,002 contacts.
     pub omega: f64,
 }
+
+with_setters!(Fc2dAutoOptions {
+    with_tolerance => tolerance: f64,
+    with_lcp_max_contacts => lcp_max_contacts: usize,
+    with_max_sweeps => max_sweeps: usize,
+    with_window => window: usize,
+    with_stall_factor => stall_factor: f64,
+    with_cluster_depth => cluster_depth: usize,
+    with_max_cluster_contacts => max_cluster_contacts: usize,
+    with_cluster_lcp_contacts => cluster_lcp_contacts: usize,
+    with_max_rounds => max_rounds: usize,
+    with_omega => omega: f64,
+});
 
 impl Default for Fc2dAutoOptions {
     fn default() -> Self {

@@ -24,9 +24,30 @@ pub enum LcpRouteSolver {
     Enumeration,
 }
 
-/// Options of [`LcpRoute`].
+/// Options of [`LcpRoute`]: the default, changed field by field with the `with_*` setters
+/// (or by assigning the fields of a default value).
+///
+/// ```
+/// use moreau_lcp::fc2d::{LcpRoute, LcpRouteOptions};
+///
+/// # fn main() -> Result<(), moreau_lcp::LcpError> {
+/// let options = LcpRouteOptions::default().with_tolerance(1e-10).with_max_contacts(50);
+/// assert_eq!((options.tolerance, options.max_contacts), (1e-10, 50));
+/// let solver = LcpRoute::new(options)?;
+/// # let _ = solver;
+/// # Ok(())
+/// # }
+/// ```
+///
+/// The struct is `#[non_exhaustive]`, so that fields added later keep their defaults in
+/// callers' code; a struct literal does not compile outside this crate:
+///
+/// ```compile_fail,E0639
+/// let options = moreau_lcp::fc2d::LcpRouteOptions { tolerance: 1e-10, ..Default::default() };
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct LcpRouteOptions {
     /// Accept r when [`Fc2dResidual::natural`](super::Fc2dResidual::natural) is
     /// `<= tolerance`. Default 1e-8.
@@ -41,6 +62,13 @@ pub struct LcpRouteOptions {
     /// the tolerance (0: none). Default 20.
     pub polish_iterations: usize,
 }
+
+with_setters!(LcpRouteOptions {
+    with_tolerance => tolerance: f64,
+    with_max_contacts => max_contacts: usize,
+    with_solver => solver: LcpRouteSolver,
+    with_polish_iterations => polish_iterations: usize,
+});
 
 impl Default for LcpRouteOptions {
     fn default() -> Self {

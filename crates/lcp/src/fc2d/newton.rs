@@ -27,10 +27,30 @@ pub enum Rho {
     Fixed(f64),
 }
 
-/// Options of [`Newton`]. Build them as `NewtonOptions { tolerance: 1e-6, ..Default::default() }`
-/// so that fields added later keep their defaults.
+/// Options of [`Newton`]: the default, changed field by field with the `with_*` setters
+/// (or by assigning the fields of a default value).
+///
+/// ```
+/// use moreau_lcp::fc2d::{Newton, NewtonOptions};
+///
+/// # fn main() -> Result<(), moreau_lcp::LcpError> {
+/// let options = NewtonOptions::default().with_tolerance(1e-10).with_max_iterations(20);
+/// assert_eq!((options.tolerance, options.max_iterations), (1e-10, 20));
+/// let solver = Newton::new(options)?;
+/// # let _ = solver;
+/// # Ok(())
+/// # }
+/// ```
+///
+/// The struct is `#[non_exhaustive]`, so that fields added later keep their defaults in
+/// callers' code; a struct literal does not compile outside this crate:
+///
+/// ```compile_fail,E0639
+/// let options = moreau_lcp::fc2d::NewtonOptions { tolerance: 1e-10, ..Default::default() };
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct NewtonOptions {
     /// Accept r when `natural <= max(tolerance, round_off)` ([`Fc2dResidual::meets`]).
     /// Default 1e-8.
@@ -77,6 +97,21 @@ pub struct NewtonOptions {
     /// Default false.
     pub keep_history: bool,
 }
+
+with_setters!(NewtonOptions {
+    with_tolerance => tolerance: f64,
+    with_max_iterations => max_iterations: usize,
+    with_rho => rho: Rho,
+    with_armijo => armijo: f64,
+    with_nonmonotone => nonmonotone: usize,
+    with_backtrack => backtrack: f64,
+    with_max_backtracks => max_backtracks: usize,
+    with_fallback_sweeps => fallback_sweeps: usize,
+    with_smoothing_sweeps => smoothing_sweeps: usize,
+    with_regularization => regularization: f64,
+    with_regularization_gain => regularization_gain: f64,
+    with_keep_history => keep_history: bool,
+});
 
 impl Default for NewtonOptions {
     fn default() -> Self {

@@ -9,10 +9,30 @@ use super::{Fc2dRef, Fc2dSolution, Fc2dSolver};
 use crate::error::rules;
 use crate::{LcpError, Method, Status};
 
-/// Options of [`Nsgs`]. Build them as `NsgsOptions { tolerance: 1e-6, ..Default::default() }`
-/// so that fields added later keep their defaults.
+/// Options of [`Nsgs`]: the default, changed field by field with the `with_*` setters
+/// (or by assigning the fields of a default value).
+///
+/// ```
+/// use moreau_lcp::fc2d::{Nsgs, NsgsOptions};
+///
+/// # fn main() -> Result<(), moreau_lcp::LcpError> {
+/// let options = NsgsOptions::default().with_tolerance(1e-10).with_omega(1.2);
+/// assert_eq!((options.tolerance, options.omega), (1e-10, 1.2));
+/// let solver = Nsgs::new(options)?;
+/// # let _ = solver;
+/// # Ok(())
+/// # }
+/// ```
+///
+/// The struct is `#[non_exhaustive]`, so that fields added later keep their defaults in
+/// callers' code; a struct literal does not compile outside this crate:
+///
+/// ```compile_fail,E0639
+/// let options = moreau_lcp::fc2d::NsgsOptions { tolerance: 1e-10, ..Default::default() };
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct NsgsOptions {
     /// Accept r when `natural <= max(tolerance, round_off)`
     /// ([`Fc2dResidual::meets`](super::Fc2dResidual::meets); natural is in the units of r
@@ -27,6 +47,13 @@ pub struct NsgsOptions {
     /// (which costs one product with W per sweep). Default false.
     pub keep_history: bool,
 }
+
+with_setters!(NsgsOptions {
+    with_tolerance => tolerance: f64,
+    with_max_sweeps => max_sweeps: usize,
+    with_omega => omega: f64,
+    with_keep_history => keep_history: bool,
+});
 
 impl NsgsOptions {
     /// Checks the options: `0 < omega < 2`, `tolerance` finite and > 0, `max_sweeps >= 1`.

@@ -9,10 +9,30 @@ use super::{Fc2dParts, Fc2dRef, Fc2dResidual, Fc2dSolution, Fc2dSolver, Newton, 
 use crate::error::rules;
 use crate::{LcpError, Method, Status};
 
-/// Options of [`Proximal`]. Build them as `ProximalOptions { tolerance: 1e-6, ..Default::default() }`
-/// so that fields added later keep their defaults.
+/// Options of [`Proximal`]: the default, changed field by field with the `with_*` setters
+/// (or by assigning the fields of a default value).
+///
+/// ```
+/// use moreau_lcp::fc2d::{Proximal, ProximalOptions};
+///
+/// # fn main() -> Result<(), moreau_lcp::LcpError> {
+/// let options = ProximalOptions::default().with_tolerance(1e-10).with_max_outer(50);
+/// assert_eq!((options.tolerance, options.max_outer), (1e-10, 50));
+/// let solver = Proximal::new(options)?;
+/// # let _ = solver;
+/// # Ok(())
+/// # }
+/// ```
+///
+/// The struct is `#[non_exhaustive]`, so that fields added later keep their defaults in
+/// callers' code; a struct literal does not compile outside this crate:
+///
+/// ```compile_fail,E0639
+/// let options = moreau_lcp::fc2d::ProximalOptions { tolerance: 1e-10, ..Default::default() };
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct ProximalOptions {
     /// Accept r when `natural <= max(tolerance, round_off)` ([`Fc2dResidual::meets`]).
     /// Default 1e-8.
@@ -35,6 +55,17 @@ pub struct ProximalOptions {
     /// Factor > 1 applied to α after a failed one. Default 10.
     pub grow: f64,
 }
+
+with_setters!(ProximalOptions {
+    with_tolerance => tolerance: f64,
+    with_max_outer => max_outer: usize,
+    with_inner_iterations => inner_iterations: usize,
+    with_smoothing_sweeps => smoothing_sweeps: usize,
+    with_nonmonotone => nonmonotone: usize,
+    with_initial_weight => initial_weight: f64,
+    with_shrink => shrink: f64,
+    with_grow => grow: f64,
+});
 
 impl Default for ProximalOptions {
     fn default() -> Self {

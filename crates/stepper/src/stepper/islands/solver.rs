@@ -87,76 +87,69 @@ impl IslandSolver {
         Ok(match *choice {
             SolverChoice::Auto => Self::Auto(Box::new(AutoChain {
                 auto: [
-                    Fc2dAuto::new(Fc2dAutoOptions {
-                        tolerance: SMALL_TOLERANCE,
-                        omega: 1.0,
-                        max_sweeps: SMALL_ISLAND_SWEEPS,
-                        ..Fc2dAutoOptions::default()
-                    })?,
-                    Fc2dAuto::new(Fc2dAutoOptions {
-                        tolerance: FC2D_TOLERANCE,
-                        max_sweeps: LARGE_ISLAND_SWEEPS,
-                        ..Fc2dAutoOptions::default()
-                    })?,
-                    Fc2dAuto::new(Fc2dAutoOptions {
-                        tolerance: FC2D_TOLERANCE,
-                        ..Fc2dAutoOptions::default()
-                    })?,
-                    Fc2dAuto::new(Fc2dAutoOptions {
-                        tolerance: FC2D_TOLERANCE,
-                        max_sweeps: INEXACT_CHUNK_SWEEPS,
-                        ..Fc2dAutoOptions::default()
-                    })?,
-                    Fc2dAuto::new(Fc2dAutoOptions {
-                        tolerance: FC2D_TOLERANCE,
-                        max_sweeps: INEXACT_CHUNK_SWEEPS,
-                        lcp_max_contacts: 0,
-                        ..Fc2dAutoOptions::default()
-                    })?,
+                    Fc2dAuto::new(
+                        Fc2dAutoOptions::default()
+                            .with_tolerance(SMALL_TOLERANCE)
+                            .with_omega(1.0)
+                            .with_max_sweeps(SMALL_ISLAND_SWEEPS),
+                    )?,
+                    Fc2dAuto::new(
+                        Fc2dAutoOptions::default()
+                            .with_tolerance(FC2D_TOLERANCE)
+                            .with_max_sweeps(LARGE_ISLAND_SWEEPS),
+                    )?,
+                    Fc2dAuto::new(Fc2dAutoOptions::default().with_tolerance(FC2D_TOLERANCE))?,
+                    Fc2dAuto::new(
+                        Fc2dAutoOptions::default()
+                            .with_tolerance(FC2D_TOLERANCE)
+                            .with_max_sweeps(INEXACT_CHUNK_SWEEPS),
+                    )?,
+                    Fc2dAuto::new(
+                        Fc2dAutoOptions::default()
+                            .with_tolerance(FC2D_TOLERANCE)
+                            .with_max_sweeps(INEXACT_CHUNK_SWEEPS)
+                            .with_lcp_max_contacts(0),
+                    )?,
                 ],
                 newton: {
                     let newton = |tolerance| {
-                        Newton::new(NewtonOptions {
-                            tolerance,
-                            max_iterations: NEWTON_ITERATIONS,
-                            smoothing_sweeps: NEWTON_SMOOTHING_SWEEPS,
-                            nonmonotone: NEWTON_NONMONOTONE,
-                            ..NewtonOptions::default()
-                        })
+                        Newton::new(
+                            NewtonOptions::default()
+                                .with_tolerance(tolerance)
+                                .with_max_iterations(NEWTON_ITERATIONS)
+                                .with_smoothing_sweeps(NEWTON_SMOOTHING_SWEEPS)
+                                .with_nonmonotone(NEWTON_NONMONOTONE),
+                        )
                     };
                     [newton(FC2D_TOLERANCE)?, newton(SMALL_TOLERANCE)?, newton(SMALL_TOLERANCE)?]
                 },
-                proximal: Proximal::new(ProximalOptions {
-                    tolerance: FC2D_TOLERANCE,
-                    smoothing_sweeps: NEWTON_SMOOTHING_SWEEPS,
-                    ..ProximalOptions::default()
-                })?,
-                lcp: LcpRoute::new(LcpRouteOptions {
-                    tolerance: FC2D_TOLERANCE,
-                    max_contacts: PIVOTING_ISLAND,
-                    ..LcpRouteOptions::default()
-                })?,
+                proximal: Proximal::new(
+                    ProximalOptions::default()
+                        .with_tolerance(FC2D_TOLERANCE)
+                        .with_smoothing_sweeps(NEWTON_SMOOTHING_SWEEPS),
+                )?,
+                lcp: LcpRoute::new(
+                    LcpRouteOptions::default()
+                        .with_tolerance(FC2D_TOLERANCE)
+                        .with_max_contacts(PIVOTING_ISLAND),
+                )?,
                 start: Vec::new(),
             })),
-            SolverChoice::Pgs { tolerance, omega, max_iterations } => {
-                Self::Nsgs(Nsgs::new(NsgsOptions {
-                    tolerance,
-                    omega,
-                    max_sweeps: max_iterations,
-                    ..NsgsOptions::default()
-                })?)
-            }
+            SolverChoice::Pgs { tolerance, omega, max_iterations } => Self::Nsgs(Nsgs::new(
+                NsgsOptions::default()
+                    .with_tolerance(tolerance)
+                    .with_omega(omega)
+                    .with_max_sweeps(max_iterations),
+            )?),
             SolverChoice::Lemke | SolverChoice::Enumeration => {
                 let solver = if matches!(choice, SolverChoice::Lemke) {
                     LcpRouteSolver::Lemke
                 } else {
                     LcpRouteSolver::Enumeration
                 };
-                Self::Lcp(Box::new(LcpRoute::new(LcpRouteOptions {
-                    tolerance: FC2D_TOLERANCE,
-                    solver,
-                    ..LcpRouteOptions::default()
-                })?))
+                Self::Lcp(Box::new(LcpRoute::new(
+                    LcpRouteOptions::default().with_tolerance(FC2D_TOLERANCE).with_solver(solver),
+                )?))
             }
         })
     }
