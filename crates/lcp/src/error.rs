@@ -35,17 +35,20 @@ pub enum LcpError {
         index: (usize, usize),
     },
     /// An entry is beyond the range the solvers compute in ([`MAX_ENTRY`](crate::MAX_ENTRY),
-    /// 2^500 ≈ 3.3e150, in magnitude): products of such entries overflow.
+    /// 2^500 ≈ 3.3e150, in magnitude): products of such entries overflow. The LCP's M and q
+    /// and the frictional-contact problem's W, q and μ are checked alike.
     #[error(
         "entry {what}[{}][{}] = {value:e} is beyond the range the solvers compute in \
          (|x| <= 2^500 = 3.3e150, so that products of entries stay finite); scale the \
          problem first: a row of (M, q) times a positive factor keeps z, a column j of M \
-         times c_j > 0 maps z_j to z_j / c_j",
+         times c_j > 0 maps z_j to z_j / c_j, and W and q of a frictional-contact problem \
+         times one positive factor keep r",
         index.0,
         index.1
     )]
     OutOfRange {
-        /// Which input (`"M"` or `"q"`).
+        /// Which input (`"M"` or `"q"` of an LCP; `"W"`, `"q"` or `"μ"` of a
+        /// frictional-contact problem, `"M"`, `"H"`, `"q"`, `"b"` or `"μ"` of a global one).
         what: &'static str,
         /// `(row, column)` of the entry; for vectors the column is 0.
         index: (usize, usize),

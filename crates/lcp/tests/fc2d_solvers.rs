@@ -8,7 +8,7 @@ use moreau_lcp::fc2d::{
     Fc2d, Fc2dAuto, Fc2dBuilder, Fc2dResidual, Fc2dSolution, Fc2dSolver, LcpRoute, LcpRouteOptions,
     LcpRouteSolver, Newton, Nsgs, NsgsOptions, SiconosStorage,
 };
-use moreau_lcp::{LcpError, Method, Status};
+use moreau_lcp::{LcpError, MAX_ENTRY, Method, Status};
 
 /// Sweep limit within which NSGS reaches 1e-4 on every file (the most measured: 628
 /// sweeps, on 7,002 contacts).
@@ -322,10 +322,10 @@ fn lcp_route_reports_size_and_certified_infeasibility() {
 
 #[test]
 fn a_friction_coefficient_beyond_the_lcps_range_is_a_status_of_the_lcp_route() {
-    // W = I, q = (-1, 0), μ = 1e200: the contact sticks with r = (1, 0). The LCP's entry
-    // W_TN - W_TT μ = -1e200 is beyond what the LCP solvers take; the problem itself is valid.
+    // W = I, q = (-1, 0), μ = MAX_ENTRY (3.3e150): the contact sticks with r = (1, 0). The
+    // LCP's entry 2 μ is beyond what the LCP solvers take; the problem itself is valid.
     let identity = Mat::<f64>::identity(2, 2);
-    let problem = Fc2d::from_dense(identity.as_ref(), &[-1.0, 0.0], &[1e200]).unwrap();
+    let problem = Fc2d::from_dense(identity.as_ref(), &[-1.0, 0.0], &[MAX_ENTRY]).unwrap();
     let s = LcpRoute::default().solve(&problem).unwrap();
     assert_eq!(s.status, Status::NumericalFailure, "{s:?}");
     assert!(s.r == [0.0, 0.0] && s.u == [-1.0, 0.0], "{s:?}");
@@ -339,7 +339,7 @@ fn a_friction_coefficient_beyond_the_lcps_range_is_a_status_of_the_lcp_route() {
     let joint = builder.bilateral_group(1);
     builder.add_block(0, 0, [1.0, 0.0, 0.0, 1.0]);
     builder.add_block(joint, joint, [1.0, 0.0, 0.0, 0.0]);
-    let with_joint = builder.build(&[-1.0, 0.0, 0.5], &[1e200]).unwrap();
+    let with_joint = builder.build(&[-1.0, 0.0, 0.5], &[MAX_ENTRY]).unwrap();
     let s = LcpRoute::default().solve(&with_joint).unwrap();
     assert_eq!(s.status, Status::NumericalFailure, "{s:?}");
 }
@@ -517,10 +517,11 @@ fn gauss_seidel_started_where_the_residual_overflows_goes_on_from_its_finite_ite
     assert!(s.r == [1.0, 0.0] && s.u == [0.0, 0.0] && s.iterations == 3, "{s:?}");
     Fc2dAuto::default().solve_into(problem.view(), Some(&warm), &mut s).unwrap();
     assert!(s.is_solved() && (s.r[0] - 1.0).abs() <= 1e-8 && s.r[1] == 0.0, "{s:?}");
-    // A W of 1e300 whose velocities overflow the residual at r = 0: the first sweep's
-    // r = (1, -0.3) (slipping, q_T > 0) is the solution, up to the round-off of its terms.
-    let big = Mat::from_fn(2, 2, |i, j| if i == j { 1e300 } else { 0.0 });
-    let problem = Fc2d::from_dense(big.as_ref(), &[-1e300, 1e300], &[0.3]).unwrap();
+    // A W of 2^500 (MAX_ENTRY), whose velocities square beyond f64's range at r = 0: the
+    // first sweep's r = (1, -0.3) (slipping, q_T > 0) is the solution, up to the round-off of
+    // its terms.
+    let big = Mat::from_fn(2, 2, |i, j| if i == j { MAX_ENTRY } else { 0.0 });
+    let problem = Fc2d::from_dense(big.as_ref(), &[-MAX_ENTRY, MAX_ENTRY], &[0.3]).unwrap();
     let s = Nsgs::default().solve(&problem).unwrap();
     assert_eq!(s.status, Status::Solved, "{s:?}");
     assert!(s.r == [1.0, -0.3] && s.u[0] == 0.0, "{s:?}");

@@ -89,3 +89,113 @@ fn a_solution_beyond_the_range_of_f64_gives_no_nan_and_no_false_verdict() {
     // Enumeration cannot list every solution, and says so.
     assert!(matches!(Enumeration::default().solve_all(lcp.view()), Err(LcpError::Overflow)));
 }
+
+/// `LcpError::OutOfRange`'s (what, index, value), or a panic naming what came instead.
+fn out_of_range<T: std::fmt::Debug>(
+    result: Result<T, LcpError>,
+) -> (&'static str, (usize, usize), f64) {
+    match result {
+        Err(LcpError::OutOfRange { what, index, value }) => (what, index, value),
+        other => panic!("expected OutOfRange, got {other:?}"),
+    }
+}
+
+#[test]
+fn frictional_contact_entries_beyond_the_range_are_refused_naming_the_entry() {
+    use faer::Mat;
+    use moreau_lcp::fc2d::{Fc2d, Fc2dBuilder, Fc2dParts, Fc2dRef, Gfc2d};
+
+    let above = f64::from_bits(MAX_ENTRY.to_bits() + 1);
+    // Two contacts, W = I but for one entry, q = (-1, 0, -1, 0), μ = 0.5.
+    let w = |i, j, v| {
+        Mat::from_fn(
+            4,
+            4,
+            move |a, b| if (a, b) == (i, j) { v } else { f64::from(u8::from(a == b)) },
+        )
+    };
+    let (q, mu) = ([-1.0, 0.0, -1.0, 0.0], [0.5, 0.5]);
+    // The bound itself is accepted, in W, q and μ alike.
+    assert!(Fc2d::from_dense(w(2, 2, MAX_ENTRY).as_ref(), &q, &mu).is_ok());
+    assert!(Fc2d::from_dense(w(0, 0, 1.0).as_ref(), &[-MAX_ENTRY, 0.0, -1.0, 0.0], &mu).is_ok());
+    assert!(Fc2d::from_dense(w(0, 0, 1.0).as_ref(), &q, &[0.5, MAX_ENTRY]).is_ok());
+    // Beyond it: an entry of W off the diagonal blocks (row 3, column 0), one on a diagonal
+    // block, of q, of μ, each named with its value.
+    assert_eq!(
+        out_of_range(Fc2d::from_dense(w(3, 0, -1e200).as_ref(), &q, &mu)),
+        ("W", (3, 0), -1e200)
+    );
+    assert_eq!(
+        out_of_range(Fc2d::from_dense(w(2, 2, above).as_ref(), &q, &mu)),
+        ("W", (2, 2), above)
+    );
+    let q_big = [-1.0, 0.0, -1.0, 1e151];
+    assert_eq!(
+        out_of_range(Fc2d::from_dense(w(0, 0, 1.0).as_ref(), &q_big, &mu)),
+        ("q", (3, 0), 1e151)
+    );
+    let absurd = [0.5, 1e200];
+    assert_eq!(
+        out_of_range(Fc2d::from_dense(w(0, 0, 1.0).as_ref(), &q, &absurd)),
+        ("μ", (1, 0), 1e200)
+    );
+    let message = Fc2d::from_dense(w(0, 0, 1.0).as_ref(), &q, &absurd).unwrap_err().to_string();
+    assert!(message.contains("μ[1][0] = 1e200") && message.contains("scale"), "{message}");
+    // Negative and non-finite friction coefficients keep their own errors.
+    assert!(matches!(
+        Fc2d::from_dense(w(0, 0, 1.0).as_ref(), &q, &[0.5, -0.1]),
+        Err(LcpError::NegativeFriction { contact: 1, .. })
+    ));
+    assert!(matches!(
+        Fc2d::from_dense(w(0, 0, 1.0).as_ref(), &q, &[f64::INFINITY, 0.5]),
+        Err(LcpError::NonFinite { what: "μ", index: (0, 0) })
+    ));
+    // The borrowed parts and the builder, with a bilateral row (row 4), refuse alike.
+    let mut builder = Fc2dBuilder::new(2);
+    let joint = builder.bilateral_group(1);
+    builder.add_block(0, 0, [1.0, 0.0, 0.0, 1.0]);
+    builder.add_block(1, 1, [1.0, 0.0, 0.0, 1.0]);
+    builder.add_block(joint, joint, [1.0, 0.0, 0.0, 0.0]);
+    builder.add_entry(4, 1, 1e160);
+    let q5 = [-1.0, 0.0, -1.0, 0.0, 0.5];
+    assert_eq!(out_of_range(builder.build(&q5, &mu)), ("W", (4, 1), 1e160));
+    let blocks = [[1.0, 0.0, 0.0, 1.0], [1.0, 0.0, 0.0, 1e300]];
+    let parts = Fc2dParts {
+        n_contacts: 2,
+        group_start: &[0, 2, 4],
+        row_ptr: &[0, 1, 2],
+        col: &[0, 1],
+        blocks: &blocks,
+        q: &q,
+        mu: &mu,
+    };
+    assert_eq!(out_of_range(Fc2dRef::from_parts(parts)), ("W", (3, 3), 1e300));
+    // Siconos' files: FC2D (W dense, q, μ) and GFC2D (M, H, q, b, μ).
+    let fc2d =
+        |w11: &str, q1: &str, mu: &str| format!("2\n1\n0\n2\n2\n2 2\n1 0 0 {w11}\n-1 {q1}\n{mu}\n");
+    assert!(Fc2d::read_siconos(fc2d("1", "0", "0.5").as_bytes()).is_ok());
+    assert_eq!(
+        out_of_range(Fc2d::read_siconos(fc2d("1e200", "0", "0.5").as_bytes())),
+        ("W", (1, 1), 1e200)
+    );
+    assert_eq!(
+        out_of_range(Fc2d::read_siconos(fc2d("1", "-4e151", "0.5").as_bytes())),
+        ("q", (1, 0), -4e151)
+    );
+    assert_eq!(
+        out_of_range(Fc2d::read_siconos(fc2d("1", "0", "1e300").as_bytes())),
+        ("μ", (0, 0), 1e300)
+    );
+    let gfc2d = |h: &str, mu: &str| {
+        format!("2\n1\n0\n2\n2\n2 2\n1 0 0 1\n0\n2\n2\n2 2\n1 0 {h} 1\n0 -1\n0 0\n{mu}\n")
+    };
+    assert!(Gfc2d::read_siconos(gfc2d("0", "0.5").as_bytes()).is_ok());
+    assert_eq!(
+        out_of_range(Gfc2d::read_siconos(gfc2d("1e155", "0.5").as_bytes())),
+        ("H", (0, 1), 1e155)
+    );
+    assert_eq!(
+        out_of_range(Gfc2d::read_siconos(gfc2d("0", "1e155").as_bytes())),
+        ("μ", (0, 0), 1e155)
+    );
+}

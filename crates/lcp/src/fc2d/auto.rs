@@ -423,7 +423,9 @@ impl Fc2dAuto {
             c.in_affected[g] = false;
         }
         let before = local_error(problem, &c.affected, &out.r, &out.u);
-        let sub = Fc2dRef::from_parts(Fc2dParts {
+        // A cluster whose frozen surroundings push its q beyond the range of a valid problem
+        // (reactions far out) is not solved: the sweeps go on.
+        let Ok(sub) = Fc2dRef::from_parts(Fc2dParts {
             n_contacts,
             group_start: &c.group_start,
             row_ptr: &c.row_ptr,
@@ -431,7 +433,9 @@ impl Fc2dAuto {
             blocks: &c.blocks,
             q: &c.q,
             mu: &c.mu,
-        })?;
+        }) else {
+            return Ok(false);
+        };
         for attempt in [Method::LcpRoute, Method::Newton] {
             let sub_out = &mut self.sub_out;
             if attempt == Method::LcpRoute {

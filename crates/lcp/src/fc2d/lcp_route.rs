@@ -105,8 +105,8 @@ impl Default for LcpRouteOptions {
 /// judged by the FC2D residual. [`Status::NoSolution`] is reported only when the LCP
 /// solver's enumeration proved that the LCP has none; problems above `max_contacts`
 /// return [`Status::TooLarge`] without a solve, and those whose LCP has an entry beyond
-/// the range the LCP solvers compute in ([`MAX_ENTRY`](crate::MAX_ENTRY), as a μ of 1e200
-/// gives) end at r = 0 with [`Status::NumericalFailure`] unless r = 0 solves them. Warm starts are not used. The
+/// the range the LCP solvers compute in ([`MAX_ENTRY`](crate::MAX_ENTRY), as 2 μ for
+/// μ = `MAX_ENTRY` is) end at r = 0 with [`Status::NumericalFailure`] unless r = 0 solves them. Warm starts are not used. The
 /// elimination, the LCP and its solver work on buffers kept from one solve to the next:
 /// once the sizes have been seen, a solve does not allocate.
 ///

@@ -3,7 +3,7 @@
 use faer::MatRef;
 
 use super::chunks;
-use crate::LcpError;
+use crate::{LcpError, MAX_ENTRY};
 
 /// Relative tolerance of the symmetry and semidefiniteness test of the diagonal blocks.
 ///
@@ -39,11 +39,13 @@ pub struct Fc2dParts<'a> {
     pub row_ptr: &'a [usize],
     /// Block column (group) of each stored block.
     pub col: &'a [u32],
-    /// The stored blocks, row-major.
+    /// The stored blocks, row-major; entries finite and at most
+    /// [`MAX_ENTRY`](crate::MAX_ENTRY) in magnitude.
     pub blocks: &'a [[f64; 4]],
-    /// q, one entry per row.
+    /// q, one entry per row; finite and at most [`MAX_ENTRY`](crate::MAX_ENTRY) in
+    /// magnitude.
     pub q: &'a [f64],
-    /// μ, one per contact, >= 0.
+    /// μ, one per contact, in `[0, MAX_ENTRY]`.
     pub mu: &'a [f64],
 }
 
@@ -133,8 +135,10 @@ impl<'a> Fc2dRef<'a> {
     /// [`LcpError::Structure`] for inconsistent group starts, row pointers or columns, a
     /// missing diagonal block or a nonzero entry outside a one-row group;
     /// [`LcpError::DimensionMismatch`] for the lengths of q or μ; [`LcpError::NonFinite`];
-    /// [`LcpError::NegativeFriction`]; [`LcpError::NotPositiveSemidefinite`] for a
-    /// diagonal block (see [`PSD_TOLERANCE`]).
+    /// [`LcpError::OutOfRange`] naming an entry of W, q or μ above
+    /// [`MAX_ENTRY`](crate::MAX_ENTRY) in magnitude (the range the LCP solvers take, so
+    /// that products of two entries stay finite); [`LcpError::NegativeFriction`];
+    /// [`LcpError::NotPositiveSemidefinite`] for a diagonal block (see [`PSD_TOLERANCE`]).
     pub fn from_parts(parts: Fc2dParts<'a>) -> Result<Self, LcpError> {
         let Fc2dParts { n_contacts, group_start, row_ptr, col, blocks, q, mu } = parts;
         if group_start.len() <= n_contacts {
@@ -187,6 +191,7 @@ impl<'a> Fc2dRef<'a> {
         let block_rows = |range: std::ops::Range<usize>| -> Result<(), LcpError> {
             let mut poison = 0.0;
             for g in range {
+                let mut big = 0.0f64;
                 let mut diagonal = None;
                 let mut previous: Option<u32> = None;
                 let row_size = group_start[g + 1] - group_start[g];
@@ -201,6 +206,7 @@ impl<'a> Fc2dRef<'a> {
                     let b = &blocks[k];
                     for v in b {
                         poison += v * 0.0;
+                        big = big.max(v.abs());
                     }
                     let j = j as usize;
                     let col_size = group_start[j + 1] - group_start[j];
@@ -220,6 +226,9 @@ impl<'a> Fc2dRef<'a> {
                 };
                 if poison != 0.0 {
                     return Err(first_non_finite_block(row_ptr, col, blocks, group_start));
+                }
+                if big > MAX_ENTRY {
+                    return Err(first_out_of_range_block(g, row_ptr, col, blocks, group_start));
                 }
                 let (what, index) = if g < n_contacts {
                     ("contact", g)
@@ -244,12 +253,18 @@ impl<'a> Fc2dRef<'a> {
         if let Some(i) = q.iter().position(|v| !v.is_finite()) {
             return Err(LcpError::NonFinite { what: "q", index: (i, 0) });
         }
+        if let Some(i) = q.iter().position(|v| v.abs() > MAX_ENTRY) {
+            return Err(LcpError::OutOfRange { what: "q", index: (i, 0), value: q[i] });
+        }
         for (i, &m) in mu.iter().enumerate() {
             if !m.is_finite() {
                 return Err(LcpError::NonFinite { what: "μ", index: (i, 0) });
             }
             if m < 0.0 {
                 return Err(LcpError::NegativeFriction { contact: i, mu: m });
+            }
+            if m > MAX_ENTRY {
+                return Err(LcpError::OutOfRange { what: "μ", index: (i, 0), value: m });
             }
         }
         Ok(Fc2dRef { parts })
@@ -433,6 +448,29 @@ fn first_non_finite_block(
         }
     }
     LcpError::NonFinite { what: "W", index: (0, 0) }
+}
+
+/// The error naming the first entry of group g's block row of W (block by block, each row
+/// by row) above [`MAX_ENTRY`] in magnitude; the padding of one-row groups is zero.
+#[cold]
+fn first_out_of_range_block(
+    g: usize,
+    row_ptr: &[usize],
+    col: &[u32],
+    blocks: &[[f64; 4]],
+    group_start: &[usize],
+) -> LcpError {
+    for k in row_ptr[g]..row_ptr[g + 1] {
+        if let Some(e) = blocks[k].iter().position(|v| v.abs() > MAX_ENTRY) {
+            let j = col[k] as usize;
+            return LcpError::OutOfRange {
+                what: "W",
+                index: (group_start[g] + e / 2, group_start[j] + e % 2),
+                value: blocks[k][e],
+            };
+        }
+    }
+    LcpError::OutOfRange { what: "W", index: (group_start[g], group_start[g]), value: f64::NAN }
 }
 
 impl Fc2d {

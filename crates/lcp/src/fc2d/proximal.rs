@@ -255,7 +255,13 @@ impl Fc2dSolver for Proximal {
             }
             self.q.clear();
             self.q.extend((0..n).map(|i| p.q[i] - alpha * self.scale[i] * self.r[i]));
-            let sub = Fc2dRef::from_parts(Fc2dParts { blocks: &self.blocks, q: &self.q, ..p })?;
+            // A sub-problem beyond the range of a valid problem (q − η r_k from a warm start
+            // far out, such as r = 1e300) is the method's failure, not the caller's input.
+            let Ok(sub) = Fc2dRef::from_parts(Fc2dParts { blocks: &self.blocks, q: &self.q, ..p })
+            else {
+                status = Status::NumericalFailure;
+                break;
+            };
             self.newton.solve_into(sub, Some(&self.r), &mut self.inner)?;
             iterations += self.inner.iterations;
             let trial = Fc2dResidual::compute(problem, &self.inner.r, &mut self.u);

@@ -20,8 +20,8 @@ use faer::sparse::{SparseColMat, Triplet};
 
 use super::numerics::{self, NumericsMatrix, write_numbers};
 use super::tokens::{Tokens, Trailer, check_count};
-use crate::LcpError;
 use crate::fc2d::{Fc2d, Fc2dBuilder};
+use crate::{LcpError, MAX_ENTRY};
 
 /// The matrix storage used to write W in a Siconos FC2D file.
 #[non_exhaustive]
@@ -79,7 +79,9 @@ impl Fc2d {
     /// [`LcpError::Io`], [`LcpError::Parse`] (with the line), a dimension other than 2,
     /// [`LcpError::UnsupportedStorage`], [`LcpError::TrailingData`] (with the line) for data
     /// after μ other than the flag `0` or `1`, or a validation error of
-    /// [`Fc2dRef::from_parts`](crate::fc2d::Fc2dRef::from_parts).
+    /// [`Fc2dRef::from_parts`](crate::fc2d::Fc2dRef::from_parts): among them
+    /// [`LcpError::OutOfRange`] naming an entry of W (its row and column), q or μ beyond
+    /// [`MAX_ENTRY`](crate::MAX_ENTRY).
     pub fn read_siconos<R: Read>(mut reader: R) -> Result<Fc2d, LcpError> {
         let mut text = String::new();
         reader.read_to_string(&mut text)?;
@@ -220,7 +222,8 @@ impl Gfc2d {
     /// # Errors
     /// [`LcpError::Io`], [`LcpError::Parse`] (with the line), a dimension other than 2,
     /// sizes that do not agree, [`LcpError::TrailingData`] (with the line) for data after μ,
-    /// non-finite entries or a negative μ.
+    /// non-finite entries ([`LcpError::NonFinite`]), a negative μ, or an entry of M, H, q, b
+    /// or μ beyond [`MAX_ENTRY`](crate::MAX_ENTRY) ([`LcpError::OutOfRange`]).
     pub fn read_siconos<R: Read>(mut reader: R) -> Result<Gfc2d, LcpError> {
         let mut text = String::new();
         reader.read_to_string(&mut text)?;
@@ -248,6 +251,16 @@ impl Gfc2d {
         }
         if let Some(i) = mu.iter().position(|&x| x < 0.0) {
             return Err(LcpError::NegativeFriction { contact: i, mu: mu[i] });
+        }
+        for (what, entries) in [("M", &m.entries), ("H", &h.entries)] {
+            if let Some(&(i, j, value)) = entries.iter().find(|e| e.2.abs() > MAX_ENTRY) {
+                return Err(LcpError::OutOfRange { what, index: (i, j), value });
+            }
+        }
+        for (what, v) in [("q", &q), ("b", &b), ("μ", &mu)] {
+            if let Some(i) = v.iter().position(|x| x.abs() > MAX_ENTRY) {
+                return Err(LcpError::OutOfRange { what, index: (i, 0), value: v[i] });
+            }
         }
         Ok(Gfc2d { m: sparse(&m, "M")?, h: sparse(&h, "H")?, q, b, mu })
     }
