@@ -54,6 +54,22 @@ pub enum StepError {
         /// Why the factorisation failed.
         reason: String,
     },
+    /// The correction of the positions onto the joints made their drift grow: W_B is not the
+    /// derivative of g_B (a hand-derived mechanism's rows that disagree with its constraints),
+    /// or the step is so long that the joints' directions turn through it.
+    #[error(
+        "the correction of the positions onto the joints at t = {t} took their largest drift \
+         |g_B| from {before:e} to {after:e}: check that each row's W_B is the derivative of its \
+         g_B, or take a shorter step"
+    )]
+    JointCorrectionDiverged {
+        /// Time of the end of the step (s).
+        t: f64,
+        /// The largest |g_B| before the correction (m or rad, as the constraints are written).
+        before: f64,
+        /// The largest |g_B| after it.
+        after: f64,
+    },
     /// The active-set threshold is negative or not finite.
     #[error("gap tolerance {value} must be finite and >= 0")]
     InvalidGapTolerance {

@@ -88,6 +88,9 @@ struct Workspace {
     tmp: Vec<f64>,
     /// u_A of the last step with an impulse (an LCP solved, or joints).
     u_start: Vec<f64>,
+    /// q_A of the step, for a mechanism with joints and the projection on: the state that a
+    /// correction refused with [`StepError::JointCorrectionDiverged`] gives back.
+    q_start: Vec<f64>,
     /// ũ before the joints' impulses, for a mechanism with joints.
     u_unconstrained: Vec<f64>,
     /// The joints' impulses Λ_B of the last step, one per bilateral constraint.
@@ -334,6 +337,7 @@ impl<M: Mechanism> Stepper<M> {
             u_free: vec![0.0; f],
             tmp: vec![0.0; f],
             u_start: vec![0.0; f],
+            q_start: vec![0.0; if mechanism.num_bilaterals() > 0 { f } else { 0 }],
             u_unconstrained: vec![0.0; f],
             joint_impulses: vec![0.0; if body.is_some() { 0 } else { mechanism.num_bilaterals() }],
             chol: Cholesky::new(f),
@@ -463,7 +467,9 @@ impl<M: Mechanism> Stepper<M> {
     /// [`StepError::LcpFailed`] (carrying the LCP instance) when the step's LCP has no
     /// acceptable solution ([`StepError::IslandFailed`] for an island of a mechanism with a
     /// [`crate::BodyStructure`], whose detected contacts may also be
-    /// [`StepError::InvalidContact`]). The state is left at the start of the failed step.
+    /// [`StepError::InvalidContact`]), and [`StepError::JointCorrectionDiverged`] when the
+    /// correction of the positions onto the joints makes their drift grow. The state is left
+    /// at the start of the failed step.
     pub fn step(&mut self) -> Result<StepReport<'_>, StepError> {
         if self.core.body.is_some() {
             self.core.advance_bodies(&self.mechanism)?;

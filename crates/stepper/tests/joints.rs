@@ -349,6 +349,34 @@ impl Mechanism for TwicePinned {
     }
 }
 
+/// The pin with the sign of its first row's W_B turned: the velocity it keeps is the same, but
+/// its correction of the positions moves them away from g_B = 0.
+struct Misderived(Pendulum);
+
+contactless!(Misderived, 3);
+
+impl Mechanism for Misderived {
+    fn laws(&self) -> &[ContactLaw] {
+        &[]
+    }
+    fn mass_matrix(&self, q: &[f64], t: f64, m: &mut [f64]) {
+        self.0.mass_matrix(q, t, m);
+    }
+    fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]) {
+        self.0.forces(q, u, t, h);
+    }
+    fn num_bilaterals(&self) -> usize {
+        2
+    }
+    fn bilateral(&self, i: usize, q: &[f64], t: f64, w: &mut [f64]) -> BilateralPoint {
+        let p = self.0.bilateral(i, q, t, w);
+        if i == 0 {
+            w.iter_mut().for_each(|v| *v = -*v);
+        }
+        p
+    }
+}
+
 /// States a constraint and never writes it.
 struct Unwritten(Pendulum);
 
@@ -431,6 +459,25 @@ fn constraints_that_cannot_be_solved_are_typed_errors() {
         matches!(e, StepError::NonFinite { what: "bilateral constraint", index: 0, .. }),
         "{e}"
     );
+    // A row whose W_B is not the derivative of its g_B: the swing runs until the correction
+    // of the positions makes the drift grow past 1e3 times its tolerance, and is refused then
+    // rather than taken off the pin.
+    let options = StepperOptions::new(1e-3).with_projection(true);
+    let swinging = pendulum_start(1.0, 1.0);
+    let mut misderived =
+        Stepper::new(Misderived(Pendulum { m: 1.0, l: 1.0 }), &swinging, &[0.0; 3], 0.0, options)
+            .unwrap();
+    let e = loop {
+        if let Err(e) = misderived.step() {
+            break e;
+        }
+        assert!(misderived.t() < 1.0, "ran to 1 s off its pin: {:?}", misderived.q());
+    };
+    let StepError::JointCorrectionDiverged { before, after, .. } = e else { panic!("{e}") };
+    assert!(after > before && after > 1e-9, "{before:e} {after:e}");
+    let q = misderived.q();
+    let pin = [q[0] - 0.5 * q[2].sin(), q[1] + 0.5 * q[2].cos()];
+    assert!(pin[0].hypot(pin[1]) < after, "the state is the failed step's start: {pin:?}");
 }
 
 #[test]

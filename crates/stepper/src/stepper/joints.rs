@@ -36,6 +36,23 @@ const SINGULAR: f64 = 1e-12;
 /// Largest number of corrections of the positions per step (on both paths).
 pub(super) const PROJECTION_ITERATIONS: usize = 4;
 
+/// The refusal of a correction of the positions that took the joints' largest drift from
+/// `before` to `after` in [`PROJECTION_ITERATIONS`] corrections, when it grew and ends above
+/// 1e3 times the drift `tolerance` (on both paths): simplified Newton corrections shrink a
+/// step's drift unless W_B disagrees with g_B or the step is long enough for the joints'
+/// directions to turn through it; a slow contraction is left to the next step.
+pub(super) fn check_correction(
+    before: f64,
+    after: f64,
+    tolerance: f64,
+    t: f64,
+) -> Result<(), StepError> {
+    if after > before && after > 1e3 * tolerance || !after.is_finite() {
+        return Err(StepError::JointCorrectionDiverged { t, before, after });
+    }
+    Ok(())
+}
+
 /// The drift |g_B| that the correction of the positions leaves alone at q (on both paths):
 /// `StepperOptions::joint_tolerance` when it is set, else 1e-12 max(1, ‖q‖∞), round-off of
 /// the positions.
@@ -356,7 +373,8 @@ impl Joints {
         let mut holding = None;
         let m = n + held.len() / f;
         let tolerance = drift_tolerance(q, joint_tolerance);
-        for _ in 0..PROJECTION_ITERATIONS {
+        let mut before = None;
+        for pass in 0..=PROJECTION_ITERATIONS {
             let mut drift = 0.0f64;
             mech.bilaterals(q, t, &mut self.w_end, &mut self.points);
             for i in 0..n {
@@ -369,6 +387,10 @@ impl Joints {
             }
             if drift <= tolerance {
                 return Ok(());
+            }
+            let before = *before.get_or_insert(drift);
+            if pass == PROJECTION_ITERATIONS {
+                return check_correction(before, drift, tolerance, t);
             }
             if *holding
                 .get_or_insert_with(|| !held.is_empty() && self.factor_held(mech, chol, held))

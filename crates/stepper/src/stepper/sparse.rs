@@ -18,7 +18,7 @@ use super::islands::{
     CHUNK_LINKS, ContactWork, IslandFailure, Islands, JointGroup, Purpose, fill, for_chunks,
     group_rows, in_parallel, link,
 };
-use super::joints::{PROJECTION_ITERATIONS, drift_tolerance};
+use super::joints::{PROJECTION_ITERATIONS, check_correction, drift_tolerance};
 use super::*;
 use crate::bodies::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
 use crate::report::{MassView, PhaseTimes};
@@ -649,11 +649,23 @@ impl Core {
             b.detected.clear();
             b.directions();
             let mut corrections = 0;
-            while corrections < PROJECTION_ITERATIONS {
+            let mut before = None;
+            loop {
                 structure.bilateral_rows(&self.q, t_e, &mut b.rows);
                 group_rows(&b.rows, t_e, &mut b.end_groups)?;
                 let drift = b.rows.iter().fold(0.0f64, |d, r| d.max(r.point.g.abs()));
                 if drift <= tolerance {
+                    break;
+                }
+                let before = *before.get_or_insert(drift);
+                if corrections == PROJECTION_ITERATIONS {
+                    if let Err(e) = check_correction(before, drift, tolerance, t_e) {
+                        // The step is refused: its start, which the contacts' part below
+                        // has not yet written over, comes back.
+                        std::mem::swap(&mut self.q, &mut b.q_e);
+                        std::mem::swap(&mut self.u, &mut b.u_e);
+                        return Err(e);
+                    }
                     break;
                 }
                 for ((w, group), end) in b.work.iter_mut().zip(&b.groups).zip(&b.end_groups) {

@@ -66,6 +66,9 @@ impl Core {
         for ((q_m, q), u) in ws.q_m[..f].iter_mut().zip(&self.q[..f]).zip(&self.u[..f]) {
             *q_m = q + half * u;
         }
+        if ws.joints.n > 0 && self.options.projection {
+            ws.q_start[..f].copy_from_slice(&self.q[..f]);
+        }
         let new_mass = !(ws.factored && mech.constant_mass_matrix());
         let mass = new_mass.then_some(&mut ws.mass[..f * f]);
         crate::mechanism::evaluate(
@@ -278,14 +281,13 @@ impl Core {
                 }
             }
             let held = &ws.proj_w[..closed * f];
-            ws.joints.project(
-                mech,
-                &mut self.q,
-                t_e,
-                &ws.chol,
-                held,
-                self.options.joint_tolerance,
-            )?;
+            let tolerance = self.options.joint_tolerance;
+            if let Err(e) = ws.joints.project(mech, &mut self.q, t_e, &ws.chol, held, tolerance) {
+                // The step is refused: its start comes back (u_A is kept for joints).
+                self.q.copy_from_slice(&ws.q_start[..f]);
+                self.u.copy_from_slice(&ws.u_start[..f]);
+                return Err(e);
+            }
         }
         // Bodies in maximal coordinates are moved in the metric in which they weigh alike.
         let alike = mech.maximal_coordinates();
