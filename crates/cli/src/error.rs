@@ -63,28 +63,6 @@ impl std::fmt::Display for Divergence {
     }
 }
 
-/// The explanation of [`CliError::UnknownKey`].
-fn unknown_key_text(
-    key: &str,
-    level: &str,
-    name: &str,
-    valid: &[String],
-    suggestion: Option<&str>,
-) -> String {
-    let place = if level.is_empty() { "the scene".to_owned() } else { format!("`{level}`") };
-    let meant = suggestion.map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
-    let keys = if valid.is_empty() {
-        format!("{place} has no keys")
-    } else {
-        format!("the keys of {place} are {}", valid.join(", "))
-    };
-    if key == name {
-        format!("unknown key `{key}`{meant}; {keys}")
-    } else {
-        format!("unknown key `{key}`: {place} has no key `{name}`{meant}; {keys}")
-    }
-}
-
 /// Everything the `moreau` command refuses or stops on.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -132,8 +110,10 @@ pub enum CliError {
         limit: u64,
     },
     /// A `--set` key that names no entry of the scene: the level of the scene where it leaves
-    /// the scene's keys, the keys of that level, and the nearest of them when one is obvious.
-    #[error("{}", unknown_key_text(key, level, name, valid, suggestion.as_deref()))]
+    /// the scene's keys, the keys of that level, and the nearest of them when one is obvious,
+    /// as the scene's [`ModelError::UnknownKey`](moreau_models::ModelError::UnknownKey) gives
+    /// them.
+    #[error("{}", moreau_models::unknown_key_text(key, level, name, valid, suggestion.as_deref()))]
     UnknownKey {
         /// The key as given.
         key: String,
@@ -141,7 +121,7 @@ pub enum CliError {
         level: String,
         /// Its part that the level does not have (`masss`).
         name: String,
-        /// The keys of that level (a declared table's optional fields included).
+        /// The keys of that level (a table's optional fields included).
         valid: Vec<String>,
         /// The key meant, when one key of the level lies within two edits of `name`.
         suggestion: Option<String>,

@@ -67,6 +67,5 @@ pub mod simulate;
 pub mod solve;
 pub mod sweep;
 pub mod table;
-mod unknown_key;
 
 pub use error::{CliError, Divergence};

@@ -18,7 +18,6 @@ use crate::number;
 pub use crate::output::partial_path;
 use crate::output::{self, Output, OutputLock, csv_record};
 use crate::runs::{RunResult, RunSpec, run_info};
-use crate::unknown_key::unknown_key;
 
 /// What to simulate.
 #[derive(Clone, Debug, Default)]
@@ -134,7 +133,7 @@ fn apply_labelled<'a>(
     };
     let mut seen: Vec<(&str, Vec<String>)> = Vec::new();
     for (label, key, value) in sets {
-        let targets = scene.targets(key).map_err(|e| refused(scene, key, value, e))?;
+        let targets = scene.targets(key).map_err(|e| refused(key, value, e))?;
         for (first, earlier) in &seen {
             let repeated =
                 targets.iter().find_map(|t| earlier.iter().find(|e| overlap(e, t)).map(|e| (t, e)));
@@ -149,7 +148,7 @@ fn apply_labelled<'a>(
                 .into());
             }
         }
-        scene.set(key, value).map_err(|e| refused(scene, key, value, e))?;
+        scene.set(key, value).map_err(|e| refused(key, value, e))?;
         seen.push((label, targets));
     }
     Ok(())
@@ -157,12 +156,15 @@ fn apply_labelled<'a>(
 
 /// The scene's refusal `error` of `--set key=value`: [`CliError::UnknownKey`] when it is the
 /// key that the scene lacks, `error` itself otherwise.
-fn refused(scene: &Scene, key: &str, value: &str, error: ModelError) -> anyhow::Error {
+fn refused(key: &str, value: &str, error: ModelError) -> anyhow::Error {
     let context = format!("--set {key}={value}");
-    match unknown_key(scene, key, &error) {
-        Some(unknown) => anyhow::Error::new(unknown).context(context),
-        None => anyhow::Error::new(error).context(context),
+    match error {
+        ModelError::UnknownKey { key, level, name, valid, suggestion } => {
+            anyhow::Error::new(CliError::UnknownKey { key, level, name, valid, suggestion })
+        }
+        other => anyhow::Error::new(other),
     }
+    .context(context)
 }
 
 /// The scene of the options: the scene file or the model's report scene, with overrides.

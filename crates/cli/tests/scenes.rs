@@ -389,12 +389,13 @@ fn an_unknown_key_is_told_as_such_with_the_keys_of_its_level() -> Result<()> {
         (
             vec!["sweep", "ball", "--set", "eps_nn=0.1,0.2"],
             "unknown key `eps_nn` (did you mean `eps_n`?); the keys of the scene are solver, dt, \
-             record_every, t_end, eps_n, g, init.v0, init.y0, m, r",
+             record_every, t_end, stop_at, projection, inexact_residual, eps_n, g, init.v0, \
+             init.y0, m, r",
         ),
         (
             vec!["simulate", "ball", "--set", "init.y00=2"],
             "unknown key `init.y00`: `init` has no key `y00` (did you mean `init.y0`?); the keys \
-             of `init` are v0, y0",
+             of `init` are y0, v0",
         ),
     ] {
         let o = moreau(&[args.as_slice(), &["--out", "unused.csv"]].concat());

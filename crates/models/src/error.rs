@@ -43,22 +43,27 @@ pub enum ModelError {
         /// the error's source, so that a report of the chain says it once).
         cause: std::io::Error,
     },
-    /// A `--set key=value` whose key the scene does not have.
-    #[error("unknown key `{key}`; the scene's keys: {}{}", accepted.join(", "),
-        if *declared {
-            "; and the optional fields that a body, joint, contact or the scene leaves out \
-             (such as `bodies.<name>.density`, `joints.<name>.angle`, `projection`)"
-        } else {
-            ""
-        })]
+    /// A `--set key=value` whose key names no entry of the scene, nor a field that a table of
+    /// the scene leaves out: the level of the scene's tree where the key leaves it, the keys of
+    /// that level and the key meant, when one is obvious.
+    #[error("{}", unknown_key_text(key, level, name, valid, suggestion.as_deref()))]
     UnknownKey {
-        /// The rejected key.
+        /// The key as given.
         key: String,
-        /// The keys the scene writes ([`Scene::keys`](crate::Scene::keys)).
-        accepted: Vec<String>,
-        /// Whether the scene declares its mechanism, whose tables also take the optional
-        /// fields they leave out.
-        declared: bool,
+        /// The level of the scene's tree where the key leaves it, as the key names it
+        /// (`bodies.ball`, `init`; empty for the top).
+        level: String,
+        /// The key's part that the level does not have (`masss`), or a field that the level
+        /// leaves out when the key goes on below it (`motion` in `bodies.ball.motion.kind`).
+        name: String,
+        /// The keys of that level: a table's fields, those it leaves out included, and any
+        /// other keys it holds (a tag such as a joint's `type`); the names (or else indices)
+        /// of an array's elements; on the top level of a report model, the scene's keys
+        /// ([`Scene::keys`](crate::Scene::keys)) with the fields it leaves out.
+        valid: Vec<String>,
+        /// The whole key meant, when one key of the level alone lies within two edits of
+        /// `name` (`bodies.ball.mass` for `bodies.ball.masss` or `bodies.bal.mass`).
+        suggestion: Option<String>,
     },
     /// A `--set key=value` whose value does not parse or is out of range.
     #[error("bad value `{value}` for `{key}`: {reason}")]
@@ -76,6 +81,38 @@ pub enum ModelError {
     /// A contact law that `moreau_setvalued::ContactLaw` rejects.
     #[error(transparent)]
     Law(#[from] SetValuedError),
+}
+
+/// The explanation of an unknown `--set` key, as [`ModelError::UnknownKey`] gives it: `key`
+/// leaves the scene's tree at `level` (empty for the top), whose part `name` is not among the
+/// keys `valid` of that level (or is a field that the level leaves out, when the key goes on
+/// below it), and `suggestion` is the key meant, if any.
+pub fn unknown_key_text(
+    key: &str,
+    level: &str,
+    name: &str,
+    valid: &[String],
+    suggestion: Option<&str>,
+) -> String {
+    let place = if level.is_empty() { "the scene".to_owned() } else { format!("`{level}`") };
+    let whole = if level.is_empty() { name.to_owned() } else { format!("{level}.{name}") };
+    if key != whole && valid.iter().any(|v| v == name) {
+        return format!(
+            "unknown key `{key}`: {place} leaves out `{name}`, whose parts cannot be set one by \
+             one; set `{whole}` whole"
+        );
+    }
+    let meant = suggestion.map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
+    let keys = if valid.is_empty() {
+        format!("{place} has no keys")
+    } else {
+        format!("the keys of {place} are {}", valid.join(", "))
+    };
+    if key == name {
+        format!("unknown key `{key}`{meant}; {keys}")
+    } else {
+        format!("unknown key `{key}`: {place} has no key `{name}`{meant}; {keys}")
+    }
 }
 
 /// A number as written in a message: plainly in the range people write so, in scientific

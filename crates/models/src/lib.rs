@@ -122,7 +122,7 @@ mod woodpecker;
 pub use ball::{Ball, BallInit, BallParams};
 pub use cam::{Cam, CamInit, CamParams, SpringLaw};
 pub use draw::{Bounds, Circle, Drawing, Polyline, Role};
-pub use error::ModelError;
+pub use error::{ModelError, unknown_key_text};
 pub use painleve::{PainleveInit, PainleveParams, PainleveRod};
 pub use params::LawParams;
 pub use registry::{AnyModel, ModelKind, ModelParams, Names};

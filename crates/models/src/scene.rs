@@ -2,11 +2,13 @@
 //! written to TOML, and run with the time-stepper.
 //!
 //! This module holds the scene and its runs; `file` reads and writes the two forms of a
-//! scene file and names the field at fault in a reader's error, and `set` lists and changes
-//! single values by their dotted keys (`--set key=value`).
+//! scene file and names the field at fault in a reader's error, `set` lists and changes
+//! single values by their dotted keys (`--set key=value`), and `tree` finds where such a key
+//! lies in the scene's tree, with the fields each table takes.
 
 mod file;
 mod set;
+mod tree;
 
 use std::ops::ControlFlow;
 use std::path::Path;

@@ -80,9 +80,14 @@ fn bad_settings_name_the_path_and_leave_the_scene_alone() {
     let mut scene = example();
     let before = scene.clone();
     match scene.set("bodies.bob.mas", "2") {
-        Err(ModelError::BadValue { key, reason, .. }) => {
-            assert_eq!(key, "bodies.bob.mas");
-            assert!(reason.contains("mas"), "{reason}");
+        Err(ModelError::UnknownKey { key, level, name, valid, suggestion }) => {
+            assert_eq!(
+                (key.as_str(), level.as_str(), name.as_str()),
+                ("bodies.bob.mas", "bodies.bob", "mas")
+            );
+            // `mass` and `mask` are one edit away both: no key is obvious.
+            assert!(valid.iter().any(|k| k == "mass") && valid.iter().any(|k| k == "mask"));
+            assert_eq!(suggestion, None);
         }
         other => panic!("{other:?}"),
     }
@@ -96,13 +101,17 @@ fn bad_settings_name_the_path_and_leave_the_scene_alone() {
     match scene.set("bodies.nobody.mass", "1") {
         Err(e @ ModelError::UnknownKey { .. }) => {
             let message = e.to_string();
-            let ModelError::UnknownKey { key, accepted, declared } = e else { unreachable!() };
-            assert_eq!(key, "bodies.nobody.mass");
-            assert!(accepted.iter().any(|k| k == "contacts.hit.eps_n"));
-            // The list is the scene's keys, and the message says that a declared scene takes
-            // the optional fields it leaves out as well.
-            assert!(declared && !accepted.iter().any(|k| k == "bodies.bob.density"));
-            assert!(message.contains("optional fields"), "{message}");
+            let ModelError::UnknownKey { key, level, name, valid, suggestion } = e else {
+                unreachable!()
+            };
+            assert_eq!(
+                (key.as_str(), level.as_str(), name.as_str()),
+                ("bodies.nobody.mass", "bodies", "nobody")
+            );
+            // The keys of the level are the bodies' names, and none is near enough.
+            assert_eq!(valid, ["wall", "bob"]);
+            assert_eq!(suggestion, None);
+            assert!(message.contains("the keys of `bodies` are wall, bob"), "{message}");
         }
         other => panic!("{other:?}"),
     }

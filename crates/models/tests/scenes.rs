@@ -176,13 +176,18 @@ fn set_rejects_unknown_keys_and_bad_values() {
     let mut scene = Scene::report(ModelKind::Ball);
     let before = scene.clone();
     match scene.set("bounciness", "1") {
-        Err(ModelError::UnknownKey { key, accepted, declared }) => {
-            assert_eq!(key, "bounciness");
-            assert!(!declared);
+        Err(ModelError::UnknownKey { key, level, name, valid, suggestion }) => {
+            assert_eq!(
+                (key.as_str(), level.as_str(), name.as_str()),
+                ("bounciness", "", "bounciness")
+            );
+            assert_eq!(suggestion, None);
             for k in ["dt", "t_end", "solver", "record_every", "eps_n", "m", "init.v0"] {
-                assert!(accepted.contains(&k.to_string()), "{k} missing from {accepted:?}");
+                assert!(valid.contains(&k.to_string()), "{k} missing from {valid:?}");
             }
-            assert!(!accepted.contains(&"model".to_string()));
+            // The fields that the scene leaves out are keys as well; the model is no key.
+            assert!(valid.contains(&"projection".to_string()), "{valid:?}");
+            assert!(!valid.contains(&"model".to_string()));
         }
         other => panic!("expected an unknown key, got {other:?}"),
     }

@@ -4,7 +4,7 @@
 
 use moreau_stepper::UnknownSolver;
 
-use super::Scene;
+use super::{Scene, tree};
 use crate::{ModelError, ModelKind};
 
 impl Scene {
@@ -13,8 +13,9 @@ impl Scene {
     /// `params.` prefix (`m`, `eps_n`, `init.y0`, `beak.mu`, ...), or a declared mechanism's
     /// (`bodies.<name>.velocity`, `joints.<name>.anchor_a`, `contacts.<name>.mu`, ...; an
     /// array's entry as `bodies.<name>.velocity.0`).
-    /// [`Self::set`] also takes, in a declared scene, the optional fields that its tables
-    /// leave out (`bodies.<name>.density`, `projection`).
+    /// [`Self::set`] also takes the optional fields that the scene's tables leave out
+    /// (`projection`, `bodies.<name>.density`, `joints.<name>.angle`), whole tables and, in a
+    /// declared scene, whole arrays.
     pub fn keys(&self) -> Vec<String> {
         self.leaves().into_iter().map(|(display, _)| display).collect()
     }
@@ -43,13 +44,35 @@ impl Scene {
         out
     }
 
+    /// The keys of the top level of a report model's scene, `doc`: the scene's own keys and
+    /// the fields it leaves out (`stop_at`, `projection`, ...), then the parameters' keys and
+    /// the fields they leave out.
+    fn top_keys(&self, doc: &toml::Value) -> Vec<String> {
+        let left_out = |level: &[&str], tag: &str| -> Vec<String> {
+            let fields = tree::fields_at(doc, level).unwrap_or_default();
+            let table =
+                level.iter().try_fold(doc, |v, k| v.get(*k)).and_then(toml::Value::as_table);
+            let present = |f: &&str| table.is_some_and(|t| t.contains_key(*f));
+            fields.iter().filter(|f| **f != tag && !present(f)).map(|f| (*f).to_owned()).collect()
+        };
+        let (params, scene): (Vec<_>, Vec<_>) =
+            self.leaves().into_iter().partition(|(_, full)| full.starts_with("params."));
+        let mut out: Vec<String> = scene.into_iter().map(|(display, _)| display).collect();
+        out.extend(left_out(&[], "params"));
+        out.extend(params.into_iter().map(|(display, _)| display));
+        out.extend(left_out(&["params"], "model"));
+        out
+    }
+
     /// The full dotted paths of the entries that [`Self::set`] with `key` changes: `solver`
     /// for `solver`, `params.init.y0` for `init.y0` or `y0`, and on the woodpecker
     /// `params.beak.mu`, `params.lower.mu` and `params.upper.mu` for `mu`. Two keys set the
     /// same entry exactly when their targets share a path.
     ///
     /// # Errors
-    /// [`ModelError::UnknownKey`] listing the accepted keys.
+    /// [`ModelError::UnknownKey`] when `key` names no entry of the scene nor a field that one
+    /// of its tables leaves out, with the level where it leaves the scene's tree, the keys of
+    /// that level and the nearest of them.
     pub fn targets(&self, key: &str) -> Result<Vec<String>, ModelError> {
         if key == "solver" {
             return Ok(vec!["solver".to_owned()]);
@@ -67,28 +90,81 @@ impl Scene {
         if !targets.is_empty() && !key.is_empty() {
             return Ok(targets.into_iter().cloned().collect());
         }
-        // A path into an array (`bodies.block.position.1`) or to an optional field that the
-        // scene leaves at its default (`bodies.block.angle`) is not among the leaves; it is
-        // accepted when everything up to its last part exists.
-        // An element of an array of tables given by its index (`bodies.1.mass`) is named by
-        // its `name`, as the leaves name it, so that two keys for one entry are seen as such.
-        if self.kind() == ModelKind::Declared
-            && let Ok(mut doc) = toml::Value::try_from(self)
-            && let (parent, last) = key.rsplit_once('.').unwrap_or(("", key))
-            && let Some(container) = leaf_mut(&mut doc, parent)
-            && (container.is_table() || (container.is_array() && last.parse::<usize>().is_ok()))
-        {
-            let named = named_path(&doc, key);
-            return Ok(match leaves.iter().find(|(_, full)| *full == named) {
-                Some((_, full)) => vec![full.clone()],
-                None => vec![named],
-            });
-        }
-        Err(ModelError::UnknownKey {
+        // An entry that is no leaf (a whole table, an array's element as
+        // `bodies.block.position.1`) or an optional field that its table leaves out
+        // (`bodies.block.density`) is found in the scene's tree. A report model's parameters
+        // lie under `params`, and their keys leave it out.
+        let doc =
+            toml::Value::try_from(self).unwrap_or_else(|_| toml::Value::Table(toml::Table::new()));
+        let declared = self.kind() == ModelKind::Declared;
+        let shown: Vec<&str> = if declared { key } else { short }.split('.').collect();
+        let under_params = !declared && !is_scene_key(&doc, shown[0]);
+        let parts: Vec<&str> = if under_params { vec!["params"] } else { Vec::new() }
+            .into_iter()
+            .chain(shown.iter().copied())
+            .collect();
+        let place = match tree::place(&doc, &parts) {
+            // The model is chosen by the scene, not set.
+            tree::Place::Entry if parts == ["params", "model"] => {
+                tree::Place::Leaves { at: 1, valid: Vec::new() }
+            }
+            place => place,
+        };
+        let (at, valid) = match place {
+            tree::Place::Entry => {
+                // An element of an array of tables given by its index (`bodies.1.mass`) is
+                // named by its `name`, as the leaves name it, so that two keys for one entry
+                // are seen as such.
+                let named = named_path(&doc, &parts.join("."));
+                return Ok(match leaves.iter().find(|(_, full)| *full == named) {
+                    Some((_, full)) => vec![full.clone()],
+                    None => vec![named],
+                });
+            }
+            tree::Place::Leaves { at, valid } => (at - usize::from(under_params), valid),
+        };
+        Err(self.unknown_key(&doc, key, &shown, at, valid))
+    }
+
+    /// The refusal of `key`, whose parts `shown` (without `params.` on a report model) leave
+    /// the scene's tree, `doc`, at the part `at`, below a level whose keys are `valid`.
+    fn unknown_key(
+        &self,
+        doc: &toml::Value,
+        key: &str,
+        shown: &[&str],
+        at: usize,
+        valid: Vec<String>,
+    ) -> ModelError {
+        // The top of a report model shows its parameters' keys whole, without `params.`.
+        let top = self.kind() != ModelKind::Declared && at == 0;
+        let valid = if top { self.top_keys(doc) } else { valid };
+        let (level, name, rest) = (shown[..at].join("."), shown[at], &shown[at + 1..]);
+        // A field that the level leaves out, with parts below it, is no misspelling.
+        let suggestion = if valid.iter().any(|v| v == name) {
+            None
+        } else {
+            let whole = |near: &str| {
+                let level = (!level.is_empty()).then_some(level.as_str());
+                let parts = level.into_iter().chain([near]).chain(rest.iter().copied());
+                parts.collect::<Vec<_>>().join(".")
+            };
+            tree::nearest(name, &valid).map(whole).or_else(|| {
+                // A report model's parameter given whole with a misspelt table (`initt.y0`).
+                let joined = shown.join(".");
+                (top && !rest.is_empty())
+                    .then(|| tree::nearest(&joined, &valid))
+                    .flatten()
+                    .map(str::to_owned)
+            })
+        };
+        ModelError::UnknownKey {
             key: key.to_owned(),
-            accepted: self.keys(),
-            declared: self.kind() == ModelKind::Declared,
-        })
+            level,
+            name: name.to_owned(),
+            valid,
+            suggestion,
+        }
     }
 
     /// Sets one value, as given on a command line by `--set key=value`.
@@ -163,17 +239,17 @@ fn collect_leaves(value: &toml::Value, prefix: &str, f: &mut dyn FnMut(&str)) {
 /// The value at a dotted path: table keys, and for arrays an index or (arrays of tables) the
 /// `name` of an element.
 fn leaf_mut<'a>(doc: &'a mut toml::Value, path: &str) -> Option<&'a mut toml::Value> {
-    if path.is_empty() {
-        return Some(doc);
-    }
-    path.split('.').try_fold(doc, |v, k| match v {
-        toml::Value::Table(t) => t.get_mut(k),
-        toml::Value::Array(items) => match k.parse::<usize>() {
-            Ok(i) => items.get_mut(i),
-            Err(_) => items.iter_mut().find(|e| e.get("name").and_then(|n| n.as_str()) == Some(k)),
-        },
-        _ => None,
-    })
+    let parts: Vec<&str> = if path.is_empty() { Vec::new() } else { path.split('.').collect() };
+    tree::node_mut(doc, &parts)
+}
+
+/// Whether `first`, the first part of a key of a report model's scene, names one of the
+/// scene's own entries (`dt`, `stop_at`, ...), present or left out, rather than one of the
+/// model's parameters.
+fn is_scene_key(doc: &toml::Value, first: &str) -> bool {
+    first != "params"
+        && (doc.get(first).is_some()
+            || tree::fields_at(doc, &[]).is_some_and(|fields| fields.contains(&first)))
 }
 
 /// `path` with each index into an array of tables replaced by the `name` of its element,
