@@ -411,3 +411,44 @@ fn a_parallelogram_with_a_redundant_crank_swings_with_its_cranks_parallel() {
     let apart = finals[0].iter().zip(&finals[1]).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     assert!(apart < 1e-8, "{apart:e}");
 }
+
+#[test]
+fn a_step_too_long_for_its_joints_is_refused_on_both_paths() {
+    // A 1 m rod hinged at one end spins at 20 rad/s without gravity. At Δt = 0.1 s it would
+    // turn 2 rad per step: the midpoint leaves the hinge by 0.23 m, and the step is refused
+    // with the state left at its start. At Δt = 0.01 s the rod spins on with its hinge kept.
+    use moreau_models::bodies::{BodySpec, JointSpec, MultibodyBuilder};
+    use moreau_stepper::StepError;
+    for set in [ContactSet::Fixed, ContactSet::Detected] {
+        for projection in [false, true] {
+            let rod = || {
+                let mut b = MultibodyBuilder::new([0.0, 0.0]);
+                let mut body = BodySpec::dynamic("rod", 1.0, 1.0 / 12.0, [0.5, 0.0], 0.0);
+                body.velocity = [0.0, 10.0];
+                body.omega = 20.0;
+                b.add_body(body);
+                b.add_joint(JointSpec::revolute("hinge", "ground", [0.0, 0.0], "rod", [-0.5, 0.0]));
+                b.with_contact_set(set).build().unwrap()
+            };
+            let (q0, u0) = rod().initial_state();
+            let options = rod().stepper_options(0.1).with_projection(projection);
+            let mut stepper = Stepper::new(rod(), &q0, &u0, 0.0, options).unwrap();
+            match stepper.step() {
+                Err(StepError::JointsApart { drift, limit, .. }) => {
+                    assert!((drift - 0.2298).abs() < 1e-3 && limit < drift, "{drift} {limit}");
+                }
+                other => panic!("{set:?}, {projection}: expected a refusal, got {:?}", other.err()),
+            }
+            assert_eq!((stepper.t(), stepper.q(), stepper.u()), (0.0, &q0[..], &u0[..]));
+            let options = rod().stepper_options(0.01).with_projection(projection);
+            let mut stepper = Stepper::new(rod(), &q0, &u0, 0.0, options).unwrap();
+            stepper.record_until(3.0).unwrap();
+            let q = stepper.q();
+            let hinge = (q[0] - 0.5 * q[2].cos()).hypot(q[1] - 0.5 * q[2].sin());
+            assert!(
+                hinge < if projection { 1e-11 } else { 1e-2 },
+                "{set:?}, {projection}: {hinge}"
+            );
+        }
+    }
+}

@@ -54,6 +54,23 @@ pub enum StepError {
         /// Why the factorisation failed.
         reason: String,
     },
+    /// The joints have come apart: their drift |g_B| at a step's midpoint exceeds 1e11 times
+    /// the drift tolerance (a tenth of a declared mechanism's size; see
+    /// `StepperOptions::joint_tolerance`). The step is too long for the joints' motion (a link
+    /// that turns through a large angle per step), or the projection is off and the drift has
+    /// built up; the run stops rather than go on with bodies that are no longer joined.
+    #[error(
+        "the joints have come apart at t = {t}: their largest drift |g_B| is {drift:e}, above \
+         {limit:e}; take a shorter step or switch the projection on"
+    )]
+    JointsApart {
+        /// Time of the midpoint (s).
+        t: f64,
+        /// The largest |g_B| at the midpoint (m or rad, as the constraints are written).
+        drift: f64,
+        /// The largest drift taken.
+        limit: f64,
+    },
     /// The correction of the positions onto the joints made their drift grow: W_B is not the
     /// derivative of g_B (a hand-derived mechanism's rows that disagree with its constraints),
     /// or the step is so long that the joints' directions turn through it.

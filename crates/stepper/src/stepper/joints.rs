@@ -36,6 +36,21 @@ const SINGULAR: f64 = 1e-12;
 /// Largest number of corrections of the positions per step (on both paths).
 pub(super) const PROJECTION_ITERATIONS: usize = 4;
 
+/// The refusal of a step whose midpoint leaves the joints by `drift`, above 1e11 times the
+/// drift tolerance at q (on both paths): see [`StepError::JointsApart`].
+pub(super) fn check_apart(
+    q: &[f64],
+    joint_tolerance: f64,
+    drift: f64,
+    t: f64,
+) -> Result<(), StepError> {
+    let limit = 1e11 * drift_tolerance(q, joint_tolerance);
+    if drift > limit {
+        return Err(StepError::JointsApart { t, drift, limit });
+    }
+    Ok(())
+}
+
 /// The refusal of a correction of the positions that took the joints' largest drift from
 /// `before` to `after` in [`PROJECTION_ITERATIONS`] corrections, when it grew and ends above
 /// 1e3 times the drift `tolerance` (on both paths): simplified Newton corrections shrink a

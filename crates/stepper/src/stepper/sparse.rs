@@ -18,7 +18,7 @@ use super::islands::{
     CHUNK_LINKS, ContactWork, IslandFailure, Islands, JointGroup, Purpose, fill, for_chunks,
     group_rows, in_parallel, link,
 };
-use super::joints::{PROJECTION_ITERATIONS, check_correction, drift_tolerance};
+use super::joints::{PROJECTION_ITERATIONS, check_apart, check_correction, drift_tolerance};
 use super::*;
 use crate::bodies::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
 use crate::report::{MassView, PhaseTimes};
@@ -423,6 +423,7 @@ impl Core {
         let drift = b.joints_at(structure, &q_m, t_m);
         b.q_m = q_m;
         b.joint_drift = drift?;
+        check_apart(&self.q, self.options.joint_tolerance, b.joint_drift, t_m)?;
 
         let detect_start = Instant::now();
         b.detected.clear();

@@ -3,6 +3,7 @@
 //! per-contact report.
 #![allow(non_snake_case)]
 
+use super::joints::check_apart;
 use super::*;
 
 impl Core {
@@ -99,6 +100,7 @@ impl Core {
             ws.joints.constrain(&mut ws.u_free[..f], true);
             ws.joints.check_kept(&ws.u_free[..f], t_m)?;
             ws.joint_drift = ws.joints.drift();
+            check_apart(&self.q[..f], self.options.joint_tolerance, ws.joint_drift, t_m)?;
         }
 
         ws.last_size = 0;
