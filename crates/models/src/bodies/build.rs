@@ -13,6 +13,7 @@ use super::contacts::{Rules, pairs};
 use super::detect::Detector;
 use super::forces::Force;
 use super::joints::{Joint, JointKind};
+use super::motion::check_motion;
 use super::multibody::{Multibody, Slot};
 use super::spec::{BodySpec, BodyType, ForceSpec, JointSpec, SystemSpec};
 use crate::ModelError;
@@ -202,7 +203,11 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
                 let motion = spec.motion.clone().ok_or_else(|| {
                     bad(field("motion"), "(missing)", "a driven body needs a motion".to_owned())
                 })?;
-                check_motion(&field("motion"), &motion)?;
+                check_motion(
+                    &field("motion"),
+                    &motion,
+                    [spec.position[0], spec.position[1], spec.angle],
+                )?;
                 Kind::Driven(motion)
             }
         }
@@ -215,28 +220,6 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
         group: spec.group,
         mask: spec.mask,
     })
-}
-
-fn check_motion(field: &str, motion: &super::spec::Motion) -> Result<(), ModelError> {
-    use super::spec::Motion;
-    let f = |s: &str| format!("{field}.{s}");
-    match motion {
-        Motion::Rotate { pivot, omega, phase } => {
-            finite2(&f("pivot"), *pivot)?;
-            finite(&f("omega"), *omega)?;
-            finite(&f("phase"), *phase)
-        }
-        Motion::Oscillate { amplitude, omega, phase } => {
-            finite2(&f("amplitude"), *amplitude)?;
-            finite(&f("omega"), *omega)?;
-            finite2(&f("phase"), *phase)
-        }
-        Motion::Linear { velocity, omega } => {
-            finite2(&f("velocity"), *velocity)?;
-            finite(&f("omega"), *omega)
-        }
-        Motion::Custom(_) => Ok(()),
-    }
 }
 
 /// The relative angle θ_b − θ_a at t = 0 of two built bodies.

@@ -148,7 +148,9 @@ impl MultibodyBuilder {
 
 impl Motion {
     /// A motion given by a closure of time that returns the pose, velocity and angular
-    /// velocity ([`DrivenState`]); the reference pose of the body is not used.
+    /// velocity ([`DrivenState`]); the reference pose of the body is not used. The pose must
+    /// be continuous and the rates its derivatives: the build samples the closure and refuses
+    /// one that is not (see [`Motion::Custom`]).
     pub fn custom(f: impl Fn(f64) -> DrivenState + Send + Sync + 'static) -> Self {
         Motion::Custom(Closure::new(f))
     }

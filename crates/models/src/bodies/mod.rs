@@ -72,6 +72,7 @@ mod fill;
 mod forces;
 mod joint_spec;
 mod joints;
+mod motion;
 mod multibody;
 mod spec;
 

@@ -67,7 +67,14 @@ pub enum BodyType {
     Driven,
 }
 
-/// The motion of a driven body, relative to its declared `position` p₀ and `angle` θ₀.
+/// The motion of a driven body, relative to its declared `position` p₀ and `angle` θ₀: its
+/// pose (x, y, θ) and the rates (ẋ, ẏ, θ̇) from which the contacts and joints with it get their
+/// rheonomic terms ŵ = ∂g/∂t, as functions of the time t (s).
+///
+/// The closed forms `rotate`, `oscillate` and `linear` are continuous by construction, their
+/// rates the exact derivatives of their poses, for every t. A [`Motion::Custom`] closure must
+/// be so too: the build samples it and refuses one that is not finite, jumps or states rates
+/// that are not its pose's derivatives (see [`Motion::Custom`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Motion {
@@ -102,6 +109,19 @@ pub enum Motion {
     },
     /// Any motion, as a closure of time returning the pose and its rates (builder only; a
     /// scene file cannot hold it, and writing such a scene as TOML fails).
+    ///
+    /// The closure must give a pose continuous in t (θ included: an angle wrapped to
+    /// (−π, π] jumps by 2π) and its exact rates: velocity = dp/dt, omega = dθ/dt. The rates
+    /// may jump (a kink in the pose, an impulsive drive), the pose may not. The build checks
+    /// it over 0 ≤ t ≤ 10 s and refuses it, as [`crate::ModelError::InvalidParameter`], where
+    /// a value at t = 0, 0.01, ..., 10 s is not finite (naming `bodies.<name>.motion.pose.<k>`,
+    /// `.velocity.<k>` or `.omega`), or where the pose's change over an interval is not the
+    /// integral of the stated rate (naming `.velocity.<k>` or `.omega`): the intervals between
+    /// those times are halved where Simpson's rule on the rate disagrees with the change by
+    /// more than 1e-4 of the interval times the largest rate, down to 1e-8 s, where a change
+    /// outside the interval times the range of the rate is a jump or a wrong rate. After 10 s,
+    /// and past a million evaluations of a motion so fast that it needs them, the closure is
+    /// trusted.
     #[serde(skip)]
     Custom(Closure<DrivenState>),
 }
