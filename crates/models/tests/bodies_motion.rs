@@ -1,7 +1,8 @@
-//! Driven bodies' motions: the build's refusal of motions that are not finite, whose pose
-//! jumps, or whose stated rates are not the pose's derivatives, each error naming the field.
+//! Driven bodies' motions: the closed form of `oscillate`, and the build's refusal of motions
+//! that are not finite, whose pose jumps, or whose stated rates are not the pose's
+//! derivatives, each error naming the field.
 
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, PI};
 
 use moreau_kinematics::Shape;
 use moreau_models::ModelError;
@@ -40,6 +41,44 @@ fn refused_field(result: Result<Multibody, ModelError>) -> String {
         Err(e) => panic!("expected an invalid parameter, got {e}"),
         Ok(_) => panic!("expected the motion to be refused"),
     }
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-15 * (1.0 + b.abs())
+}
+
+#[test]
+fn oscillate_is_p0_plus_a_sin_omega_t_plus_phase_per_axis() {
+    let (a, omega) = ([0.02, 0.03], 6.0 * PI);
+    let quarter = FRAC_PI_2 / omega; // a quarter of the period 2π/Ω
+    let pose0 = [0.1, -0.05, 0.2];
+    // Phase 0 (the default): at the centre p₀ moving at A Ω; a quarter period later at
+    // p₀ + A, at rest.
+    let m = Motion::Oscillate { amplitude: a, omega, phase: [0.0, 0.0] };
+    let s = m.state(pose0, 0.0);
+    assert_eq!(s.pose, pose0);
+    assert_eq!(s.velocity, [a[0] * omega, a[1] * omega]);
+    assert_eq!(s.omega, 0.0);
+    let s = m.state(pose0, quarter);
+    for i in 0..2 {
+        assert!(close(s.pose[i], pose0[i] + a[i]), "{:?}", s.pose);
+        assert!(s.velocity[i].abs() <= 1e-15 * a[i] * omega, "{:?}", s.velocity);
+    }
+    assert_eq!(s.pose[2], pose0[2]);
+    // Phase π/2 on x only: x starts at rest at p₀ + A and is back at the centre, moving at
+    // −A Ω, a quarter period later; y keeps phase 0.
+    let m = Motion::Oscillate { amplitude: a, omega, phase: [FRAC_PI_2, 0.0] };
+    let s = m.state(pose0, 0.0);
+    assert!(close(s.pose[0], pose0[0] + a[0]) && s.velocity[0].abs() <= 1e-15 * a[0] * omega);
+    assert_eq!((s.pose[1], s.velocity[1]), (pose0[1], a[1] * omega));
+    let s = m.state(pose0, quarter);
+    assert!(close(s.pose[0], pose0[0]) && close(s.velocity[0], -a[0] * omega), "{s:?}");
+    // The built body is where the motion says.
+    let mb = table(Motion::Oscillate { amplitude: a, omega, phase: [0.0, 0.0] }).unwrap();
+    let (q0, _) = mb.initial_state();
+    assert_eq!(mb.body_poses(&q0, 0.0)[0], pose0);
+    let p = mb.body_poses(&q0, quarter)[0];
+    assert!(close(p[0], pose0[0] + a[0]) && close(p[1], pose0[1] + a[1]), "{p:?}");
 }
 
 #[test]

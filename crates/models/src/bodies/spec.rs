@@ -79,7 +79,8 @@ pub enum BodyType {
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Motion {
     /// Rotation about the fixed point `pivot` by φ(t) = ω t + phase:
-    /// p(t) = pivot + R(φ)(p₀ − pivot), θ(t) = θ₀ + φ(t).
+    /// p(t) = pivot + R(φ)(p₀ − pivot), θ(t) = θ₀ + φ(t); velocity ṗ(t) = ω k × (p(t) − pivot),
+    /// θ̇ = ω. At t = 0 the body has already turned by `phase` from its declared pose.
     Rotate {
         /// The fixed centre of rotation `[x, y]` (m).
         pivot: [f64; 2],
@@ -89,17 +90,26 @@ pub enum Motion {
         #[serde(default)]
         phase: f64,
     },
-    /// A shaken table: p(t) = p₀ + A ⊙ sin(Ω t + φ) per axis, θ(t) = θ₀.
+    /// A shaken table, per axis i ∈ {x, y}, with A_i = `amplitude[i]` (m), Ω = `omega`
+    /// (rad/s) and φ_i = `phase[i]` (rad):
+    ///
+    /// p_i(t) = p₀,i + A_i sin(Ω t + φ_i),  ṗ_i(t) = A_i Ω cos(Ω t + φ_i),  θ(t) = θ₀, θ̇ = 0.
+    ///
+    /// The declared `position` p₀ is the centre of the oscillation. With the default phase 0
+    /// the body starts AT p₀ MOVING at its largest speed A_i Ω (a body declared at rest on
+    /// it starts with a velocity −A_i Ω relative to it); with φ_i = π/2 it starts at rest at p₀,i + A_i, an end of its
+    /// stroke (p_i = p₀,i + A_i cos Ω t). A quarter period later, t = π/(2Ω), phase 0 gives
+    /// p₀ + A at rest. The period is 2π/Ω (s), the frequency Ω/(2π) (Hz).
     Oscillate {
         /// Amplitudes `[A_x, A_y]` (m).
         amplitude: [f64; 2],
         /// Angular frequency Ω (rad/s).
         omega: f64,
-        /// Phases `[φ_x, φ_y]` (rad); default `[0, 0]`.
+        /// Phases `[φ_x, φ_y]` (rad) at t = 0; default `[0, 0]` (start at the centre, moving).
         #[serde(default)]
         phase: [f64; 2],
     },
-    /// Constant velocity: p(t) = p₀ + v t, θ(t) = θ₀ + ω t.
+    /// Constant velocity: p(t) = p₀ + v t, θ(t) = θ₀ + ω t; ṗ = v, θ̇ = ω.
     Linear {
         /// Velocity `[v_x, v_y]` (m/s).
         velocity: [f64; 2],
