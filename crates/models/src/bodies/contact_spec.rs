@@ -8,7 +8,10 @@ use crate::params::LawParams;
 
 /// One explicit contact: shape `shape_a` of body a against shape `shape_b` of body b, with
 /// its laws. It has `max_points` slots (one per feature pair), named `<name>` when there is
-/// one and `<name>.<k>` otherwise.
+/// one and `<name>.<k>` otherwise, slot k holding the narrow phase's feature k: for a polygon
+/// on a half-plane its vertex k (in declared order), for two polygons vertex k of a when
+/// k < n_a and vertex k − n_a of b otherwise, for a disk the one closest pair (the full
+/// numbering is in the [module's](super) documentation of contact sets).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
@@ -54,7 +57,10 @@ pub struct PairOverride {
 
 /// Automatic contacts: every pair of shapes on different bodies that the collision groups
 /// allow, not both on fixed or driven bodies, not between bodies connected by a joint, and
-/// not already an explicit contact. Slot names are `<body>.<shape>-<body>.<shape>[.<k>]`.
+/// not already an explicit contact. Slot names are `<body>.<shape>-<body>.<shape>[.<k>]`,
+/// the earlier-declared body first (it plays body a of [`ContactSpec`]) and k numbered as
+/// there; the pairs follow the explicit contacts, in the order of body a, body b, shape a,
+/// shape b.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AutoContacts {

@@ -188,6 +188,34 @@ impl Rules {
 /// Adds the slots of the explicit and the automatic contacts, their laws and names, for the
 /// fixed contact set: one pair per explicit contact and per pair of shapes the automatic
 /// contacts allow, each with `max_points` slots.
+///
+/// # Numbering
+/// The slots follow those of the clearance joints (`<joint>` for a revolute one,
+/// `<joint>.corner1` .. `.corner4` for a translational one): first the explicit contacts in
+/// declaration order, then the automatic pairs, by body a then body b (a before b in the
+/// order of `[[bodies]]`, then the `[[fill]]` bodies), then by shape index on a, then on b.
+/// Shape a is A: the explicit contact's `body_a`, or the automatic pair's earlier body.
+///
+/// Within a pair, slot `first + k` holds the narrow phase's feature k
+/// (`moreau_kinematics::collide`), the same feature at every step, whether or not it touches:
+/// * a disk against anything: one slot, the pair of closest points;
+/// * a polygon (n vertices, in their declared counter-clockwise order) or a capsule (n = 2:
+///   end `a`, then end `b`) on a half-plane: n slots, slot k the polygon's vertex k on the
+///   boundary. A box with vertices declared from its lower left corner counter-clockwise and
+///   resting flat on a floor closes slots 0 and 1, its lower corners;
+/// * two polygons or capsules with n_A and n_B vertices: n_A + n_B slots, slot i vertex i of A
+///   on a face of B, slot n_A + j vertex j of B on a face of A. Faces get no slot of their
+///   own: a face resting on a face closes the slots of the two corners that bound the contact
+///   (either shape's), and two corners facing each other across a gap use the slot of A's;
+/// * a polyline or profile of p points on a half-plane: p slots, slot v its point v;
+/// * a disk, capsule or polygon with n core vertices against a polyline or profile of m
+///   segments and p points: m n + p slots, slot k n + i vertex i on segment k, slot m n + v
+///   the chain's point v against the convex shape.
+///
+/// A pair's slots are named `<name>` when it has one and `<name>.<k>` otherwise, where the
+/// name is the explicit contact's or `<body a>.<shape a>-<body b>.<shape b>`: a box `box`
+/// (shape 0) declared after a floor `floor` (shape 0) with automatic contacts has slots
+/// `floor.0-box.0.0` .. `floor.0-box.0.3`, its vertices 0 to 3.
 pub(crate) fn pairs(
     rules: &Rules,
     bodies: &[Body],

@@ -38,7 +38,15 @@
 //! * `fixed` (default): a list of slots built once, one per pair and feature of the pair, each
 //!   named and closed or open at each step, the contacts of
 //!   `moreau_kinematics::ContactKinematics`. Automatic slots grow as the square of the number
-//!   of bodies; clearance joints, whose contacts are slots, need this mode.
+//!   of bodies; clearance joints, whose contacts are slots, need this mode. The list holds
+//!   the clearance joints' slots, then the explicit contacts' in declaration order, then the
+//!   automatic pairs' (by body a, body b, shape a, shape b, a the earlier body). Within a
+//!   pair slot k is feature k of the narrow phase: a polygon on a half-plane has one slot per
+//!   vertex, slot k its vertex k in declared order (a box declared counter-clockwise from its
+//!   lower left corner, resting flat on a floor, closes slots 0 and 1); two polygons have
+//!   n_a + n_b, slot i vertex i of a on a face of b, slot n_a + j vertex j of b on a face of a;
+//!   a disk has one. A pair of one slot names it `<name>`, otherwise `<name>.<k>`, with the
+//!   explicit contact's name or `<body a>.<shape a>-<body b>.<shape b>`.
 //! * `detected`: no slots, so `num_contacts()` is 0; [`Multibody`] announces
 //!   `Mechanism::body_structure` and implements `moreau_stepper::BodyStructure`: a 3 × 3 mass
 //!   block per dynamic body, and at each (q, t) the contacts within the stepper's margin found
