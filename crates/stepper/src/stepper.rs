@@ -467,9 +467,10 @@ impl<M: Mechanism> Stepper<M> {
     /// [`StepError::LcpFailed`] (carrying the LCP instance) when the step's LCP has no
     /// acceptable solution ([`StepError::IslandFailed`] for an island of a mechanism with a
     /// [`crate::BodyStructure`], whose detected contacts may also be
-    /// [`StepError::InvalidContact`]), and [`StepError::JointCorrectionDiverged`] when the
-    /// correction of the positions onto the joints makes their drift grow. The state is left
-    /// at the start of the failed step.
+    /// [`StepError::InvalidContact`]), [`StepError::JointsApart`] when the step's midpoint
+    /// leaves the joints by a tenth of the mechanism's size, and
+    /// [`StepError::JointCorrectionDiverged`] when the correction of the positions onto the
+    /// joints makes their drift grow. The state is left at the start of the failed step.
     pub fn step(&mut self) -> Result<StepReport<'_>, StepError> {
         if self.core.body.is_some() {
             self.core.advance_bodies(&self.mechanism)?;

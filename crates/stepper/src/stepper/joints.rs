@@ -62,7 +62,7 @@ pub(super) fn check_correction(
     tolerance: f64,
     t: f64,
 ) -> Result<(), StepError> {
-    if after > before && after > 1e3 * tolerance || !after.is_finite() {
+    if (after > before && after > 1e3 * tolerance) || !after.is_finite() {
         return Err(StepError::JointCorrectionDiverged { t, before, after });
     }
     Ok(())
