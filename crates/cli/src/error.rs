@@ -109,23 +109,6 @@ pub enum CliError {
         /// The limit.
         limit: u64,
     },
-    /// A `--set` key that names no entry of the scene: the level of the scene where it leaves
-    /// the scene's keys, the keys of that level, and the nearest of them when one is obvious,
-    /// as the scene's [`ModelError::UnknownKey`](moreau_models::ModelError::UnknownKey) gives
-    /// them.
-    #[error("{}", moreau_models::unknown_key_text(key, level, name, valid, suggestion.as_deref()))]
-    UnknownKey {
-        /// The key as given.
-        key: String,
-        /// The level of the scene where it leaves the keys (`bodies.ball`; empty for the top).
-        level: String,
-        /// Its part that the level does not have (`masss`).
-        name: String,
-        /// The keys of that level (a table's optional fields included).
-        valid: Vec<String>,
-        /// The key meant, when one key of the level lies within two edits of `name`.
-        suggestion: Option<String>,
-    },
     /// The same scene entry set twice (directly or through an alias).
     #[error("'{second}' sets {entry}, which '{first}' already sets; give each key once")]
     RepeatedKey {

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use moreau_models::{AnyModel, ModelError, ModelKind, Scene, Simulation};
+use moreau_models::{AnyModel, ModelKind, Scene, Simulation};
 use moreau_stepper::{Mechanism, Observer, Record, Recorder, StepReport};
 
 use crate::contacts::ContactLog;
@@ -111,7 +111,7 @@ pub fn base_scene(model: Option<&str>, scene: Option<&Path>) -> Result<Scene> {
 /// the solver's name chooses its kind, whose fields a later key may then set.
 ///
 /// # Errors
-/// [`CliError::RepeatedKey`] naming both keys and the entry; [`CliError::UnknownKey`] for a
+/// [`CliError::RepeatedKey`] naming both keys and the entry; [`moreau_models::ModelError::UnknownKey`] for a
 /// key the scene does not have, with the keys of the level where it leaves the scene's and
 /// the nearest of them; a bad value (naming the override).
 pub fn apply_sets(scene: &mut Scene, sets: &[(String, String)]) -> Result<()> {
@@ -133,7 +133,7 @@ fn apply_labelled<'a>(
     };
     let mut seen: Vec<(&str, Vec<String>)> = Vec::new();
     for (label, key, value) in sets {
-        let targets = scene.targets(key).map_err(|e| refused(key, value, e))?;
+        let targets = scene.targets(key).with_context(|| format!("--set {key}={value}"))?;
         for (first, earlier) in &seen {
             let repeated =
                 targets.iter().find_map(|t| earlier.iter().find(|e| overlap(e, t)).map(|e| (t, e)));
@@ -148,23 +148,10 @@ fn apply_labelled<'a>(
                 .into());
             }
         }
-        scene.set(key, value).map_err(|e| refused(key, value, e))?;
+        scene.set(key, value).with_context(|| format!("--set {key}={value}"))?;
         seen.push((label, targets));
     }
     Ok(())
-}
-
-/// The scene's refusal `error` of `--set key=value`: [`CliError::UnknownKey`] when it is the
-/// key that the scene lacks, `error` itself otherwise.
-fn refused(key: &str, value: &str, error: ModelError) -> anyhow::Error {
-    let context = format!("--set {key}={value}");
-    match error {
-        ModelError::UnknownKey { key, level, name, valid, suggestion } => {
-            anyhow::Error::new(CliError::UnknownKey { key, level, name, valid, suggestion })
-        }
-        other => anyhow::Error::new(other),
-    }
-    .context(context)
 }
 
 /// The scene of the options: the scene file or the model's report scene, with overrides.

@@ -11,7 +11,7 @@ use moreau_cli::guard;
 use moreau_cli::simulate::{SimulateOptions, run, scene};
 use moreau_cli::sweep::{SweepOptions, run as sweep};
 use moreau_cli::{CliError, Divergence};
-use moreau_models::Scene;
+use moreau_models::{ModelError, Scene};
 
 /// Radius of the bob and x of the wall's face in scenes/bodies/pendulum-wall.toml (m).
 const RADIUS: f64 = 0.05;
@@ -410,7 +410,9 @@ fn an_unknown_key_is_told_as_such_with_the_keys_of_its_level() -> Result<()> {
         ..Default::default()
     };
     let e = scene(&options("bodies.ball.masss=2")).expect_err("unknown");
-    let Some(CliError::UnknownKey { level, name, valid, suggestion, .. }) = cli_error(&e) else {
+    let Some(ModelError::UnknownKey { level, name, valid, suggestion, .. }) =
+        e.chain().find_map(|c| c.downcast_ref::<ModelError>())
+    else {
         anyhow::bail!("{e:#}")
     };
     ensure!(level == "bodies.ball" && name == "masss", "{e:#}");
