@@ -337,7 +337,10 @@ impl Core {
                 ColRef::from_slice(&ws.proj_b[..k]),
             )?;
             ws.proj_solver.solve_into(lcp, None, &mut ws.proj_solution)?;
-            if ws.proj_solution.status != Status::Solved {
+            let tolerance = self.options.projection_tolerance;
+            if ws.proj_solution.status != Status::Solved
+                && !projects_within(&ws.proj_solution, tolerance)
+            {
                 // A projection that cannot be computed leaves q_E as the scheme gave it.
                 break;
             }
@@ -678,4 +681,17 @@ impl Core {
             }
         }
     }
+}
+
+/// Whether the solution of a projection's LCP (A z + g_N = w, 0 ≤ z ⊥ w ≥ 0, w the gaps after
+/// the correction to first order, in m) that its solver does not call solved still puts the
+/// contacts within `tolerance` of their surfaces: z finite and non-negative, every w at least
+/// −`tolerance`, and the w of each contact it pushes (z > 0) at most `tolerance`. The
+/// projection needs the positions to its tolerance, not the LCP to the solvers' relative
+/// residual: with joints, A = W_Nᵀ Ĝ⁻¹ W_N is singular, and Lemke can end at a natural residual
+/// of 1e-13 m whose relative residual of 1e-7 it reports as a numerical failure.
+fn projects_within(solution: &Solution, tolerance: f64) -> bool {
+    solution.z.iter().zip(&solution.w).all(|(&z, &w)| {
+        z.is_finite() && z >= 0.0 && w >= -tolerance && (z == 0.0 || w <= tolerance)
+    })
 }
