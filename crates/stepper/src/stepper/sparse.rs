@@ -423,7 +423,9 @@ impl Core {
         let drift = b.joints_at(structure, &q_m, t_m);
         b.q_m = q_m;
         b.joint_drift = drift?;
-        check_apart(&self.q, self.options.joint_tolerance, b.joint_drift, t_m)?;
+        if !b.rows.is_empty() {
+            check_apart(&self.q, self.options.joint_tolerance, b.joint_drift, t_m)?;
+        }
 
         let detect_start = Instant::now();
         b.detected.clear();
