@@ -448,7 +448,7 @@ pub fn run_to_csv(
         (None, _) => (None, None),
         (Some(file), AnyModel::Declared(m)) => {
             let (partial, w) = file.create_partial()?;
-            let margin = scene.stepper_options().gap_tolerance;
+            let margin = m.gap_tolerance();
             let log =
                 ContactLog::new(m, m.initial_state(), scene.record_every, scene.dt, margin, w)?;
             (Some((file, partial)), Some(log))

@@ -20,6 +20,7 @@ use moreau_stepper::{
 };
 use serde::{Deserialize, Serialize};
 
+use crate::bodies::Multibody;
 use crate::params::{finite, non_negative, positive, relation};
 use crate::registry::dispatch;
 use crate::{AnyModel, ModelError, ModelKind, ModelParams};
@@ -324,27 +325,37 @@ impl Scene {
     /// ([`crate::bodies::Multibody::projection_tolerance`]) and joint tolerance
     /// ([`crate::bodies::Multibody::joint_tolerance`]), all relative to its size.
     pub fn stepper_options(&self) -> StepperOptions {
+        match &self.params {
+            // The build's error surfaces where the scene is built.
+            ModelParams::Declared(spec) => self.options_of(spec.build().ok().as_ref()),
+            _ => self.options_of(None),
+        }
+    }
+
+    /// [`Self::stepper_options`] with the declared mechanism built already, if the scene
+    /// declares one.
+    fn options_of(&self, declared: Option<&Multibody>) -> StepperOptions {
         let options = StepperOptions::new(self.dt)
             .with_solver(self.solver)
             .with_projection(self.projection)
             .with_inexact_residual(self.inexact_residual);
-        match &self.params {
-            ModelParams::Declared(spec) => match spec.build() {
-                Ok(m) => {
-                    let declared = m.stepper_options(self.dt);
-                    let options = options.with_gap_tolerance(declared.gap_tolerance);
-                    if self.projection {
-                        options
-                            .with_projection_tolerance(declared.projection_tolerance)
-                            .with_joint_tolerance(declared.joint_tolerance)
-                    } else {
-                        options
-                    }
-                }
-                // The build's error surfaces where the scene is built.
-                Err(_) => options,
-            },
-            _ => options,
+        let Some(m) = declared else { return options };
+        let own = m.stepper_options(self.dt);
+        let options = options.with_gap_tolerance(own.gap_tolerance);
+        if self.projection {
+            options
+                .with_projection_tolerance(own.projection_tolerance)
+                .with_joint_tolerance(own.joint_tolerance)
+        } else {
+            options
+        }
+    }
+
+    /// [`Self::stepper_options`] for the scene's `model`, built already.
+    fn options_for(&self, model: &AnyModel) -> StepperOptions {
+        match model {
+            AnyModel::Declared(m) => self.options_of(Some(m)),
+            _ => self.options_of(None),
         }
     }
 
@@ -355,7 +366,8 @@ impl Scene {
     pub fn stepper(&self) -> Result<Stepper<AnyModel>, ModelError> {
         let model = self.build()?;
         let (q0, u0) = model.initial_state();
-        Ok(Stepper::new(model, &q0, &u0, 0.0, self.stepper_options())?)
+        let options = self.options_for(&model);
+        Ok(Stepper::new(model, &q0, &u0, 0.0, options)?)
     }
 
     /// Builds the model, runs it to the stop rule (or `t_end`) and records every
@@ -421,7 +433,7 @@ impl Scene {
     ) -> Result<RunSummary, ModelError> {
         let stop = self.stop(model)?;
         let (q0, u0) = model.initial_state();
-        let options = self.stepper_options();
+        let options = self.options_for(model);
         let mut shown = AsAnyModel { model, inner: observer };
         dispatch!(model, m => {
             let mut stepper = Stepper::new(m.clone(), &q0, &u0, 0.0, options)?;
