@@ -90,11 +90,13 @@ pub enum JointSpec {
     /// radius r_b on body b, one unilateral contact with
     /// g_N = (r_b − r_p) − |P_pin − P_bearing| and the normal along the eccentricity.
     ///
-    /// The clearance must stay well above the pin's drift per step, about L (ω Δt)² for a
-    /// body of reach L turning at ω about the pin: a 1 m pendulum at Δt = 1e-4 s follows the
-    /// ideal joint to 5.4 c rad down to c = 1e-5 m, but at c = 1e-6 m its pin chatters 27 c
-    /// deep and the pendulum loses energy (docs/extremes.md). Below that, use
-    /// [`JointSpec::Revolute`] or a smaller Δt.
+    /// A body of reach L turning at ω about the pin pushes it outward by about L (ω Δt)² per
+    /// step, and at ε_N = 0 the contact takes that velocity away: an energy loss first order
+    /// in Δt whatever the play. A 1 m rod swinging from 1 rad at Δt = 1e-4 s follows the
+    /// ideal joint to about 4 c rad for c = 1e-3 and 1e-4 m; below, that loss dominates. At a
+    /// play as small as the projection's tolerance (1e-6 of a scene's size) the pin chatters;
+    /// set `StepperOptions::projection_tolerance` to about 1e-2 c, use a smaller Δt or
+    /// [`JointSpec::Revolute`] (docs/extremes.md, item 10).
     RevoluteClearance {
         /// Unique joint name (and the contact's name).
         name: String,
