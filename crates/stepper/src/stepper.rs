@@ -453,6 +453,7 @@ impl<M: Mechanism> Stepper<M> {
         self.core.t = t;
         self.core.step = 0;
         self.core.ws.prev.fill([0.0; 3]);
+        self.core.ws.joints.moved();
         if let Some(body) = &mut self.core.body {
             body.forget();
         }

@@ -112,6 +112,10 @@ pub(super) struct Joints {
     /// constraint): kept apart from the midpoint's, which M̂⁻¹ still uses.
     g_end: Vec<f64>,
     w_end: Vec<f64>,
+    /// Whether `w_end` and `points` hold W_B and the constraints' scalars at the stepper's
+    /// current (q, t): the correction of the positions ended on them, and nothing moved q
+    /// since. The next step's start is then that evaluation.
+    at_start: bool,
     /// The projection's M⁻¹ w_N of the contacts it holds, its matrix K over the constraints
     /// and those contacts, K's factor, and its right-hand side; sized at the first projection
     /// for every contact closed at once.
@@ -140,6 +144,7 @@ impl Joints {
             y: vec![0.0; n],
             g_end: vec![0.0; n],
             w_end: vec![0.0; f * n],
+            at_start: false,
             held_x: Vec::new(),
             k: Vec::new(),
             k_rhs: Vec::new(),
@@ -149,6 +154,12 @@ impl Joints {
     /// The largest |g_B| at the last assembly (m or rad, as the constraints are written).
     pub(super) fn drift(&self) -> f64 {
         self.g.iter().fold(0.0, |d, g| d.max(g.abs()))
+    }
+
+    /// Forgets the constraints' evaluation at the end of the last correction, once q has moved
+    /// from there (or a new state is set).
+    pub(super) fn moved(&mut self) {
+        self.at_start = false;
     }
 
     /// Evaluates the constraints at the start (`q_a`, `t_a`) and at the midpoint (`q_m`, `t_m`),
@@ -168,8 +179,12 @@ impl Joints {
         chol: &Cholesky,
     ) -> Result<(), StepError> {
         let (f, n) = (self.f, self.n);
-        // γ_B,A(u_A) into b, with W_B at the start in the projection's scratch.
-        mech.bilaterals(q_a, t_a, &mut self.w_end, &mut self.points);
+        // γ_B,A(u_A) into b, with W_B at the start in the projection's scratch, where the last
+        // step's correction may have left it.
+        if !self.at_start {
+            mech.bilaterals(q_a, t_a, &mut self.w_end, &mut self.points);
+        }
+        self.at_start = false;
         for i in 0..n {
             self.b[i] = -(dot(&self.w_end[i * f..][..f], u_a) + self.points[i].w_hat);
             if !self.b[i].is_finite() {
@@ -401,6 +416,7 @@ impl Joints {
                 drift = drift.max(g.abs());
             }
             if drift <= tolerance {
+                self.at_start = true;
                 return Ok(());
             }
             let before = *before.get_or_insert(drift);

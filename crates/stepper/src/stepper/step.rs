@@ -165,7 +165,11 @@ impl Core {
 
         if self.options.projection {
             let t_e = self.t0 + step_count_as_f64(self.step + 1) * dt;
-            self.project(mech, t_e)?;
+            if let Err(e) = self.project(mech, t_e) {
+                // The joints' evaluation at the end is not that of the next step's start.
+                self.ws.joints.moved();
+                return Err(e);
+            }
         }
 
         self.step += 1;
@@ -344,6 +348,7 @@ impl Core {
                 // A projection that cannot be computed leaves q_E as the scheme gave it.
                 break;
             }
+            ws.joints.moved();
             for (c, lambda) in ws.proj_solution.z.iter().enumerate() {
                 for (q, x) in self.q.iter_mut().zip(&ws.proj_x[c * f..][..f]) {
                     *q += x * lambda.max(0.0);
