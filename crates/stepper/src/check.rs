@@ -11,10 +11,11 @@ use moreau_kinematics::ContactPoint;
 use crate::SharedWork;
 use crate::mechanism::{evaluate, midpoint_contacts};
 use crate::stepper::check_state;
-use crate::{Mechanism, StepError};
+use crate::{BilateralPoint, Mechanism, StepError};
 
-/// Where an override of [`SharedWork::evaluate`] or [`SharedWork::midpoint_contacts`] differs
-/// from the separate methods by more than the tolerance.
+/// Where an override of [`SharedWork::evaluate`], [`SharedWork::midpoint_contacts`] or
+/// [`SharedWork::midpoint_bilaterals`] differs from the separate methods by more than the
+/// tolerance.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 #[error(
     "{what}[{index}]: {combined} from the shared evaluation, {separate} from the separate \
@@ -22,14 +23,16 @@ use crate::{Mechanism, StepError};
 )]
 pub struct EvaluateMismatch {
     /// The quantity: `"M"`, `"h"`, `"g_N"` (of `evaluate`), or `"contact g_N"`, `"g_T"`,
-    /// `"w_N"`, `"w_T"`, `"ŵ_N"`, `"ŵ_T"` (of `midpoint_contacts` for all contacts at once).
+    /// `"w_N"`, `"w_T"`, `"ŵ_N"`, `"ŵ_T"` (of `midpoint_contacts` for all contacts at once),
+    /// or `"w_B"`, `"g_B"`, `"ŵ_B"` (of `midpoint_bilaterals`).
     pub what: &'static str,
     /// The entry: column-major for M, the contact for the gaps and ŵ, `f · contact + j` for
-    /// the entries j of w_N and w_T.
+    /// the entries j of w_N and w_T, the constraint for g_B and ŵ_B, `f · constraint + j`
+    /// for the entries j of w_B.
     pub index: usize,
-    /// The value of `evaluate` or `midpoint_contacts`.
+    /// The value of `evaluate`, `midpoint_contacts` or `midpoint_bilaterals`.
     pub combined: f64,
-    /// The value of `mass_matrix`, `forces`, `normal_gaps` or `contacts`.
+    /// The value of `mass_matrix`, `forces`, `normal_gaps`, `contacts` or `bilaterals`.
     pub separate: f64,
     /// `|combined − separate| / max(1, |combined|, |separate|)`.
     pub scaled: f64,
@@ -39,7 +42,8 @@ pub struct EvaluateMismatch {
 /// [`Mechanism::forces`] and [`moreau_kinematics::ContactKinematics::normal_gaps`], and then
 /// [`SharedWork::midpoint_contacts`] (with the memo that `evaluate` left) with
 /// [`moreau_kinematics::ContactKinematics::contacts`], for all contacts at once and for each
-/// contact alone. Returns the first entry whose scaled difference
+/// contact alone, and [`SharedWork::midpoint_bilaterals`], when the mechanism computes them,
+/// with [`Mechanism::bilaterals`]. Returns the first entry whose scaled difference
 /// `|a − b| / max(1, |a|, |b|)` exceeds `tol` (NaN in both counts as equal), or `None` when
 /// they all agree.
 ///
@@ -167,6 +171,28 @@ pub fn check_evaluate<M: Mechanism + ?Sized>(
         ] {
             if let Some(m) = compare(what, &a, &b) {
                 return Ok(Some(offset(m, per)));
+            }
+        }
+    }
+
+    let nb = mech.num_bilaterals();
+    let mut kept = (vec![0.0; nb * f], vec![BilateralPoint::default(); nb]);
+    let computed = mech
+        .shared_work()
+        .is_some_and(|s| s.midpoint_bilaterals(q, t, &memo, &mut kept.0, &mut kept.1));
+    if computed {
+        let mut fresh = (vec![0.0; nb * f], vec![BilateralPoint::default(); nb]);
+        mech.bilaterals(q, t, &mut fresh.0, &mut fresh.1);
+        let scalars = |p: &[BilateralPoint], g: fn(&BilateralPoint) -> f64| -> Vec<f64> {
+            p.iter().map(g).collect()
+        };
+        for (what, a, b) in [
+            ("w_B", kept.0.clone(), fresh.0.clone()),
+            ("g_B", scalars(&kept.1, |p| p.g), scalars(&fresh.1, |p| p.g)),
+            ("ŵ_B", scalars(&kept.1, |p| p.w_hat), scalars(&fresh.1, |p| p.w_hat)),
+        ] {
+            if let Some(m) = compare(what, &a, &b) {
+                return Ok(Some(m));
             }
         }
     }

@@ -139,6 +139,22 @@ pub trait SharedWork {
         w_t: &mut [f64],
         points: &mut [ContactPoint],
     );
+
+    /// [`Mechanism::bilaterals`] at the q and t of the last [`Self::evaluate`], which left
+    /// `memo` as it was: the same values into `w` and `points`, and `true`. The default
+    /// writes nothing and returns `false`, and the stepper then calls
+    /// [`Mechanism::bilaterals`].
+    fn midpoint_bilaterals(
+        &self,
+        q: &[f64],
+        t: f64,
+        memo: &[f64],
+        w: &mut [f64],
+        points: &mut [BilateralPoint],
+    ) -> bool {
+        let _ = (q, t, memo, w, points);
+        false
+    }
 }
 
 /// M, h and the gaps at the midpoint: through the mechanism's [`SharedWork`] when it has one,
@@ -185,6 +201,24 @@ pub(crate) fn midpoint_contacts<M: Mechanism + ?Sized>(
     match mech.shared_work() {
         Some(shared) => shared.midpoint_contacts(which, q, t, memo, w_n, w_t, points),
         None => mech.contacts(which, q, t, w_n, w_t, points),
+    }
+}
+
+/// The bilateral constraints at the midpoint of the last [`evaluate`]: through the
+/// mechanism's [`SharedWork`] when it computes them from its memo, otherwise
+/// [`Mechanism::bilaterals`].
+#[inline(always)]
+pub(crate) fn midpoint_bilaterals<M: Mechanism + ?Sized>(
+    mech: &M,
+    q: &[f64],
+    t: f64,
+    memo: &[f64],
+    w: &mut [f64],
+    points: &mut [BilateralPoint],
+) {
+    let kept = mech.shared_work().is_some_and(|s| s.midpoint_bilaterals(q, t, memo, w, points));
+    if !kept {
+        mech.bilaterals(q, t, w, points);
     }
 }
 

@@ -570,22 +570,7 @@ impl SharedWork for Multibody {
     ) {
         let f = self.num_coordinates();
         let (slots, bodies) = memo.split_at(SLOT_MEMO * self.slots.len());
-        let frame = |b: usize| {
-            let m = &bodies[FRAME_MEMO * b..][..FRAME_MEMO];
-            let dof = match self.bodies[b].kind {
-                Kind::Dynamic { dof, .. } => Some(dof),
-                _ => None,
-            };
-            Frame {
-                p: [m[0], m[1]],
-                theta: m[2],
-                cos: m[3],
-                sin: m[4],
-                v: [m[5], m[6]],
-                omega: m[7],
-                dof,
-            }
-        };
+        let frame = |b: usize| self.memo_frame(bodies, b);
         for (a, &i) in which.iter().enumerate() {
             let m = &slots[SLOT_MEMO * i..][..SLOT_MEMO];
             let geometry = SlotGeometry {
@@ -602,6 +587,48 @@ impl SharedWork for Multibody {
             w_n.fill(0.0);
             w_t.fill(0.0);
             points[a] = geometry.rows(&frame(body_a), &frame(body_b), w_n, w_t);
+        }
+    }
+
+    /// Every row from the frames in the memo.
+    fn midpoint_bilaterals(
+        &self,
+        _q: &[f64],
+        t: f64,
+        memo: &[f64],
+        w: &mut [f64],
+        points: &mut [BilateralPoint],
+    ) -> bool {
+        let f = self.num_coordinates();
+        let bodies = &memo[SLOT_MEMO * self.slots.len()..];
+        for (i, &(joint, k)) in self.rows.iter().enumerate() {
+            let j = &self.joints[joint];
+            let w = &mut w[i * f..][..f];
+            w.fill(0.0);
+            let (fa, fb) = (self.memo_frame(bodies, j.a), self.memo_frame(bodies, j.b));
+            points[i] = j.kind.row(k, &fa, &fb, t, w);
+        }
+        true
+    }
+}
+
+impl Multibody {
+    /// The frame of body `b` as [`SharedWork::evaluate`] kept it in the memo's `bodies` part.
+    #[inline]
+    fn memo_frame(&self, bodies: &[f64], b: usize) -> Frame {
+        let m = &bodies[FRAME_MEMO * b..][..FRAME_MEMO];
+        let dof = match self.bodies[b].kind {
+            Kind::Dynamic { dof, .. } => Some(dof),
+            _ => None,
+        };
+        Frame {
+            p: [m[0], m[1]],
+            theta: m[2],
+            cos: m[3],
+            sin: m[4],
+            v: [m[5], m[6]],
+            omega: m[7],
+            dof,
         }
     }
 }

@@ -24,6 +24,7 @@
 #![allow(non_snake_case)]
 
 use crate::dense::{Cholesky, dot, factor_small, solve_small, weigh_bodies_alike};
+use crate::mechanism::midpoint_bilaterals;
 use crate::{BilateralPoint, Mechanism, StepError};
 
 /// The ridge added to a singular S, relative to its largest diagonal entry.
@@ -162,9 +163,10 @@ impl Joints {
         self.at_start = false;
     }
 
-    /// Evaluates the constraints at the start (`q_a`, `t_a`) and at the midpoint (`q_m`, `t_m`),
-    /// their offsets b_B = ŵ_B,M + γ_B,M(u_A) − γ_B,A(u_A) with the start velocity `u_a`, forms
-    /// S at the midpoint with the factor `chol` of M and factorises it.
+    /// Evaluates the constraints at the start (`q_a`, `t_a`) and at the midpoint (`q_m`, `t_m`,
+    /// from the `memo` of the step's evaluation there when the mechanism can), their offsets
+    /// b_B = ŵ_B,M + γ_B,M(u_A) − γ_B,A(u_A) with the start velocity `u_a`, forms S at the
+    /// midpoint with the factor `chol` of M and factorises it.
     ///
     /// # Errors
     /// [`StepError::NonFinite`] for non-finite g_B, ŵ_B or W_B, and
@@ -174,8 +176,7 @@ impl Joints {
         &mut self,
         mech: &K,
         (q_a, u_a, t_a): (&[f64], &[f64], f64),
-        q_m: &[f64],
-        t_m: f64,
+        (q_m, t_m, memo): (&[f64], f64, &[f64]),
         chol: &Cholesky,
     ) -> Result<(), StepError> {
         let (f, n) = (self.f, self.n);
@@ -196,7 +197,7 @@ impl Joints {
             }
         }
         let t = t_m;
-        mech.bilaterals(q_m, t, &mut self.w, &mut self.points);
+        midpoint_bilaterals(mech, q_m, t, memo, &mut self.w, &mut self.points);
         for i in 0..n {
             let w = &self.w[i * f..][..f];
             let point = self.points[i];

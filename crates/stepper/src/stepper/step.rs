@@ -96,7 +96,8 @@ impl Core {
             // becomes M̂⁻¹ w (joints.rs). ũ is kept for the report's work of the impulses.
             ws.u_unconstrained[..f].copy_from_slice(&ws.u_free[..f]);
             let start = (&self.q[..f], &self.u[..f], self.t);
-            ws.joints.assemble(mech, start, &ws.q_m[..f], t_m, &ws.chol)?;
+            let midpoint = (&ws.q_m[..f], t_m, &ws.memo[..]);
+            ws.joints.assemble(mech, start, midpoint, &ws.chol)?;
             ws.joints.constrain(&mut ws.u_free[..f], true);
             ws.joints.check_kept(&ws.u_free[..f], t_m)?;
             ws.joint_drift = ws.joints.drift();
