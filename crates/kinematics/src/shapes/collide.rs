@@ -152,6 +152,21 @@ pub fn collide_placed(
             });
             Ok(())
         }
+        // A disk is its centre, placed, grown by its radius: only the other shape needs a core.
+        (Disk { center, radius }, other) => {
+            let p = place_a.point(*center);
+            with_core(other, place_b, |c| {
+                out.extend(point_contact(p, *radius, c, true, margin).map(|p| single(&p)));
+            });
+            Ok(())
+        }
+        (other, Disk { center, radius }) => {
+            let p = place_b.point(*center);
+            with_core(other, place_a, |c| {
+                out.extend(point_contact(p, *radius, c, false, margin).map(|p| single(&p)));
+            });
+            Ok(())
+        }
         _ => {
             with_core(a, place_a, |ca| {
                 with_core(b, place_b, |cb| convex_pair(ca, cb, margin, out));
@@ -159,6 +174,11 @@ pub fn collide_placed(
             Ok(())
         }
     }
+}
+
+/// The one point of a disk's contact, feature 0.
+fn single(p: &CorePoint) -> ManifoldPoint {
+    manifold_point(p, 0, false)
 }
 
 /// Refuses a shape with too few points, a capsule whose ends coincide or a zero normal.
@@ -207,17 +227,8 @@ pub(crate) fn manifold_point(p: &CorePoint, feature: usize, flip: bool) -> Manif
     }
 }
 
-/// Two convex cores: one closest pair when either is a point, else vertex-on-edge points.
+/// Two convex cores of two or more vertices (capsules, polygons): vertex-on-edge points.
 fn convex_pair(a: &Core<'_>, b: &Core<'_>, margin: f64, out: &mut Vec<ManifoldPoint>) {
-    if a.len() == 1 || b.len() == 1 {
-        let p = if a.len() == 1 {
-            point_contact(a, b, true, margin)
-        } else {
-            point_contact(b, a, false, margin)
-        };
-        out.extend(p.map(|p| manifold_point(&p, 0, false)));
-        return;
-    }
     let n_a = a.len();
     polygon_contacts(a, b, margin, &mut |p| {
         let feature = match (p.on_a, p.on_b) {

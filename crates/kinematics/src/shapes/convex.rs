@@ -87,11 +87,6 @@ impl<'a> Core<'a> {
         core
     }
 
-    /// The core made of vertex i alone (a corner, as a point).
-    fn single(&self, i: usize) -> Core<'a> {
-        Core::new(&self.vertices[i..i + 1], self.frame, self.radius, false)
-    }
-
     pub fn len(&self) -> usize {
         self.vertices.len()
     }
@@ -196,19 +191,19 @@ pub(crate) fn closest_to_point(c: &Core<'_>, p: V) -> (V, V, f64, Feature) {
     (q, dir, l, feature)
 }
 
-/// The single contact of a point core (a disk) with any core, if its gap is at most `margin`;
-/// `point_is_a` tells which of A and B the point core is.
+/// The single contact of the world point `p` grown by `radius` (a disk, or a core's vertex)
+/// with any core, if its gap is at most `margin`; `point_is_a` tells which of A and B the point
+/// is.
 pub(crate) fn point_contact(
-    point: &Core<'_>,
+    p: V,
+    radius: f64,
     other: &Core<'_>,
     point_is_a: bool,
     margin: f64,
 ) -> Option<CorePoint> {
-    let p = point.vertex(0);
     let (q, dir, s, feature) = closest_to_point(other, p);
-    let gap = s - point.radius - other.radius;
-    (gap <= margin)
-        .then(|| point_pair(p, point.radius, q, other.radius, dir, s, feature, point_is_a))
+    let gap = s - radius - other.radius;
+    (gap <= margin).then(|| point_pair(p, radius, q, other.radius, dir, s, feature, point_is_a))
 }
 
 /// The contact of a point `p` of radius `r_p` with the point `q` of another core of radius
@@ -421,8 +416,8 @@ fn closest_features(a: &Core<'_>, b: &Core<'_>, margin: f64) -> Option<CorePoint
     let mut best: Option<CorePoint> = None;
     let mut consider = |vertex_core: &Core<'_>, other: &Core<'_>, vertex_is_a: bool| {
         for i in 0..vertex_core.len() {
-            let single = vertex_core.single(i);
-            if let Some(mut p) = point_contact(&single, other, vertex_is_a, f64::INFINITY) {
+            let (v, r) = (vertex_core.vertex(i), vertex_core.radius);
+            if let Some(mut p) = point_contact(v, r, other, vertex_is_a, f64::INFINITY) {
                 if vertex_is_a {
                     p.on_a = Feature::Vertex(i);
                 } else {

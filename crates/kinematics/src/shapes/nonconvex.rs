@@ -97,7 +97,9 @@ pub(crate) fn convex_chain(
             }
         };
         if n_x == 1 {
-            if let Some(cp) = super::convex::point_contact(x, &seg, true, margin) {
+            if let Some(cp) =
+                super::convex::point_contact(x.vertex(0), x.radius, &seg, true, margin)
+            {
                 emit(cp);
             }
         } else {

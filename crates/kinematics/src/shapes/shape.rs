@@ -431,25 +431,28 @@ impl Shape {
 
     /// [`Shape::aabb`] of the shape so placed.
     pub fn aabb_placed(&self, frame: &Placement) -> Aabb {
-        let around = |points: &mut dyn Iterator<Item = V>, r: f64| {
+        /// The box around the body points `points` grown by `r`.
+        #[inline(always)]
+        fn around<'p>(
+            frame: &Placement,
+            points: impl IntoIterator<Item = &'p [f64; 2]>,
+            r: f64,
+        ) -> Aabb {
             let mut min = V::repeat(f64::INFINITY);
             let mut max = V::repeat(f64::NEG_INFINITY);
             for p in points {
+                let p = frame.point(*p);
                 min = min.inf(&p);
                 max = max.sup(&p);
             }
             Aabb { min: [min.x - r, min.y - r], max: [max.x + r, max.y + r] }
-        };
+        }
         match self {
-            Shape::Disk { center, radius } => {
-                around(&mut std::iter::once(frame.point(*center)), *radius)
-            }
-            Shape::Capsule { a, b, radius } => {
-                around(&mut [frame.point(*a), frame.point(*b)].into_iter(), *radius)
-            }
+            Shape::Disk { center, radius } => around(frame, [center], *radius),
+            Shape::Capsule { a, b, radius } => around(frame, [a, b], *radius),
             Shape::Polygon { vertices: points }
             | Shape::Polyline { points }
-            | Shape::Profile { points } => around(&mut points.iter().map(|p| frame.point(*p)), 0.0),
+            | Shape::Profile { points } => around(frame, points, 0.0),
             Shape::HalfPlane { point, normal } => {
                 let p = frame.point(*point);
                 let n = frame.vector(*normal);
