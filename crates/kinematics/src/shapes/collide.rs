@@ -2,7 +2,7 @@
 
 use super::convex::{Core, CorePoint, Feature, point_contact, polygon_contacts};
 use super::nonconvex::{convex_chain, half_plane_chain};
-use super::shape::Placement;
+use super::shape::{Placement, V};
 use super::{ManifoldPoint, Pose, Shape};
 use crate::KinematicsError;
 
@@ -254,27 +254,32 @@ fn half_plane(
 ) {
     let origin = frame.point(*point);
     let n = frame.vector(*normal).normalize();
+    // Vertex i of the other shape, at world point v and grown by `radius`, on the plane.
+    let mut vertex = |i: usize, v: V, radius: f64| {
+        let height = n.dot(&(v - origin));
+        let gap = height - radius;
+        if gap <= margin {
+            let p = CorePoint {
+                on_a: Feature::Edge(0),
+                on_b: Feature::Vertex(i),
+                point_a: v - height * n,
+                point_b: v - radius * n,
+                normal: n,
+                gap,
+            };
+            out.push(manifold_point(&p, i, !plane_is_a));
+        }
+    };
     match other {
         Shape::Polyline { points } | Shape::Profile { points } => {
             let closed = matches!(other, Shape::Profile { .. });
             half_plane_chain(origin, n, points, closed, other_frame, plane_is_a, margin, out);
         }
+        // A disk is its placed centre grown by its radius, without a core.
+        Shape::Disk { center, radius } => vertex(0, other_frame.point(*center), *radius),
         _ => with_core(other, other_frame, |c| {
             for i in 0..c.len() {
-                let v = c.vertex(i);
-                let height = n.dot(&(v - origin));
-                let gap = height - c.radius;
-                if gap <= margin {
-                    let p = CorePoint {
-                        on_a: Feature::Edge(0),
-                        on_b: Feature::Vertex(i),
-                        point_a: v - height * n,
-                        point_b: v - c.radius * n,
-                        normal: n,
-                        gap,
-                    };
-                    out.push(manifold_point(&p, i, !plane_is_a));
-                }
+                vertex(i, c.vertex(i), c.radius);
             }
         }),
     }
