@@ -77,7 +77,8 @@ pub(in crate::stepper) struct AutoChain {
     /// Small islands, large islands, Gauss-Seidel resumed, and the large islands' first chunk
     /// and later chunks (these without the pivoting that the first has tried).
     auto: [Fc2dAuto; 5],
-    /// Large islands cold, islands with joints for the step, and for the joints' correction.
+    /// Large islands cold, islands with joints for the step (the small ones' ending after
+    /// [`SMALL_JOINTS_NEWTON_ITERATIONS`]), and for the joints' correction.
     newton: [Newton; 4],
     proximal: Proximal,
     lcp: LcpRoute,
