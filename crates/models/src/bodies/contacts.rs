@@ -32,6 +32,8 @@ pub(crate) struct Pair {
     pub margin: f64,
     pub first: usize,
     pub count: usize,
+    /// The world boxes of shapes a and b when their bodies are fixed, computed once.
+    pub fixed_boxes: [Option<Aabb>; 2],
 }
 
 thread_local! {
@@ -247,7 +249,9 @@ pub(crate) fn pairs(
             .map_err(|e| bad(path.to_owned(), name, e.to_string()))?;
         let count = max_points(sa, sb);
         let index = pairs.len();
-        pairs.push(Pair { a, shape_a, b, shape_b, margin, first: slots.len(), count });
+        let fixed = |i: usize, bx: Aabb| matches!(bodies[i].kind, Kind::Fixed(_)).then_some(bx);
+        let fixed_boxes = [fixed(a, ba), fixed(b, bb)];
+        pairs.push(Pair { a, shape_a, b, shape_b, margin, first: slots.len(), count, fixed_boxes });
         for k in 0..count {
             slots.push(Slot::Pair { pair: index, feature: k });
             laws.push(contact_law);
@@ -294,7 +298,11 @@ impl Multibody {
         let (sa, sb): (&Shape, &Shape) =
             (&self.bodies[pair.a].shapes[pair.shape_a], &self.bodies[pair.b].shapes[pair.shape_b]);
         let (pa, pb) = (fa.placement(), fb.placement());
-        let far = box_distance(&sa.aabb_placed(&pa), &sb.aabb_placed(&pb));
+        let [box_a, box_b] = pair.fixed_boxes;
+        let far = box_distance(
+            &box_a.unwrap_or_else(|| sa.aabb_placed(&pa)),
+            &box_b.unwrap_or_else(|| sb.aabb_placed(&pb)),
+        );
         let open = SlotGeometry { gap: far.max(pair.margin), ..SlotGeometry::default() };
         if far > pair.margin {
             (0..pair.count).for_each(|k| emit(k, open));

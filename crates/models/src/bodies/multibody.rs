@@ -309,14 +309,11 @@ impl Multibody {
     /// h at the bodies' `frames` into `h`.
     fn forces_at(&self, frames: &[Frame], u: &[f64], t: f64, h: &mut [f64]) {
         // Body by body, in chunks in parallel for many bodies; each body's three entries are
-        // its own, so the bits are the same either way.
-        h.fill(0.0);
+        // its own (h has exactly three per dynamic body), so the bits are the same either way.
+        debug_assert_eq!(h.len(), 3 * self.dynamic.len());
         let (blocks, _) = h.as_chunks_mut::<3>();
         let body = |(h, &i): (&mut [f64; 3], &usize)| {
-            let f = body_forces(&self.bodies[i], &frames[i], u, self.gravity);
-            for k in 0..3 {
-                h[k] += f[k];
-            }
+            *h = body_forces(&self.bodies[i], &frames[i], u, self.gravity);
         };
         if in_parallel(self.dynamic.len()) {
             blocks.par_iter_mut().zip(&self.dynamic).with_min_len(CHUNK_ITEMS).for_each(body);
