@@ -183,21 +183,27 @@ fn root() -> PathBuf {
 /// The vertical force of the fixed supports on the bodies over the step just taken: the
 /// impulses P_N w_N + P_T w_T of every contact with one side without coordinates, summed on
 /// the side with coordinates, over Δt. The contacts' directions are those of the step's
-/// midpoint q_M = q_A + Δt/2 u_A, found again by the scene's own detection.
+/// midpoint q_M = q_A + Δt/2 u_A, found again by the scene's own detection with the step's
+/// active-set threshold `margin` (`StepperOptions::gap_tolerance`).
+///
+/// # Errors
+/// When a contact that carried an impulse is not found again: the balance would leave it out.
+#[allow(clippy::too_many_arguments)]
 fn support_force(
     model: &AnyModel,
     q_a: &[f64],
     u_a: &[f64],
     t_a: f64,
     dt: f64,
+    margin: f64,
     impulses: &[(u64, f64, f64)],
     found: &mut Vec<BodyContact>,
-) -> f64 {
-    let Some(bodies) = model.body_structure() else { return f64::NAN };
+) -> Result<f64> {
+    let Some(bodies) = model.body_structure() else { return Ok(f64::NAN) };
     let mut q_m = Vec::new();
     let t_m = crate::contacts::midpoint(q_a, u_a, t_a, dt, &mut q_m);
     found.clear();
-    bodies.detect(&q_m, t_m, model_gap_tolerance(), found);
+    bodies.detect(&q_m, t_m, margin, found);
     let mut force = 0.0;
     let mut k = 0;
     for &(id, p_n, p_t) in impulses {
@@ -207,19 +213,20 @@ fn support_force(
         while k < found.len() && found[k].id < id {
             k += 1;
         }
-        let Some(point) = found.get(k).filter(|p| p.id == id) else { continue };
+        let Some(point) = found.get(k).filter(|p| p.id == id) else {
+            bail!(
+                "contact {id} of the step ending at t = {:e} s, with impulses ({p_n:e}, {p_t:e}) \
+                 N s, is not found again at the step's midpoint",
+                t_a + dt
+            );
+        };
         for side in 0..2 {
             if point.bodies[side] != NO_BODY && point.bodies[1 - side] == NO_BODY {
                 force += p_n * point.w_n[side][1] + p_t * point.w_t[side][1];
             }
         }
     }
-    force / dt
-}
-
-/// The active-set threshold the scenes use; the stepper's default.
-fn model_gap_tolerance() -> f64 {
-    0.0
+    Ok(force / dt)
 }
 
 /// Runs one spec: one result per thread count. With `problems`, the largest island problem
@@ -340,7 +347,7 @@ fn measure(
     settled: &Settled,
     start: Instant,
 ) -> Result<RunResult> {
-    let dt = stepper.options().dt;
+    let (dt, margin) = (stepper.options().dt, stepper.options().gap_tolerance);
     let q0 = &settled.q0;
     let bodies = q0.len() / 3;
     let (mut inexact_steps, mut inexact_residual) =
@@ -379,21 +386,14 @@ fn measure(
                 ids.iter().zip(&contacts).map(|(id, c)| (*id, c.p_n, c.p_t)).collect();
             let model = stepper.mechanism();
             {
-                let support = support_force(model, &q_a, &u_a, t_a, dt, &impulses, &mut found);
+                let support =
+                    support_force(model, &q_a, &u_a, t_a, dt, margin, &impulses, &mut found)?;
                 let weight = weight(model, &q_a);
                 r.force_balance_rel = ((support - weight) / weight).abs();
             }
             let caption = vec![format!("{} {}, t = {:.2} s", spec.scene, r.size, t_a + dt)];
             let state = (q_a.as_slice(), u_a.as_slice(), t_a);
-            r.network = Some(network::frame(
-                model,
-                state,
-                dt,
-                model_gap_tolerance(),
-                &ids,
-                &contacts,
-                caption,
-            )?);
+            r.network = Some(network::frame(model, state, dt, margin, &ids, &contacts, caption)?);
         }
     }
     (r.inexact_steps, r.inexact_residual) = (inexact_steps, inexact_residual);
@@ -671,4 +671,87 @@ pub fn write(
         files.extend(crate::reproduce::names(&written));
     }
     Ok(Written { files, json, markdown: md })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A disk of 2 kg at rest above a floor, its contacts detected: the scene's text with the
+    /// disk's centre at `y` (m).
+    fn disk_above_floor(y: f64) -> Scene {
+        let text = format!(
+            r#"
+dt = 0.001
+t_end = 0.01
+gravity = [0.0, -9.81]
+contact_set = "detected"
+projection = false
+
+[[bodies]]
+name = "floor"
+type = "fixed"
+position = [0.0, 0.0]
+shapes = [{{ type = "half_plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}]
+
+[[bodies]]
+name = "disk"
+type = "dynamic"
+mass = 2.0
+inertia = 0.01
+position = [0.0, {y:e}]
+shapes = [{{ type = "disk", center = [0.0, 0.0], radius = 0.1 }}]
+
+[contacts_auto]
+eps_n = 0.0
+eps_t = 0.0
+mu = 0.3
+"#
+        );
+        Scene::from_toml_str(&text).expect("the scene reads")
+    }
+
+    /// One step from rest; the support force of that step with `margin`.
+    fn support_after_one_step(y: f64, margin: impl Fn(f64) -> f64) -> (Result<f64>, f64, f64) {
+        let mut stepper = disk_above_floor(y).stepper().expect("the scene builds");
+        let (dt, tolerance) = (stepper.options().dt, stepper.options().gap_tolerance);
+        let (q_a, u_a, t_a) = (stepper.q().to_vec(), stepper.u().to_vec(), stepper.t());
+        let report = stepper.step().expect("the step is taken");
+        let impulses: Vec<(u64, f64, f64)> = report
+            .contact_ids
+            .iter()
+            .zip(report.contacts)
+            .map(|(id, c)| (*id, c.p_n, c.p_t))
+            .collect();
+        assert_eq!(impulses.len(), 1, "the disk's one contact is in the step");
+        let model = stepper.mechanism();
+        let support = support_force(
+            model,
+            &q_a,
+            &u_a,
+            t_a,
+            dt,
+            margin(tolerance),
+            &impulses,
+            &mut Vec::new(),
+        );
+        (support, weight(model, &q_a), tolerance)
+    }
+
+    #[test]
+    fn a_contact_open_within_the_gap_tolerance_carries_the_weight_in_the_force_balance() {
+        // The disk rests half the active-set threshold above the floor: the step's problem
+        // holds its contact (g_N <= gap_tolerance), whose impulse stops the fall, m g Δt.
+        let probe = disk_above_floor(0.1).stepper().expect("the scene builds");
+        let tolerance = probe.options().gap_tolerance;
+        assert!(tolerance > 0.0, "a declared scene has a positive gap tolerance");
+        let (support, weight, _) = support_after_one_step(0.1 + 0.5 * tolerance, |tol| tol);
+        let support = support.expect("the contact is found again with the step's threshold");
+        assert!((weight - 2.0 * 9.81).abs() < 1e-12, "weight {weight}");
+        assert!(((support - weight) / weight).abs() < 1e-12, "support {support}, weight {weight}");
+        // Found again without that threshold, it would be left out of the balance: an error.
+        let (missed, _, _) = support_after_one_step(0.1 + 0.5 * tolerance, |_| 0.0);
+        let message = format!("{:#}", missed.expect_err("a contact with an impulse is missed"));
+        assert!(message.contains("is not found again"), "{message}");
+    }
 }
