@@ -430,6 +430,9 @@ impl Shape {
     }
 
     /// [`Shape::aabb`] of the shape so placed.
+    // Inlined into each caller, which has just built `frame`: called, it read the placement
+    // back from the stack as wider loads than the stores that wrote it, and waited for them.
+    #[inline(always)]
     pub fn aabb_placed(&self, frame: &Placement) -> Aabb {
         /// The box around the body points `points` grown by `r`.
         #[inline(always)]
