@@ -188,12 +188,9 @@ fn root() -> PathBuf {
 ///
 /// # Errors
 /// When a contact that carried an impulse is not found again: the balance would leave it out.
-#[allow(clippy::too_many_arguments)]
 fn support_force(
     model: &AnyModel,
-    q_a: &[f64],
-    u_a: &[f64],
-    t_a: f64,
+    (q_a, u_a, t_a): (&[f64], &[f64], f64),
     dt: f64,
     margin: f64,
     impulses: &[(u64, f64, f64)],
@@ -385,14 +382,11 @@ fn measure(
             let impulses: Vec<(u64, f64, f64)> =
                 ids.iter().zip(&contacts).map(|(id, c)| (*id, c.p_n, c.p_t)).collect();
             let model = stepper.mechanism();
-            {
-                let support =
-                    support_force(model, &q_a, &u_a, t_a, dt, margin, &impulses, &mut found)?;
-                let weight = weight(model, &q_a);
-                r.force_balance_rel = ((support - weight) / weight).abs();
-            }
-            let caption = vec![format!("{} {}, t = {:.2} s", spec.scene, r.size, t_a + dt)];
             let state = (q_a.as_slice(), u_a.as_slice(), t_a);
+            let support = support_force(model, state, dt, margin, &impulses, &mut found)?;
+            let weight = weight(model, &q_a);
+            r.force_balance_rel = ((support - weight) / weight).abs();
+            let caption = vec![format!("{} {}, t = {:.2} s", spec.scene, r.size, t_a + dt)];
             r.network = Some(network::frame(model, state, dt, margin, &ids, &contacts, caption)?);
         }
     }
@@ -711,8 +705,9 @@ mu = 0.3
         Scene::from_toml_str(&text).expect("the scene reads")
     }
 
-    /// One step from rest; the support force of that step with `margin`.
-    fn support_after_one_step(y: f64, margin: impl Fn(f64) -> f64) -> (Result<f64>, f64, f64) {
+    /// One step from rest; the support force of that step, found again with the step's gap
+    /// tolerance or with none, and the weight.
+    fn support_after_one_step(y: f64, with_tolerance: bool) -> (Result<f64>, f64) {
         let mut stepper = disk_above_floor(y).stepper().expect("the scene builds");
         let (dt, tolerance) = (stepper.options().dt, stepper.options().gap_tolerance);
         let (q_a, u_a, t_a) = (stepper.q().to_vec(), stepper.u().to_vec(), stepper.t());
@@ -725,17 +720,10 @@ mu = 0.3
             .collect();
         assert_eq!(impulses.len(), 1, "the disk's one contact is in the step");
         let model = stepper.mechanism();
-        let support = support_force(
-            model,
-            &q_a,
-            &u_a,
-            t_a,
-            dt,
-            margin(tolerance),
-            &impulses,
-            &mut Vec::new(),
-        );
-        (support, weight(model, &q_a), tolerance)
+        let margin = if with_tolerance { tolerance } else { 0.0 };
+        let state = (q_a.as_slice(), u_a.as_slice(), t_a);
+        let support = support_force(model, state, dt, margin, &impulses, &mut Vec::new());
+        (support, weight(model, &q_a))
     }
 
     #[test]
@@ -745,12 +733,12 @@ mu = 0.3
         let probe = disk_above_floor(0.1).stepper().expect("the scene builds");
         let tolerance = probe.options().gap_tolerance;
         assert!(tolerance > 0.0, "a declared scene has a positive gap tolerance");
-        let (support, weight, _) = support_after_one_step(0.1 + 0.5 * tolerance, |tol| tol);
+        let (support, weight) = support_after_one_step(0.1 + 0.5 * tolerance, true);
         let support = support.expect("the contact is found again with the step's threshold");
         assert!((weight - 2.0 * 9.81).abs() < 1e-12, "weight {weight}");
         assert!(((support - weight) / weight).abs() < 1e-12, "support {support}, weight {weight}");
         // Found again without that threshold, it would be left out of the balance: an error.
-        let (missed, _, _) = support_after_one_step(0.1 + 0.5 * tolerance, |_| 0.0);
+        let (missed, _) = support_after_one_step(0.1 + 0.5 * tolerance, false);
         let message = format!("{:#}", missed.expect_err("a contact with an impulse is missed"));
         assert!(message.contains("is not found again"), "{message}");
     }
