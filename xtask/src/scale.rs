@@ -47,6 +47,11 @@ pub struct RunSpec {
     /// first count, then the window is measured once per count in turn (each window continuing
     /// from the one before, the scene at rest), one result each.
     pub threads: Vec<usize>,
+    /// How many times the windows of all thread counts are measured in turn (1, 2, 1, 2, ...
+    /// for two counts), so that a slow phase of the machine does not decide their ratio; each
+    /// count's result is its window of median time per step (the slower of the two middle
+    /// ones for an even number).
+    pub rounds: usize,
     /// Whether the scene should rest at the end (column, pyramid): then the force balance and
     /// the largest displacement are meaningful.
     pub resting: bool,
@@ -131,6 +136,7 @@ pub fn specs(quick: bool) -> Vec<RunSpec> {
         settle,
         window,
         threads: threads.to_vec(),
+        rounds: if threads.len() > 1 { 4 } else { 1 },
         resting: true,
         reference: 0.0,
     };
@@ -141,6 +147,7 @@ pub fn specs(quick: bool) -> Vec<RunSpec> {
         settle: time,
         window: 20,
         threads: vec![1],
+        rounds: 1,
         resting: true,
         reference: 0.5,
     };
@@ -151,6 +158,7 @@ pub fn specs(quick: bool) -> Vec<RunSpec> {
         settle: time,
         window: 20,
         threads: vec![1],
+        rounds: 1,
         resting: false,
         reference: 0.0,
     };
@@ -252,17 +260,37 @@ pub fn run_one(spec: &RunSpec, problems: Option<&Path>) -> Result<Vec<RunResult>
     };
     let first = *spec.threads.first().context("a run needs a thread count")?;
     let settled = pool(first)?.install(|| settle(spec, &mut stepper))?;
-    let mut results = Vec::new();
-    for &threads in &spec.threads {
-        let r = pool(threads)?.install(|| measure(spec, threads, &mut stepper, &settled, start))?;
-        if results.is_empty()
-            && let Some(dir) = problems
-        {
-            write_problem(spec, &stepper, dir)?;
+    let mut windows: Vec<Vec<RunResult>> = vec![Vec::new(); spec.threads.len()];
+    for round in 0..spec.rounds.max(1) {
+        for (k, &threads) in spec.threads.iter().enumerate() {
+            let r =
+                pool(threads)?.install(|| measure(spec, threads, &mut stepper, &settled, start))?;
+            if spec.rounds > 1 {
+                eprintln!(
+                    "scale: {} round {} ({threads} thread{}): {:.3} ms/step",
+                    spec.label(),
+                    round + 1,
+                    if threads == 1 { "" } else { "s" },
+                    r.ms_per_step
+                );
+            }
+            if round == 0
+                && k == 0
+                && let Some(dir) = problems
+            {
+                write_problem(spec, &stepper, dir)?;
+            }
+            windows[k].push(r);
         }
-        results.push(r);
     }
-    Ok(results)
+    Ok(windows.into_iter().filter_map(median_window).collect())
+}
+
+/// The window of median time per step, the slower of the two middle ones for an even number.
+fn median_window(mut windows: Vec<RunResult>) -> Option<RunResult> {
+    windows.sort_by(|a, b| a.ms_per_step.total_cmp(&b.ms_per_step));
+    let middle = windows.len() / 2;
+    windows.into_iter().nth(middle)
 }
 
 /// What the settling phase of a run leaves for its windows.
@@ -724,6 +752,18 @@ mu = 0.3
         let state = (q_a.as_slice(), u_a.as_slice(), t_a);
         let support = support_force(model, state, dt, margin, &impulses, &mut Vec::new());
         (support, weight(model, &q_a))
+    }
+
+    #[test]
+    fn the_rounds_of_a_thread_count_give_its_window_of_median_time() {
+        let windows = |ms: &[f64]| {
+            ms.iter().map(|&m| RunResult { ms_per_step: m, ..RunResult::default() }).collect()
+        };
+        let median = |ms: &[f64]| median_window(windows(ms)).map(|r| r.ms_per_step);
+        assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(&[1.0, 4.0, 2.0, 3.0]), Some(3.0));
+        assert_eq!(median(&[5.0]), Some(5.0));
+        assert_eq!(median(&[]), None);
     }
 
     #[test]
