@@ -488,15 +488,7 @@ impl Mechanism for Multibody {
 
     /// Every row at the bodies' frames, each frame computed once.
     fn bilaterals(&self, q: &[f64], t: f64, w: &mut [f64], points: &mut [BilateralPoint]) {
-        let f = self.num_coordinates();
-        self.with_frames(q, t, |frames| {
-            for (i, &(joint, k)) in self.rows.iter().enumerate() {
-                let j = &self.joints[joint];
-                let w = &mut w[i * f..][..f];
-                w.fill(0.0);
-                points[i] = j.kind.row(k, &frames[j.a], &frames[j.b], t, w);
-            }
-        });
+        self.with_frames(q, t, |frames| self.rows_at(|b| frames[b], t, w, points));
     }
 
     fn shared_work(&self) -> Option<&dyn SharedWork> {
@@ -596,20 +588,32 @@ impl SharedWork for Multibody {
         w: &mut [f64],
         points: &mut [BilateralPoint],
     ) -> bool {
-        let f = self.num_coordinates();
         let bodies = &memo[SLOT_MEMO * self.slots.len()..];
-        for (i, &(joint, k)) in self.rows.iter().enumerate() {
-            let j = &self.joints[joint];
-            let w = &mut w[i * f..][..f];
-            w.fill(0.0);
-            let (fa, fb) = (self.memo_frame(bodies, j.a), self.memo_frame(bodies, j.b));
-            points[i] = j.kind.row(k, &fa, &fb, t, w);
-        }
+        self.rows_at(|b| self.memo_frame(bodies, b), t, w, points);
         true
     }
 }
 
 impl Multibody {
+    /// Every joint row at t into `w` (one row of f entries each) and `points`, with body b's
+    /// frame `frame(b)`.
+    #[inline]
+    fn rows_at(
+        &self,
+        frame: impl Fn(usize) -> Frame,
+        t: f64,
+        w: &mut [f64],
+        points: &mut [BilateralPoint],
+    ) {
+        let f = self.num_coordinates();
+        for (i, &(joint, k)) in self.rows.iter().enumerate() {
+            let j = &self.joints[joint];
+            let w = &mut w[i * f..][..f];
+            w.fill(0.0);
+            points[i] = j.kind.row(k, &frame(j.a), &frame(j.b), t, w);
+        }
+    }
+
     /// The frame of body `b` as [`SharedWork::evaluate`] kept it in the memo's `bodies` part.
     #[inline]
     fn memo_frame(&self, bodies: &[f64], b: usize) -> Frame {
