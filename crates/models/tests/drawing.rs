@@ -30,8 +30,10 @@ fn every_model_draws_its_parts() {
             assert!(b.contains(*p));
         }
         // Every contact point of the model lies in the drawing's frame.
-        for p in model.contact_points(&q, 0.0) {
-            assert!(p[0].is_finite() && p[1].is_finite());
+        let points = model.contact_points(&q, 0.0);
+        assert_eq!(points.len(), model.num_contacts(), "{kind}");
+        for p in points {
+            assert!(b.contains(p), "{kind}: contact point {p:?} outside {b:?}");
         }
     }
     assert_eq!(Drawing::new().bounds(), None);
