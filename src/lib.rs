@@ -8,7 +8,7 @@
 //! | module | crate | for |
 //! |---|---|---|
 //! | [`setvalued`] | `moreau-setvalued` | Upr, Sgn, contact laws |
-//! | [`lcp`] | `moreau-lcp` | LCP solvers (Lemke, PGS, enumeration) |
+//! | [`lcp`] | `moreau-lcp` | LCP solvers (Lemke, PGS, enumeration, `Auto`), planar frictional-contact (FC2D) solvers in [`lcp::fc2d`], and faer as [`lcp::faer`] |
 //! | [`kinematics`] | `moreau-kinematics` | gaps, contact Jacobians, finite-difference checks |
 //! | [`stepper`] | `moreau-stepper` | the Moreau midpoint time-stepper |
 //! | [`models`] | `moreau-models` | the reference report's mechanisms, declared mechanisms and scene files |

@@ -118,7 +118,7 @@
 //!
 //! # fn main() -> Result<(), moreau_lcp::LcpError> {
 //! // Two contacts of W = 2 I coupled by 0.5 in their normal rows, both pushed in.
-//! let w = faer::Mat::from_fn(4, 4, |i, j| match (i, j) {
+//! let w = moreau_lcp::faer::Mat::from_fn(4, 4, |i, j| match (i, j) {
 //!     _ if i == j => 2.0,
 //!     (0, 2) | (2, 0) => 0.5,
 //!     _ => 0.0,
@@ -166,6 +166,12 @@ mod lemke;
 mod pgs;
 mod problem;
 mod solution;
+
+/// The dense and sparse matrices that [`Lcp::new`], [`Lcp::m`] and
+/// [`fc2d::Fc2d::from_dense`] take and give are faer's, re-exported here so that a user of this
+/// crate (or of the `moreau` package, as `moreau::lcp::faer`) needs no faer dependency of a
+/// matching version.
+pub use faer;
 
 pub use auto::{Auto, AutoOptions};
 pub use enumeration::{Enumeration, EnumerationOptions};

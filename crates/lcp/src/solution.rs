@@ -108,7 +108,7 @@ impl fmt::Display for Method {
 /// | field | definition |
 /// |---|---|
 /// | `natural` | `‖min(z, w)‖∞ / max(1, ‖q‖∞)` (the natural-map residual) |
-/// | `complementarity` | `max_i |z_i w_i|` |
+/// | `complementarity` | `max_i \|z_i w_i\|` |
 /// | `z_violation` | `max(0, -min_i z_i)` |
 /// | `w_violation` | `max(0, -min_i w_i)` |
 /// | `equation` | `‖M z + q - w‖∞` |

@@ -10,7 +10,7 @@ use faer::{Col, Mat};
 use moreau_lcp::{Auto, Covering, Lcp, Lemke, LemkeOptions, Solver, Status};
 
 /// Siconos numerics' test problem `lcp_tobenna.dat` (Apache-2.0, copied unchanged from
-/// Siconos' LCP test data; see tests/data/siconos/lcp/README.md).
+/// Siconos' LCP test data; see tests/data/siconos/README.md).
 fn tobenna() -> Lcp {
     let text = include_str!("data/siconos/lcp/lcp_tobenna.dat");
     Lcp::read_siconos(text.as_bytes()).expect("lcp_tobenna.dat reads")

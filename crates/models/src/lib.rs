@@ -37,8 +37,9 @@
 //! their normal row in the stepper.
 //!
 //! # What it is not for
-//! It does not detect collisions itself (the shapes and the narrow phase are
-//! `moreau-kinematics`'), has no three-dimensional bodies and no flexible ones, and does not
+//! It holds no collision geometry of its own: the shapes, the narrow phase and the broad phase
+//! are `moreau-kinematics`', which a declared mechanism calls for its contacts (at each step
+//! for a detected contact set). It has no three-dimensional bodies and no flexible ones, and does not
 //! reduce declared mechanisms to minimal coordinates. The time-stepping is `moreau-stepper`'s, the LCP solvers `moreau-lcp`'s; figures and the
 //! report are written by the `xtask` runner.
 //!
@@ -71,7 +72,7 @@
 //! ```
 //! use moreau_kinematics::Shape;
 //! use moreau_models::bodies::{BodySpec, ContactSpec, MultibodyBuilder};
-//! use moreau_stepper::{Stepper, StepperOptions};
+//! use moreau_stepper::Stepper;
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! // A disk of radius 0.1 m dropped from 0.5 m onto a floor, ε_N = 0.5.
@@ -86,7 +87,11 @@
 //! });
 //! let ball = builder.build()?;
 //! let (q0, u0) = ball.initial_state();
-//! let mut stepper = Stepper::new(ball, &q0, &u0, 0.0, StepperOptions::new(1e-3))?;
+//! // The mechanism's own options: its gap, projection and joint tolerances, scaled to its
+//! // size (`StepperOptions::new(dt)` alone counts a contact closed only at g_N <= 0, so that a
+//! // resting contact left open by round-off sits out a step and its body falls for Δt).
+//! let options = ball.stepper_options(1e-3);
+//! let mut stepper = Stepper::new(ball, &q0, &u0, 0.0, options)?;
 //! let mut bounced = false;
 //! while stepper.t() < 0.4 {
 //!     bounced |= stepper.step()?.contacts[0].p_n > 0.0;

@@ -102,7 +102,7 @@
 //! # fn main() -> Result<(), moreau_lcp::LcpError> {
 //! // One contact pushed into the ground (q_N = -1) and sideways (q_T = 2), W = I, μ = 0.5:
 //! // it slips, r = (1, -0.5), u = (0, 1.5).
-//! let w = faer::Mat::<f64>::identity(2, 2);
+//! let w = moreau_lcp::faer::Mat::<f64>::identity(2, 2);
 //! let problem = Fc2d::from_dense(w.as_ref(), &[-1.0, 2.0], &[0.5])?;
 //! for solution in [Nsgs::default().solve(&problem)?, LcpRoute::default().solve(&problem)?] {
 //!     assert_eq!(solution.status, Status::Solved);

@@ -43,11 +43,11 @@ pub(crate) fn natural_map(r_n: f64, r_t: f64, u_n: f64, u_t: f64, mu: f64) -> (f
 ///
 /// | field | definition |
 /// |---|---|
-/// | `absolute` | `max(max_i ‖F_i‖₂, max_b |u_b|)` |
+/// | `absolute` | `max(max_i ‖F_i‖₂, max_b \|u_b\|)` |
 /// | `natural` | `absolute / max(1, ‖q‖∞)`: the acceptance measure |
 /// | `siconos` | `sqrt(Σ_i ‖F_i‖₂² + Σ_b u_b²) / max(‖r‖₂, ‖u‖₂, ‖q‖₂)` (no division when that maximum is below the machine epsilon) |
 /// | `worst_group` | the contact or bilateral group where `absolute` is reached |
-/// | `round_off` | `4 ε max_k ((|W| |r|)_k + |q_k| + |r_k|) / max(1, ‖q‖∞)`, ε the machine epsilon: the residual that floating point cannot resolve at r |
+/// | `round_off` | `4 ε max_k ((\|W\| \|r\|)_k + \|q_k\| + \|r_k\|) / max(1, ‖q‖∞)`, ε the machine epsilon: the residual that floating point cannot resolve at r |
 ///
 /// `siconos` is Siconos numerics' `fc2d_compute_error` with the norm of q as its `norm`
 /// argument (as its NSGS passes it), extended by the bilateral rows; it is kept for
