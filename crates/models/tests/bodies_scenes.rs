@@ -375,3 +375,19 @@ fn masses_beyond_the_step_problems_range_are_refused_by_their_field() {
         .replace("inertia = 0.00125", "inertia = 1e118");
     assert!(Scene::from_toml_str(&heavy).and_then(|s| s.build()).is_ok());
 }
+
+#[test]
+fn a_value_out_of_range_is_refused_once_with_its_reason() {
+    let mut scene = Scene::from_toml_str(&pendulum_wall()).unwrap();
+    let before = scene.clone();
+    let error = scene.set("contacts.hit.eps_n", "1.5").unwrap_err();
+    match &error {
+        ModelError::BadValue { key, value, reason } => {
+            assert_eq!((key.as_str(), value.as_str()), ("contacts.hit.eps_n", "1.5"));
+            assert_eq!(reason, "must lie in [0, 1]");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(error.to_string(), "bad value `1.5` for `contacts.hit.eps_n`: must lie in [0, 1]");
+    assert_eq!(scene, before);
+}

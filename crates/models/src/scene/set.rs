@@ -205,9 +205,13 @@ impl Scene {
         }
         let scene: Scene =
             doc.try_into().map_err(|e: toml::de::Error| bad(e.message().to_owned()))?;
-        // A refusal that already names a key and its value is given as it is.
+        // A refusal that already names a key and its value is given as it is; one of the key
+        // itself gives only its reason.
         scene.validate().map_err(|e| match e {
             ModelError::BadValue { .. } => e,
+            ModelError::InvalidParameter { ref field, ref reason, .. } if field == key => {
+                bad(reason.clone())
+            }
             other => bad(other.to_string()),
         })?;
         *self = scene;
