@@ -71,6 +71,7 @@
 //! A declared mechanism, built in Rust and stepped:
 //! ```
 //! use moreau_kinematics::Shape;
+//! use moreau_models::LawParams;
 //! use moreau_models::bodies::{BodySpec, ContactSpec, MultibodyBuilder};
 //! use moreau_stepper::Stepper;
 //!
@@ -81,10 +82,8 @@
 //!     .with_shape(Shape::HalfPlane { point: [0.0, 0.0], normal: [0.0, 1.0] }));
 //! builder.add_body(BodySpec::dynamic("ball", 1.0, 0.005, [0.0, 0.5], 0.0)
 //!     .with_shape(Shape::Disk { center: [0.0, 0.0], radius: 0.1 }));
-//! builder.add_contact(ContactSpec {
-//!     name: "bounce".into(), body_a: "floor".into(), shape_a: 0, body_b: "ball".into(),
-//!     shape_b: 0, eps_n: 0.5, eps_t: 0.0, mu: 0.0, margin: None,
-//! });
+//! let law = LawParams::new(0.5, 0.0, 0.0);
+//! builder.add_contact(ContactSpec::new("bounce", "floor", "ball", law));
 //! let ball = builder.build()?;
 //! let (q0, u0) = ball.initial_state();
 //! // The mechanism's own options: its gap, projection and joint tolerances, scaled to its

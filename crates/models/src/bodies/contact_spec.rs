@@ -41,6 +41,46 @@ pub struct ContactSpec {
     pub margin: Option<f64>,
 }
 
+impl ContactSpec {
+    /// A contact named `name` between the first shapes of bodies `body_a` and `body_b`, with
+    /// the laws `law` and the default margin; [`Self::with_shapes`] and [`Self::with_margin`]
+    /// change the rest.
+    ///
+    /// ```
+    /// use moreau_models::LawParams;
+    /// use moreau_models::bodies::ContactSpec;
+    ///
+    /// let hit = ContactSpec::new("hit", "wall", "bob", LawParams::new(0.5, 0.0, 0.2))
+    ///     .with_shapes(1, 0);
+    /// assert_eq!((hit.shape_a, hit.shape_b, hit.eps_n, hit.mu, hit.margin), (1, 0, 0.5, 0.2, None));
+    /// ```
+    pub fn new(name: &str, body_a: &str, body_b: &str, law: LawParams) -> Self {
+        Self {
+            name: name.to_owned(),
+            body_a: body_a.to_owned(),
+            shape_a: 0,
+            body_b: body_b.to_owned(),
+            shape_b: 0,
+            eps_n: law.eps_n,
+            eps_t: law.eps_t,
+            mu: law.mu,
+            margin: None,
+        }
+    }
+
+    /// The same contact between shape `shape_a` of body a and shape `shape_b` of body b.
+    pub fn with_shapes(mut self, shape_a: usize, shape_b: usize) -> Self {
+        (self.shape_a, self.shape_b) = (shape_a, shape_b);
+        self
+    }
+
+    /// The same contact with the detection margin `margin` (m, > 0) of the fixed contact set.
+    pub fn with_margin(mut self, margin: f64) -> Self {
+        self.margin = Some(margin);
+        self
+    }
+}
+
 /// The laws of the automatic contacts between one pair of bodies.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
