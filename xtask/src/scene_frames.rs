@@ -114,16 +114,20 @@ pub fn run(args: &FramesArgs) -> Result<Vec<PathBuf>> {
 }
 
 /// The force networks of the steps that end at the record's `rows`, from a second run of the
-/// scene (bit for bit the first): row k > 0 ends step k · record_every − 1; row 0, the initial
-/// state, shows the bodies alone.
+/// scene (bit for bit the first): row k > 0 ends step k · record_every − 1, and the last row
+/// the run's last step (which a stop rule may end between two thinned rows); row 0, the
+/// initial state, shows the bodies alone.
 ///
 /// # Errors
 /// A scene that does not declare its bodies; a row whose step ends at another time than the
-/// row's (a run ended by its stop rule between two recorded steps); a failed step.
+/// row's; a failed step.
 pub fn networks(result: &RunResult, rows: &[usize]) -> Result<Vec<Frame>> {
     let (scene, r) = (&result.scene, result.record());
     let every = scene.record_every.max(1) as u64;
-    let step_of = |k: usize| (k > 0).then(|| k as u64 * every - 1);
+    let last_row = r.len().saturating_sub(1);
+    let step_of = |k: usize| {
+        (k > 0).then(|| if k == last_row { result.sim.steps - 1 } else { k as u64 * every - 1 })
+    };
     let mut stepper = scene.stepper()?;
     let (dt, margin) = (stepper.options().dt, stepper.options().gap_tolerance);
     let caption = |t: f64, carrying: usize| {

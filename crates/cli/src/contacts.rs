@@ -1,7 +1,8 @@
 //! The contacts file of `simulate --contacts FILE`: every contact in the active set of the
 //! steps the record keeps, located on its bodies, for force networks and contact statistics.
 //!
-//! One CSV row per active contact of each recorded step, in the step's order of identity:
+//! One CSV row per active contact of each recorded step (one step in `record_every`, and the
+//! run's last step, as the record keeps them), in the step's order of identity:
 //!
 //! | column | meaning |
 //! |---|---|
@@ -73,6 +74,9 @@ pub(crate) struct ContactLog<W: Write> {
     q_a: Vec<f64>,
     u_a: Vec<f64>,
     t_a: f64,
+    /// The start (q_A, u_A, t_A) of the step last observed, kept when the run may end on a
+    /// step the thinning skips (a stop rule), for [`Self::finish_step`].
+    last_start: Option<(Vec<f64>, Vec<f64>, f64)>,
     q_m: Vec<f64>,
     /// Rows written.
     pub(crate) rows: u64,
@@ -80,13 +84,15 @@ pub(crate) struct ContactLog<W: Write> {
 
 impl<W: Write> ContactLog<W> {
     /// A log of `model` run from (q0, u0) at t = 0, recording one step in `every`, with the
-    /// stepper's step `dt` and gap tolerance `margin`; writes the header.
+    /// stepper's step `dt` and gap tolerance `margin`; writes the header. With `stops_early`
+    /// (a stop rule may end the run on a step the thinning skips) it keeps each step's start,
+    /// so that [`Self::finish_step`] can write the run's last step as the record does.
     pub(crate) fn new(
         model: &Multibody,
         (q0, u0): (Vec<f64>, Vec<f64>),
         every: usize,
-        dt: f64,
-        margin: f64,
+        (dt, margin): (f64, f64),
+        stops_early: bool,
         mut out: W,
     ) -> Result<Self> {
         writeln!(out, "{HEADER}")?;
@@ -99,6 +105,7 @@ impl<W: Write> ContactLog<W> {
             dt,
             margin,
             names,
+            last_start: stops_early.then(|| (q0.clone(), u0.clone(), 0.0)),
             q_a: q0,
             u_a: u0,
             t_a: 0.0,
@@ -122,47 +129,87 @@ impl<W: Write> ContactLog<W> {
     ) -> Result<()> {
         if (report.step + 1).is_multiple_of(self.every) {
             let t_m = midpoint(&self.q_a, &self.u_a, self.t_a, self.dt, &mut self.q_m);
-            for (c, &id) in report.contacts.iter().zip(report.contact_ids) {
-                if !c.active {
-                    continue;
-                }
-                let located = locate(model, id, (&self.q_m, t_m), self.margin, report.t)?;
-                let g = located.geometry;
-                let state = match c.state {
-                    ContactState::Open => "open",
-                    ContactState::Stick => "stick",
-                    ContactState::Slip => "slip",
-                };
-                number::write(&mut self.out, t)?;
-                write!(
-                    self.out,
-                    ",{id},{},{}",
-                    self.names[located.bodies[0]], self.names[located.bodies[1]]
-                )?;
-                for x in [
-                    g.point_a[0],
-                    g.point_a[1],
-                    g.point_b[0],
-                    g.point_b[1],
-                    g.normal[0],
-                    g.normal[1],
-                    g.gap,
-                    c.p_n,
-                    c.p_t,
-                    c.gamma_n,
-                    c.gamma_t,
-                ] {
-                    number::write_next(&mut self.out, x)?;
-                }
-                writeln!(self.out, ",{state},{}", u8::from(c.impact))?;
-                self.rows += 1;
-            }
+            self.write_step(model, report, t_m, t)?;
         }
-        // The next step's start is needed only when the record keeps that step.
-        if (report.step + 2).is_multiple_of(self.every) {
+        if let Some((q, u, t_a)) = &mut self.last_start {
+            // Every step's start is kept: this step's for `finish_step`, the next one's in q_a.
+            std::mem::swap(q, &mut self.q_a);
+            std::mem::swap(u, &mut self.u_a);
+            *t_a = self.t_a;
             self.q_a.copy_from_slice(report.q);
             self.u_a.copy_from_slice(report.u);
             self.t_a = report.t;
+        } else if (report.step + 2).is_multiple_of(self.every) {
+            // The next step's start is needed only when the record keeps that step.
+            self.q_a.copy_from_slice(report.q);
+            self.u_a.copy_from_slice(report.u);
+            self.t_a = report.t;
+        }
+        Ok(())
+    }
+
+    /// Writes the active contacts of the last step of the run, `last`, at time `t` when the
+    /// thinning skipped it, as the record writes its row ([`moreau_stepper::Observer::finish`]).
+    ///
+    /// # Errors
+    /// As [`Self::observe`].
+    pub(crate) fn finish_step(
+        &mut self,
+        model: &Multibody,
+        last: &StepReport<'_>,
+        t: f64,
+    ) -> Result<()> {
+        if (last.step + 1).is_multiple_of(self.every) {
+            return Ok(());
+        }
+        let Some((q_a, u_a, t_a)) = &self.last_start else { return Ok(()) };
+        let t_m = midpoint(q_a, u_a, *t_a, self.dt, &mut self.q_m);
+        self.write_step(model, last, t_m, t)
+    }
+
+    /// Writes the active contacts of the step of `report`, located at its midpoint (`q_m`,
+    /// `t_m`), at time `t`.
+    fn write_step(
+        &mut self,
+        model: &Multibody,
+        report: &StepReport<'_>,
+        t_m: f64,
+        t: f64,
+    ) -> Result<()> {
+        for (c, &id) in report.contacts.iter().zip(report.contact_ids) {
+            if !c.active {
+                continue;
+            }
+            let located = locate(model, id, (&self.q_m, t_m), self.margin, report.t)?;
+            let g = located.geometry;
+            let state = match c.state {
+                ContactState::Open => "open",
+                ContactState::Stick => "stick",
+                ContactState::Slip => "slip",
+            };
+            number::write(&mut self.out, t)?;
+            write!(
+                self.out,
+                ",{id},{},{}",
+                self.names[located.bodies[0]], self.names[located.bodies[1]]
+            )?;
+            for x in [
+                g.point_a[0],
+                g.point_a[1],
+                g.point_b[0],
+                g.point_b[1],
+                g.normal[0],
+                g.normal[1],
+                g.gap,
+                c.p_n,
+                c.p_t,
+                c.gamma_n,
+                c.gamma_t,
+            ] {
+                number::write_next(&mut self.out, x)?;
+            }
+            writeln!(self.out, ",{state},{}", u8::from(c.impact))?;
+            self.rows += 1;
         }
         Ok(())
     }

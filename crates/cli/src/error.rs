@@ -224,6 +224,22 @@ pub enum CliError {
         /// The model's name.
         model: String,
     },
+    /// A sweep of a report model with a thinned record: its key numbers are read from every
+    /// step's row (the ball's impacts and rest time, the woodpecker's contact events, the
+    /// slider-crank's gaps and crank speeds, the cam's lobes, the Painlevé rod's phases), so
+    /// that a record of one step in `record_every` would give other numbers under the same
+    /// names. A declared mechanism's key numbers do not depend on the thinning.
+    #[error(
+        "record_every = {record_every}: the key numbers of the report's model '{model}' are \
+         read from every step's row, which a record of one step in {record_every} does not \
+         have; sweep it with record_every = 1"
+    )]
+    KeysNeedEveryRow {
+        /// The model's name.
+        model: String,
+        /// The scene's `record_every` (> 1).
+        record_every: usize,
+    },
     /// A contact that a step reported and that its detection does not find again.
     #[error(
         "contact {id} of the step ending at t = {t:e} s is not found again at the step's \

@@ -658,6 +658,13 @@ impl<O: Observer<AnyModel>> Observer<AnyModel> for Guarded<'_, O> {
         }
         self.inner.observe(model, report)
     }
+
+    /// Passes the last step on unless it diverged, which the inner observer did not see.
+    fn finish(&mut self, model: &AnyModel, last: &StepReport<'_>) {
+        if self.diverged.is_none() {
+            self.inner.finish(model, last);
+        }
+    }
 }
 
 /// What a guarded run did.

@@ -1,7 +1,13 @@
 //! Key numbers of a run, per model: as a JSON object for `summary.json` and the report, and
 //! as a fixed list of columns for sweep CSVs.
+//!
+//! A report model's key numbers are read from the record's rows (impacts and rest times from
+//! the velocities and impulses, contact events from the phases, extremes of gaps and speeds),
+//! so that they hold for a record of every step only: [`check_thinning`] refuses a thinned
+//! one. A declared mechanism's are taken from [`moreau_stepper::Record::impacts`], which lists
+//! every impact whatever the thinning, and from the last row, which is the run's last step.
 
-use moreau_models::{AnyModel, ModelKind, ModelParams};
+use moreau_models::{AnyModel, ModelKind, ModelParams, Scene};
 use moreau_stepper::ContactState;
 use serde::Serialize;
 use serde_json::{Value, json};
@@ -9,7 +15,24 @@ use serde_json::{Value, json};
 use crate::analysis::{
     self, BallClosedForm, ContactEvent, ContactStateExt, Cycle, EventKind, LobeReport,
 };
+use crate::error::CliError;
 use crate::runs::{RunResult, parameters};
+
+/// Checks that the key numbers of `scene`'s model can be read from its record: a report
+/// model's need every step's row (see the module's documentation).
+///
+/// # Errors
+/// [`CliError::KeysNeedEveryRow`] for a report model with `record_every` > 1.
+pub fn check_thinning(scene: &Scene) -> Result<(), CliError> {
+    let kind = scene.kind();
+    if kind != ModelKind::Declared && scene.record_every > 1 {
+        return Err(CliError::KeysNeedEveryRow {
+            model: kind.name().to_owned(),
+            record_every: scene.record_every,
+        });
+    }
+    Ok(())
+}
 
 /// Key numbers of a bouncing-ball run, with the closed form for comparison.
 #[derive(Clone, Debug, Serialize, PartialEq)]

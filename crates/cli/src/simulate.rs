@@ -173,8 +173,10 @@ pub fn scene(options: &SimulateOptions) -> Result<Scene> {
     Ok(scene)
 }
 
-/// Checks that thinning the record keeps the last step: `record_every` must divide the
-/// planned steps unless a stop rule may end the run earlier.
+/// Checks that thinning the record keeps its rows evenly spaced up to t_end: `record_every`
+/// must divide the planned steps unless a stop rule may end the run earlier. Whatever the
+/// thinning, the recorder keeps a run's last step ([`moreau_stepper::Observer::finish`]), so
+/// that a run its stop rule ends still has its last row at the stop step.
 ///
 /// # Errors
 /// When it does not divide them.
@@ -182,8 +184,8 @@ pub fn check_record_every(scene: &Scene, steps: u64) -> Result<()> {
     let every = scene.record_every.max(1) as u64;
     if scene.stop_at.is_none() && !steps.is_multiple_of(every) {
         bail!(
-            "record_every = {every} does not divide the {steps} steps: the last row would not \
-             lie at t_end = {}",
+            "record_every = {every} does not divide the {steps} steps: the rows would not be \
+             evenly spaced up to t_end = {}",
             scene.t_end
         );
     }
@@ -379,6 +381,20 @@ impl<W: Write> Observer<AnyModel> for Streamer<W> {
         }
         ControlFlow::Continue(())
     }
+
+    /// The run's last step: its row when the thinning skipped it, and its contacts.
+    fn finish(&mut self, model: &AnyModel, last: &StepReport<'_>) {
+        self.recorder.finish(model, last);
+        end_at_t_end(&mut self.recorder.record, last.step, self.planned, &self.scene);
+        if let (Some(log), AnyModel::Declared(m)) = (&mut self.contacts, model) {
+            let t = row_time(last.t, last.step, self.planned, &self.scene);
+            if let Err(e) = log.finish_step(m, last, t)
+                && self.error.is_none()
+            {
+                self.error = Some(e);
+            }
+        }
+    }
 }
 
 /// What [`run_to_csv`] did.
@@ -449,8 +465,15 @@ pub fn run_to_csv(
         (Some(file), AnyModel::Declared(m)) => {
             let (partial, w) = file.create_partial()?;
             let margin = m.gap_tolerance();
-            let log =
-                ContactLog::new(m, m.initial_state(), scene.record_every, scene.dt, margin, w)?;
+            let stops_early = scene.stop_at.is_some();
+            let log = ContactLog::new(
+                m,
+                m.initial_state(),
+                scene.record_every,
+                (scene.dt, margin),
+                stops_early,
+                w,
+            )?;
             (Some((file, partial)), Some(log))
         }
         (Some(_), other) => {
@@ -498,11 +521,25 @@ pub fn run_to_csv(
     if let Some(e) = streamer.error.take() {
         return Err(e.context(format!("writing {}", partial.display())));
     }
-    let run = run.map_err(|e| {
-        failed::with_failed_problem(e, &failed_path)
-            .context(format!("the rows so far are in {}", partial.display()))
-    })?;
-    streamer.drain()?;
+    // The rows recorded so far reach the file whether the run succeeded or not.
+    let written = streamer
+        .drain()
+        .and_then(|()| Ok(streamer.out.flush()?))
+        .with_context(|| format!("writing {}", partial.display()));
+    let run = match (run, written) {
+        (Ok(run), Ok(())) => run,
+        (Ok(_), Err(e)) => return Err(e),
+        (Err(e), Ok(())) => {
+            return Err(failed::with_failed_problem(e, &failed_path)
+                .context(format!("the rows so far are in {}", partial.display())));
+        }
+        (Err(e), Err(w)) => {
+            return Err(failed::with_failed_problem(e, &failed_path).context(format!(
+                "the rows so far could not all be written to {} ({w:#})",
+                partial.display()
+            )));
+        }
+    };
     let contact_rows = streamer.contacts.as_ref().map(|log| log.rows);
     if let (Some(log), Some((file, partial))) = (streamer.contacts.take(), &contacts_files) {
         file.publish_written(partial, log.finish()?)?;

@@ -163,6 +163,7 @@ fn member_scene(base: &Scene, grid: &Grid, i: u64, max_steps: u64) -> Result<Sce
     apply_sets(&mut scene, &grid.member(i)).with_context(|| format!("member {i}"))?;
     let steps = guard::plan_steps(&scene, max_steps).with_context(|| format!("member {i}"))?;
     check_record_every(&scene, steps).with_context(|| format!("member {i}"))?;
+    keys::check_thinning(&scene).with_context(|| format!("member {i}"))?;
     Ok(scene)
 }
 
@@ -244,7 +245,8 @@ fn member_row(
 /// # Errors
 /// [`CliError::SweepTooLarge`] for a run of more than [`MAX_MEMBERS`] members; unknown
 /// model, bad scene, a key given twice, unknown keys or bad values, a member whose
-/// step plan is refused, an unfinished run at `<out>.partial` without `resume` (or of another
+/// step plan is refused, a member of a report model with `record_every` > 1, whose key
+/// numbers need every row ([`CliError::KeysNeedEveryRow`]), an unfinished run at `<out>.partial` without `resume` (or of another
 /// sweep), with `resume` a finished `out` of another sweep ([`CliError::MixedParts`]), an
 /// output that is the scene file or not a regular file ([`CliError::Output`]) or that another
 /// run holds ([`CliError::Locked`]), an unwritable output.

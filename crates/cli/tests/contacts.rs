@@ -172,3 +172,38 @@ fn a_failed_run_leaves_its_contacts_partial() -> Result<()> {
     assert_eq!(std::fs::read_to_string(partial)?.trim_end(), HEADER);
     Ok(())
 }
+
+#[test]
+fn a_run_its_stop_rule_ends_writes_the_contacts_of_its_last_step() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let stack = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies/stack.toml");
+    // A stop rule never met: the run ends at t_end = 0.5 s, 500 steps, which 7 does not divide.
+    type Rows = Vec<Vec<String>>;
+    let run = |every: &str, name: &str| -> Result<(Rows, Rows)> {
+        let (out, contacts) = (dir.path().join(name), dir.path().join(format!("c-{name}")));
+        let options = SimulateOptions {
+            scene: Some(stack.clone()),
+            sets: vec![
+                "t_end=0.5".into(),
+                r#"stop_at={coordinate="d2.y", value=-10.0}"#.into(),
+                every.into(),
+            ],
+            contacts: Some(contacts.clone()),
+            ..Default::default()
+        };
+        run_to_csv(&options, &out, &mut |_| {})?;
+        Ok((rows(&out)?.1, rows(&contacts)?.1))
+    };
+    let (record, located) = run("record_every=7", "thinned.csv")?;
+    let (_, all) = run("record_every=1", "all.csv")?;
+    let last_t = |rows: &[Vec<String>]| rows.last().map(|r| r[0].clone());
+    assert_eq!(last_t(&record).as_deref(), Some("0.5"));
+    assert_eq!(last_t(&located), last_t(&record));
+    // The last step's contacts are those of the full record's last step.
+    let at_end = |rows: &[Vec<String>]| -> Vec<Vec<String>> {
+        rows.iter().filter(|r| r[0] == "0.5").cloned().collect()
+    };
+    assert_eq!(at_end(&located).len(), 3);
+    assert_eq!(at_end(&located), at_end(&all));
+    Ok(())
+}

@@ -96,7 +96,8 @@ pub struct Scene {
     pub dt: f64,
     /// End time (s); with a [`StopRule`] it is an upper bound on the run's length.
     pub t_end: f64,
-    /// Keep one step in `record_every` in the [`Record`] (>= 1); default 1.
+    /// Keep one step in `record_every` in the [`Record`] (>= 1), and the run's last step
+    /// (at t_end or the stop rule's step) whatever the thinning; default 1.
     pub record_every: usize,
     /// The LCP solver; [`SolverChoice::Auto`] when omitted.
     pub solver: SolverChoice,
@@ -150,6 +151,10 @@ impl<M, O: Observer<M>> Observer<M> for StopObserver<'_, O> {
         let crossed = if self.start_below { x >= self.value } else { x <= self.value };
         if crossed { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
     }
+
+    fn finish(&mut self, mechanism: &M, last: &StepReport<'_>) {
+        self.inner.finish(mechanism, last);
+    }
 }
 
 /// Shows an observer of scene-built models the [`AnyModel`] whose inner model a stepper of
@@ -162,6 +167,10 @@ struct AsAnyModel<'a, O> {
 impl<M, O: Observer<AnyModel>> Observer<M> for AsAnyModel<'_, O> {
     fn observe(&mut self, _: &M, report: &StepReport<'_>) -> ControlFlow<()> {
         self.inner.observe(self.model, report)
+    }
+
+    fn finish(&mut self, _: &M, last: &StepReport<'_>) {
+        self.inner.finish(self.model, last);
     }
 }
 
@@ -371,7 +380,7 @@ impl Scene {
     }
 
     /// Builds the model, runs it to the stop rule (or `t_end`) and records every
-    /// `record_every`-th step; row 0 of the record is the initial state.
+    /// `record_every`-th step and the last; row 0 of the record is the initial state.
     ///
     /// The run steps the model's own type (a [`Stepper`] of [`crate::Ball`], say), so that a
     /// scene-built model costs what the concrete type costs.

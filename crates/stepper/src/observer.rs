@@ -10,10 +10,22 @@ use crate::{ContactReport, ContactState, Mechanism, Rows, StepReport};
 
 /// Receives every step of a run; returning [`ControlFlow::Break`] stops the run after it.
 ///
-/// Closures `FnMut(&StepReport) -> ControlFlow<()>` are observers too.
+/// Closures `FnMut(&StepReport) -> ControlFlow<()>` are observers too (with the default
+/// [`Observer::finish`], which does nothing).
 pub trait Observer<M: ?Sized> {
     /// Called after each step with the mechanism and the step's report.
     fn observe(&mut self, mechanism: &M, report: &StepReport<'_>) -> ControlFlow<()>;
+
+    /// Called once when a run of [`crate::Stepper::run_until`] has ended without an error,
+    /// with the report of its last step, the one `observe` was last called with: after the
+    /// step that reached t_end, or after the step on which `observe` returned
+    /// [`ControlFlow::Break`]. Not called for a run of no steps, nor after a failed step (the
+    /// run then returns the error). Does nothing by default; a [`Recorder`] writes the last
+    /// step's row here when its thinning skipped it. An observer that wraps another passes
+    /// the call on when its inner observer saw that step.
+    fn finish(&mut self, mechanism: &M, last: &StepReport<'_>) {
+        let _ = (mechanism, last);
+    }
 }
 
 impl<M: ?Sized, F: FnMut(&StepReport<'_>) -> ControlFlow<()>> Observer<M> for F {
@@ -49,8 +61,10 @@ pub struct Impact {
 ///
 /// Row `k` holds the state at `t[k]`; the impulses and activity of row `k` are those of the
 /// steps since the previous row (summed when rows are thinned with [`Recorder::every`]). Row 0
-/// is the state the run started from, with zero impulses. [`Record::impacts`] lists every
-/// impact of every step, thinned rows or not.
+/// is the state the run started from, with zero impulses. The last row of a run of
+/// [`crate::Stepper::run_until`] is its last step, thinned rows or not (see
+/// [`Observer::finish`]): a run of 10 steps kept one in 4 has rows at steps 0, 4, 8 and 10.
+/// [`Record::impacts`] lists every impact of every step, thinned rows or not.
 ///
 /// For a mechanism with a [`crate::BodyStructure`], whose contacts come and go, the rows keep
 /// the bodies' q and u, the energies and the solver's numbers, and the per-contact columns
@@ -160,7 +174,9 @@ impl Record {
     }
 }
 
-/// An [`Observer`] that keeps every `n`-th step in a [`Record`].
+/// An [`Observer`] that keeps every `n`-th step in a [`Record`], and the last step of each
+/// run of [`crate::Stepper::run_until`] ([`Observer::finish`]), so that a thinned record
+/// still ends at t_end or at the step that stopped the run.
 ///
 /// The record's tables take their widths (f coordinates, n contacts) from its first row, so
 /// one recorder serves runs of one mechanism.
@@ -200,7 +216,7 @@ impl Recorder {
     }
 
     /// A recorder that keeps one step in `n` (`n = 0` is taken as 1), summing the impulses
-    /// of the steps in between (impacts are all kept).
+    /// of the steps in between (impacts are all kept), and the last step of a run.
     pub fn every(n: usize) -> Self {
         Self {
             record: Record::default(),
@@ -325,19 +341,34 @@ impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
         self.sum_dissipated += report.impulse_dissipation();
         self.pending += 1;
         if self.pending >= self.every {
-            self.pending = 0;
-            let iterations = report.lcp.map_or(0, |l| l.iterations);
-            self.push_row(
-                mechanism,
-                report.t,
-                report.q,
-                report.u,
-                report.contacts,
-                report.lcp_size,
-                iterations,
-            );
+            self.push_step(mechanism, report);
         }
         ControlFlow::Continue(())
+    }
+
+    /// Writes the last step's row when the thinning skipped it, with the impulses summed
+    /// since the last row.
+    fn finish(&mut self, mechanism: &M, last: &StepReport<'_>) {
+        if self.pending > 0 {
+            self.push_step(mechanism, last);
+        }
+    }
+}
+
+impl Recorder {
+    /// Writes the row of the step of `report`, with the sums of the steps since the last row.
+    fn push_step<M: Mechanism + ?Sized>(&mut self, mechanism: &M, report: &StepReport<'_>) {
+        self.pending = 0;
+        let iterations = report.lcp.map_or(0, |l| l.iterations);
+        self.push_row(
+            mechanism,
+            report.t,
+            report.q,
+            report.u,
+            report.contacts,
+            report.lcp_size,
+            iterations,
+        );
     }
 }
 
