@@ -220,15 +220,19 @@ fn a_free_body_whose_origin_is_off_its_centre_of_mass_moves_its_centre_uniformly
         stepper.step().unwrap();
         let q = stepper.q();
         let centre = [q[0] + 0.3 * q[2].cos(), q[1] + 0.3 * q[2].sin()];
+        // The midpoint step is second order: the centre drifts by 1.8e-6 m over the 2 s, of
+        // order c (ω Δt)² ω t.
         assert!(
-            (centre[0] - 0.3).hypot(centre[1]) < 1e-3,
+            (centre[0] - 0.3).hypot(centre[1]) < 1e-5,
             "centre {centre:?} at t = {}",
             stepper.t()
         );
     }
     let e = stepper.mechanism().kinetic_energy(stepper.q(), stepper.u());
-    assert!((e - e0).abs() < 1e-3 * e0, "kinetic energy {e} J, initially {e0} J");
-    assert!((stepper.u()[2] - 4.0).abs() < 1e-3, "spin {}", stepper.u()[2]);
+    // The kinetic energy is kept to 3.7e-12 relative, the spin to round-off (it is exact):
+    // without gravity h = (m ω² s, 0) and M⁻¹ h = (ω² s, 0), which leaves the spin alone.
+    assert!((e - e0).abs() < 1e-10 * e0, "kinetic energy {e} J, initially {e0} J");
+    assert!((stepper.u()[2] - 4.0).abs() < 1e-12, "spin {}", stepper.u()[2]);
 }
 
 /// The rod of [`rod`] released at 1 rad on a frictionless pin of clearance `c` (ε_N = 0, or
