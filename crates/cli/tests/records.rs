@@ -155,10 +155,7 @@ fn key_numbers_do_not_depend_on_the_thinning() -> Result<()> {
     let axes = vec![Axis::parse("record_every=1,100")?];
     let e = run(&SweepOptions::new("ball", axes), &out).unwrap_err();
     let refused = e.chain().find_map(|c| c.downcast_ref::<CliError>());
-    ensure!(
-        matches!(refused, Some(CliError::KeysNeedEveryRow { record_every: 100, .. })),
-        "{e:#}"
-    );
+    ensure!(matches!(refused, Some(CliError::KeysNeedEveryRow { record_every: 100, .. })), "{e:#}");
     ensure!(format!("{e:#}").contains("record_every = 100"), "{e:#}");
     ensure!(std::fs::read_dir(dir.path())?.next().is_none(), "files were written");
     // A declared mechanism's are the same whatever the thinning: the impacts from the

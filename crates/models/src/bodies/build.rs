@@ -528,6 +528,23 @@ impl SystemSpec {
             .enumerate()
             .map(|(i, f)| force(f, i, &mut bodies))
             .collect::<Result<Vec<_>, _>>()?;
+        // A clearance joint's contacts are named after it, and so is an explicit contact: the
+        // two would share the record's columns (`<name>.PN`, ...).
+        if let Some(c) = self
+            .contacts
+            .iter()
+            .find(|c| self.joints.iter().any(|j| j.name() == c.name && j.clearance_law().is_some()))
+        {
+            return Err(bad(
+                format!("contacts.{}.name", c.name),
+                &c.name,
+                format!(
+                    "is the name of the clearance joint `{}`, whose contacts are named after \
+                     it; give the contact or the joint another name",
+                    c.name
+                ),
+            ));
+        }
         let jointed: Vec<(usize, usize)> = joints.iter().map(|j| (j.a, j.b)).collect();
         let rules = Rules::new(self, &mut bodies, jointed)?;
         let (pairs, detector) = match self.contact_set {
@@ -537,6 +554,17 @@ impl SystemSpec {
             }
             ContactSet::Detected => (Vec::new(), Some(Detector::new(rules, &bodies)?)),
         };
+        // Every contact has a name of its own: the names of the explicit contacts, the
+        // automatic ones (`<body>.<shape>-<body>.<shape>`) and the clearance joints' differ by
+        // construction once the check above holds; this keeps it so.
+        let mut seen = std::collections::HashSet::new();
+        if let Some(name) = contact_names.iter().find(|n| !seen.insert(n.as_str())) {
+            return Err(bad(
+                format!("contacts.{name}.name"),
+                name,
+                "names two contacts, which would share the record's columns".to_owned(),
+            ));
+        }
         let mut coordinate_names = Vec::new();
         let mut velocity_names = Vec::new();
         let mut q0 = Vec::new();
