@@ -426,8 +426,8 @@ pub struct Simulated {
 /// The outputs are checked first ([`output`]): neither `out` nor the contacts file may be the
 /// scene file or each other, nor an existing file that is not a regular file; a symbolic link
 /// is written through to its file; each is locked (`<out>.lock`) while the run writes it. The
-/// scene and its step plan are checked, and `<out>.partial` is created, before the first
-/// step; the rows go there in batches of a few thousand, and the file is renamed to `out`
+/// scene and its step plan are checked before the lock is taken (a refused scene leaves no
+/// file), and `<out>.partial` is created before the first step; the rows go there in batches of a few thousand, and the file is renamed to `out`
 /// once the run has ended at t_end (or its stop rule). A run that fails or diverges leaves
 /// `<out>.partial` for inspection and no `out`; one that stops on a step problem that its
 /// solver leaves unsolved writes that problem to `<out>.failed.dat` as well
@@ -453,12 +453,13 @@ pub fn run_to_csv(
     let outputs: Vec<&Output> =
         [Some(&out_file), contacts_file.as_ref()].into_iter().flatten().collect();
     output::check_distinct(&inputs, &outputs)?;
-    let _locks =
-        outputs.iter().map(|o| OutputLock::acquire(o)).collect::<Result<Vec<_>, CliError>>()?;
+    // The scene is checked before any file is touched, its lock included.
     let scene = scene(options)?;
     let model = scene.build()?;
     let planned = guard::plan_steps(&scene, options.step_limit())?;
     check_record_every(&scene, planned)?;
+    let _locks =
+        outputs.iter().map(|o| OutputLock::acquire(o)).collect::<Result<Vec<_>, CliError>>()?;
     // The contacts file's path and its `.partial`, and its log.
     let (contacts_files, log) = match (&contacts_file, &model) {
         (None, _) => (None, None),

@@ -11,6 +11,7 @@ use super::body::{Body, Kind, scale};
 use super::contact_spec::ContactSet;
 use super::contacts::{Rules, pairs};
 use super::detect::Detector;
+use super::fill::{FillPattern, MAX_FILL_BODIES};
 use super::forces::Force;
 use super::joints::{Joint, JointKind};
 use super::motion::check_motion;
@@ -463,6 +464,25 @@ impl SystemSpec {
             return self.build_expanded(self);
         }
         unique("fill", self.fill.iter().map(|f| f.name.as_str()))?;
+        // The fills together, each within the limit (checked by `FillSpec::bodies`).
+        let mut total = 0usize;
+        for f in &self.fill {
+            if f.len() > MAX_FILL_BODIES {
+                break;
+            }
+            total += f.len();
+            if total > MAX_FILL_BODIES {
+                let size = if f.pattern == FillPattern::Pyramid { "base" } else { "count" };
+                return Err(bad(
+                    format!("fill.{}.{size}", f.name),
+                    &f.base.or(f.count).unwrap_or(0).to_string(),
+                    format!(
+                        "the fills up to this one would make {total} bodies, more than the \
+                         {MAX_FILL_BODIES} a mechanism's fills may make"
+                    ),
+                ));
+            }
+        }
         let mut expanded = self.clone();
         for fill in std::mem::take(&mut expanded.fill) {
             expanded.bodies.extend(fill.bodies()?);

@@ -23,6 +23,13 @@ pub enum FillPattern {
     Pyramid,
 }
 
+/// The most bodies the fills of one mechanism may make together: 10⁷. A generated body
+/// takes about a kilobyte between its declaration, the mechanism's body and the stepper's
+/// state and contacts, so that 10⁷ of them already need some 10 GB, beyond a workstation's
+/// memory, while the largest scene of the repository has 10⁴ (`scenes/scale`). A larger
+/// fill is refused naming its field rather than aborting on a failed allocation.
+pub const MAX_FILL_BODIES: usize = 10_000_000;
+
 fn one_to_one() -> [f64; 2] {
     [1.0, 1.0]
 }
@@ -127,11 +134,17 @@ impl FillSpec {
         }
     }
 
-    /// The number of bodies the fill makes (0 when its size field is missing).
+    /// The number of bodies the fill makes (0 when its size field is missing; `usize::MAX`
+    /// when a pyramid's base (base + 1)/2 does not fit a `usize`).
     pub fn len(&self) -> usize {
         match self.pattern {
             FillPattern::Lattice => self.count.unwrap_or(0),
-            FillPattern::Pyramid => self.base.map_or(0, |b| b * (b + 1) / 2),
+            FillPattern::Pyramid => self.base.map_or(0, |b| {
+                // b (b + 1)/2 without overflow: the even factor halved first.
+                let (half, other) =
+                    if b % 2 == 0 { (b / 2, b.checked_add(1)) } else { (b / 2 + 1, Some(b)) };
+                other.and_then(|o| half.checked_mul(o)).unwrap_or(usize::MAX)
+            }),
         }
     }
 
@@ -164,7 +177,8 @@ impl FillSpec {
     ///
     /// # Errors
     /// [`ModelError::InvalidParameter`] or [`ModelError::BadValue`] naming the field as
-    /// `fill.<name>.<field>`.
+    /// `fill.<name>.<field>`; a fill of more than [`MAX_FILL_BODIES`] bodies is refused so,
+    /// naming its `count` or `base`, before any body is made.
     pub fn bodies(&self) -> Result<Vec<BodySpec>, ModelError> {
         let field = |f: &str| format!("fill.{}.{f}", self.name);
         let missing = |f: &str, pattern: &str| {
@@ -194,6 +208,22 @@ impl FillSpec {
                 refuse("count", self.count.is_some(), "pyramid")?;
                 refuse("columns", self.columns.is_some(), "pyramid")?;
             }
+        }
+        let n = self.len();
+        if n > MAX_FILL_BODIES {
+            let (f, given) = match self.pattern {
+                FillPattern::Lattice => ("count", self.count),
+                FillPattern::Pyramid => ("base", self.base),
+            };
+            return Err(bad(
+                field(f),
+                &given.unwrap_or(0).to_string(),
+                format!(
+                    "the fill would make {} bodies, more than the {MAX_FILL_BODIES} a mechanism's \
+                     fills may make",
+                    if n == usize::MAX { "more than usize::MAX".to_owned() } else { n.to_string() }
+                ),
+            ));
         }
         for k in 0..2 {
             finite(&format!("{}.{k}", field("origin")), self.origin[k])?;

@@ -86,7 +86,7 @@ mod spec;
 
 pub use build::GROUND;
 pub use builder::{BodyHandle, ContactHandle, ForceHandle, JointHandle, MultibodyBuilder};
-pub use fill::FillPattern;
+pub use fill::{FillPattern, MAX_FILL_BODIES};
 pub use joints::SlotGeometry;
 pub use multibody::{LocatedContact, Multibody};
 pub use spec::{
