@@ -511,9 +511,9 @@ impl<M: Mechanism> Stepper<M> {
         self.core.body.iter().flat_map(|b| b.islands.problems())
     }
 
-    /// Steps until t_end (the last step may end up to Δt/2 past it), calling `observer` after
-    /// every step; stops early when the observer breaks. Once the run has ended without an
-    /// error, [`Observer::finish`] is called with its last step's report.
+    /// Steps until t_end (the last step ends at it or less than Δt past it), calling
+    /// `observer` after every step; stops early when the observer breaks. Once the run has
+    /// ended without an error, [`Observer::finish`] is called with its last step's report.
     ///
     /// The number of steps is the nearest whole number of Δt in `t_end − t` (rounded up when
     /// it is not within 1e-6 Δt of one), and time is t_0 + kΔt, so no round-off accumulates.
