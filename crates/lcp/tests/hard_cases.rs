@@ -120,7 +120,9 @@ fn fully_degenerate_q_zero_and_ties() {
 fn cycling_prone_degenerate_problem_terminates() {
     // A degenerate problem with a zero diagonal and ties at zero (q has zeros); without
     // a lexicographic rule Lemke's method can revisit bases here. It has no solution: the
-    // second row reads w2 = −z1 − 1 < 0 for every z1 >= 0.
+    // second row reads w2 = −z1 − 1 < 0 for every z1 >= 0. (Its transpose is Siconos'
+    // `lcp_Pang_isolated_sol`, whose file lists M by columns, with the isolated solution
+    // z = (1, 0, 0): siconos_lcp.rs.)
     let lcp = Lcp::from_rows(
         &[vec![0.0, 1.0, -1.0], vec![-1.0, 0.0, 0.0], vec![-1.0, 0.0, 0.0]],
         &[0.0, -1.0, 1.0],
