@@ -300,6 +300,15 @@ impl Scene {
         if self.record_every == 0 {
             return Err(relation("record_every", 0.0, "must be at least 1"));
         }
+        // The stepper's own rule (`StepperOptions::inexact_residual`), checked before a run
+        // starts rather than at its first step.
+        if !(0.0..1.0).contains(&self.inexact_residual) {
+            return Err(relation(
+                "inexact_residual",
+                self.inexact_residual,
+                "must lie in [0, 1): a natural residual up to which an island is taken",
+            ));
+        }
         let model = self.params.build()?;
         if let Some(stop) = &self.stop_at {
             finite("stop_at.value", stop.value)?;

@@ -208,6 +208,25 @@ fn set_rejects_unknown_keys_and_bad_values() {
         }
     }
     assert_eq!(scene, before, "a failed set must leave the scene unchanged");
+    // The stepper's rule for `inexact_residual`, [0, 1), is the scene's: refused when set or
+    // read, before a run starts.
+    for value in ["nan", "-1", "1", "2", "inf"] {
+        match scene.set("inexact_residual", value) {
+            Err(ModelError::BadValue { key, value: v, reason }) => {
+                assert_eq!((key.as_str(), v.as_str()), ("inexact_residual", value));
+                assert!(reason.contains("[0, 1)"), "{reason}");
+            }
+            other => panic!("inexact_residual={value}: expected a bad value, got {other:?}"),
+        }
+    }
+    assert_eq!(scene, before, "a failed set must leave the scene unchanged");
+    scene.set("inexact_residual", "1e-4").unwrap();
+    let text =
+        scene.to_toml_string().replace("inexact_residual = 0.0001", "inexact_residual = -0.5");
+    match Scene::from_toml_str(&text) {
+        Err(ModelError::InvalidParameter { field, .. }) => assert_eq!(field, "inexact_residual"),
+        other => panic!("inexact_residual = -0.5: expected it refused, got {other:?}"),
+    }
     let mut wp = Scene::report(ModelKind::Woodpecker);
     let err = wp.set("beak_contact", "maybe").unwrap_err().to_string();
     assert!(err.contains("beak_contact"), "{err}");
