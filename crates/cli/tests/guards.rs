@@ -307,7 +307,7 @@ gravity = [0.0, -9.81]
 contact_set = "{contact_set}"
 
 [[bodies]]
-name = "ground"
+name = "floor"
 type = "fixed"
 position = [0.0, 0.0]
 shapes = [{{ type = "half_plane", point = [0.0, 0.0], normal = [0.0, 1.0] }}]

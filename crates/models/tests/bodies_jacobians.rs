@@ -66,8 +66,48 @@ impl ContactKinematics for Normals<'_> {
 }
 
 /// Body `a` (dynamic, centre of mass off its origin), `b` (dynamic), `d` (driven: turning
-/// about a pivot), and the world; one joint between two of them.
+/// about a pivot), and the world; one joint between two of them. A bilateral joint's dynamic
+/// body (`body_b` when both are) is declared where the joint puts it, anchors together and a
+/// weld's angle met, since assembly refuses to move a body far.
 fn mechanism(joint: JointSpec) -> Multibody {
+    let mut builder = bodies();
+    let (anchors, weld) = match joint {
+        JointSpec::Revolute { anchor_a, anchor_b, .. }
+        | JointSpec::Prismatic { anchor_a, anchor_b, .. }
+        | JointSpec::PointOnLine { anchor_a, anchor_b, .. } => (Some((anchor_a, anchor_b)), None),
+        JointSpec::Weld { anchor_a, anchor_b, angle, .. } => (Some((anchor_a, anchor_b)), angle),
+        _ => (None, None),
+    };
+    if let Some((ra, rb)) = anchors {
+        let free = builder.build().unwrap();
+        let (q0, _) = free.initial_state();
+        let poses = free.body_poses(&q0, 0.0);
+        let pose = |name: &str| free.body_index(name).map_or([0.0; 3], |i| poses[i]);
+        let (na, nb) = joint.bodies();
+        let dynamic = |name: &str| name == "a" || name == "b";
+        // (moved body, its anchor, the other's pose, its anchor, sign of the moved one's angle)
+        let (moved, r_moved, other, r_other, sign) =
+            if dynamic(nb) { (nb, rb, pose(na), ra, 1.0) } else { (na, ra, pose(nb), rb, -1.0) };
+        let world = |p: [f64; 3], r: [f64; 2]| {
+            let (s, c) = p[2].sin_cos();
+            [p[0] + c * r[0] - s * r[1], p[1] + s * r[0] + c * r[1]]
+        };
+        let mut spec = builder.spec().clone();
+        let body = spec.bodies.iter_mut().find(|b| b.name == moved).unwrap();
+        if let Some(angle) = weld {
+            body.angle = other[2] + sign * angle;
+        }
+        let at = world(other, r_other);
+        let offset = world([0.0, 0.0, body.angle], r_moved);
+        body.position = [at[0] - offset[0], at[1] - offset[1]];
+        builder = MultibodyBuilder::from_spec(spec);
+    }
+    builder.add_joint(joint);
+    builder.build().unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The bodies of [`mechanism`], without its joint.
+fn bodies() -> MultibodyBuilder {
     let mut builder = MultibodyBuilder::new([0.3, -9.81]);
     let mut a = BodySpec::dynamic("a", 2.0, 0.5, [0.1, 0.2], 0.3);
     a.center_of_mass = Some([0.05, -0.02]);
@@ -79,8 +119,7 @@ fn mechanism(joint: JointSpec) -> Multibody {
         0.2,
         Motion::Rotate { pivot: [0.3, 0.1], omega: 1.3, phase: 0.2 },
     ));
-    builder.add_joint(joint);
-    builder.build().unwrap_or_else(|e| panic!("{e}"))
+    builder
 }
 
 fn samples(mb: &Multibody) -> Vec<(Vec<f64>, f64)> {

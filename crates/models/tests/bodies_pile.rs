@@ -17,7 +17,7 @@ gravity = [0.0, -9.81]
 projection = {projection}
 contact_set = "detected"
 [[bodies]]
-name = "ground"
+name = "floor"
 type = "fixed"
 position = [0.0, 0.0]
 shapes = [{{ type = "polyline", points = [[-1.0, 0.6], [-0.4, 0.0], [0.4, 0.0], [1.0, 0.6]] }}]

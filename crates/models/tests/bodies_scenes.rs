@@ -58,13 +58,13 @@ fn set_reaches_every_declared_field_by_its_path() {
     // Fields the file leaves at their defaults: the initial state is written out, so that
     // an entry of the velocity is a key too.
     assert!(scene.keys().iter().any(|k| k == "bodies.bob.velocity"), "{:?}", scene.keys());
-    scene.set("bodies.bob.angle", "0.3").unwrap();
+    scene.set("bodies.bob.angle", "0.03").unwrap();
     scene.set("bodies.1.omega", "1.5").unwrap();
     scene.set("bodies.bob.velocity.0", "0.25").unwrap();
     scene.set("projection", "false").unwrap();
     let s = spec(&scene);
     let bob = &s.bodies[1];
-    assert_eq!((bob.mass, bob.position[1], bob.angle, bob.omega), (Some(2.0), -0.9, 0.3, 1.5));
+    assert_eq!((bob.mass, bob.position[1], bob.angle, bob.omega), (Some(2.0), -0.9, 0.03, 1.5));
     assert_eq!(bob.velocity, [0.25, 0.0]);
     assert_eq!(bob.kind, BodyType::Dynamic);
     assert_eq!((s.contacts[0].mu, s.gravity[1]), (0.2, -1.62));

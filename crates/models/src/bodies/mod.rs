@@ -84,7 +84,7 @@ mod motion;
 mod multibody;
 mod spec;
 
-pub use build::GROUND;
+pub use build::{GROUND, MAX_ASSEMBLY_MOVE};
 pub use builder::{BodyHandle, ContactHandle, ForceHandle, JointHandle, MultibodyBuilder};
 pub use fill::{FillPattern, MAX_FILL_BODIES};
 pub use joints::SlotGeometry;
