@@ -133,7 +133,11 @@ fn apply_labelled<'a>(
     };
     let mut seen: Vec<(&str, Vec<String>)> = Vec::new();
     for (label, key, value) in sets {
-        let targets = scene.targets(key).with_context(|| format!("--set {key}={value}"))?;
+        // The option as the user typed it: `--dt NaN`, or `--set dt=NaN`.
+        let typed = || {
+            if label == key { format!("--set {key}={value}") } else { format!("{label} {value}") }
+        };
+        let targets = scene.targets(key).with_context(typed)?;
         for (first, earlier) in &seen {
             let repeated =
                 targets.iter().find_map(|t| earlier.iter().find(|e| overlap(e, t)).map(|e| (t, e)));
@@ -148,7 +152,7 @@ fn apply_labelled<'a>(
                 .into());
             }
         }
-        scene.set(key, value).with_context(|| format!("--set {key}={value}"))?;
+        scene.set(key, value).with_context(typed)?;
         seen.push((label, targets));
     }
     Ok(())
