@@ -2,10 +2,10 @@
 //! back as the same number, with an exponent when that is shorter.
 //!
 //! A number of magnitude in [10⁻³, 10¹⁵), and 0, is written in decimal notation as Rust writes
-//! it (`0`, `0.001`, `1`, `0.4285`, `123456`: integers without `.0`); any other is written in
+//! it (`0`, negative zero too, `0.001`, `1`, `0.4285`, `123456`: integers without `.0`); any other is written in
 //! decimal or in scientific notation (`-1e-33`, `2.5e-7`, `1e300`), whichever is shorter, the
 //! decimal one on a tie. Both are Rust's shortest round-trip digits, so every cell reads back
-//! exactly (`str::parse::<f64>`, and any CSV reader that takes `1e-33`); the non-finite
+//! exactly, negative zero as zero (`str::parse::<f64>`, and any CSV reader that takes `1e-33`); the non-finite
 //! values are written `NaN`, `inf` and `-inf`. Every CSV writer of the command uses this
 //! module: the records of `simulate`, its contacts file, the key numbers of a sweep, the
 //! solution of `solve`, and [`crate::table::Table`].
@@ -72,7 +72,11 @@ fn decimal_len(sci: &str) -> Option<usize> {
 /// # Errors
 /// Those of the writer.
 pub fn write(w: &mut impl std::io::Write, x: f64) -> std::io::Result<()> {
-    if !x.is_finite() || x == 0.0 || DECIMAL.contains(&x.abs()) {
+    if x == 0.0 {
+        // Negative zero as well: a cell that reads back as zero is written `0`.
+        return w.write_all(b"0");
+    }
+    if !x.is_finite() || DECIMAL.contains(&x.abs()) {
         return write!(w, "{x}");
     }
     match Sci::of(x) {
@@ -108,7 +112,7 @@ mod tests {
     fn small_and_large_numbers_take_an_exponent_and_others_are_as_before() {
         let cases = [
             (0.0, "0"),
-            (-0.0, "-0"),
+            (-0.0, "0"),
             (1.0, "1"),
             (0.001, "0.001"),
             (-0.001, "-0.001"),
