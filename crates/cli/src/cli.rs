@@ -94,7 +94,8 @@ pub struct SolveArgs {
     /// lcp-route for an FC2D or GFC2D problem.
     #[arg(long)]
     pub solver: Option<String>,
-    /// The solver's tolerance (its default otherwise).
+    /// The solver's tolerance (its default otherwise), in (0, 1) as a scene's solver
+    /// tolerance: the residuals are relative.
     #[arg(long)]
     pub tolerance: Option<f64>,
     /// Output CSV file of the solution: i,z,w or contact,r_n,r_t,u_n,u_t (OUT.partial when

@@ -294,6 +294,17 @@ pub enum CliError {
         /// The kind given.
         kind: String,
     },
+    /// A `--tolerance` outside (0, 1), the range of a scene's solver tolerance: the
+    /// residuals are relative, and z = 0 measures at most 1 on any problem, so a tolerance of
+    /// 1 or more would call a problem solved that is not.
+    #[error(
+        "--tolerance {value}: must be in (0, 1); the residual is relative, and 1 or more would \
+         accept z = 0 for any problem"
+    )]
+    BadTolerance {
+        /// The tolerance given.
+        value: f64,
+    },
     /// A solver name that is not a solver of the problem's kind.
     #[error("unknown {kind} solver '{name}'; the {kind} solvers are {accepted}")]
     UnknownSolver {

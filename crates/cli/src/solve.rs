@@ -168,9 +168,14 @@ macro_rules! options {
 /// [`FC2D_SOLVERS`] when `None`), to `tolerance` when given (the solver's default otherwise).
 ///
 /// # Errors
-/// [`CliError::UnknownSolver`] for a name that is not a solver of the problem's kind; a
-/// tolerance the solver refuses.
+/// [`CliError::UnknownSolver`] for a name that is not a solver of the problem's kind;
+/// [`CliError::BadTolerance`] for a tolerance outside (0, 1), the rule of the scenes' solver
+/// tolerance and of the LCP solvers' options, applied to every solver; a tolerance the
+/// solver refuses.
 pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) -> Result<Solved> {
+    if let Some(value) = tolerance.filter(|t| !(*t > 0.0 && *t < 1.0)) {
+        return Err(CliError::BadTolerance { value }.into());
+    }
     let unknown = |name: &str, accepted: &[&str]| CliError::UnknownSolver {
         name: name.to_owned(),
         kind: problem.kind(),

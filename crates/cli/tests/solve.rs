@@ -177,6 +177,15 @@ fn a_solver_of_the_other_kind_or_a_bad_tolerance_is_refused() {
     for tolerance in [0.0, -1.0, f64::NAN] {
         assert!(run(&island, None, None, Some(tolerance), None).is_err(), "{tolerance}");
     }
+    // A tolerance of 1 or more, which a contact solver's own options take, is refused for
+    // every solver as a scene's is, naming the option.
+    for (problem, solver) in [(&island, "nsgs"), (&island, "auto"), (&lcp, "pgs")] {
+        for tolerance in [1.0, 2.0, f64::INFINITY, f64::NAN] {
+            let e = run(problem, None, Some(solver), Some(tolerance), None).unwrap_err();
+            assert!(matches!(cli_error(&e), Some(CliError::BadTolerance { .. })), "{e:#}");
+            assert!(e.to_string().starts_with("--tolerance "), "{e:#}");
+        }
+    }
     let e =
         run(&island, None, None, None, Some(Path::new(env!("CARGO_MANIFEST_DIR")))).unwrap_err();
     assert!(matches!(cli_error(&e), Some(CliError::Output { .. })), "{e:#}");
