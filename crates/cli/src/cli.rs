@@ -49,7 +49,9 @@ pub struct SweepArgs {
     /// Model: ball, woodpecker, slider-crank, slider-crank-ideal, cam, painleve; optional
     /// with --scene, which names the model or declares the mechanism.
     pub model: Option<String>,
-    /// Swept key and its values: --set key=v1,v2,... (repeatable; each entry once).
+    /// Swept key and its values: --set key=v1,v2,... (repeatable; each entry once). The
+    /// values are split at the commas outside brackets, braces and quotes only, so that an
+    /// array or a table is one value: --set 'gravity=[0,-9.81],[0,-1.62]' sweeps two.
     #[arg(long = "set", value_name = "KEY=V1,V2,...")]
     pub sets: Vec<String>,
     /// Scene file (TOML) to start from instead of the report's scene: a report model's or a

@@ -16,20 +16,61 @@ pub struct Axis {
 }
 
 impl Axis {
-    /// Parses `key=v1,v2,...`.
+    /// Parses `key=v1,v2,...`, splitting the values at the commas outside brackets, braces
+    /// and quotes only, so that an array or a table is one value
+    /// (`gravity=[0,-9.81],[0,-1.62]` has two).
     ///
     /// # Errors
-    /// When there is no `=`, the key is empty or a value is empty.
+    /// When there is no `=`, the key is empty, a value is empty or a bracket, brace or quote
+    /// is left open.
     pub fn parse(text: &str) -> Result<Self> {
         let Some((key, values)) = text.split_once('=') else {
             bail!("expected key=value[,value...], got '{text}'");
         };
         let key = key.trim();
         ensure!(!key.is_empty(), "empty key in '{text}'");
-        let values: Vec<String> = values.split(',').map(|v| v.trim().to_owned()).collect();
+        let values: Vec<String> =
+            top_level_split(values, text)?.into_iter().map(|v| v.trim().to_owned()).collect();
         ensure!(values.iter().all(|v| !v.is_empty()), "empty value in '{text}'");
         Ok(Self { key: key.to_owned(), values })
     }
+}
+
+/// `values` split at its commas outside `[]`, `{}` and quotes (`"…"`, `'…'`, a backslash
+/// escaping the next character in double quotes); `text` is the option, for the errors.
+fn top_level_split<'a>(values: &'a str, text: &str) -> Result<Vec<&'a str>> {
+    let (mut parts, mut start, mut depth) = (Vec::new(), 0, 0usize);
+    let (mut quote, mut escaped) = (None::<char>, false);
+    for (i, c) in values.char_indices() {
+        if let Some(q) = quote {
+            if escaped {
+                escaped = false;
+            } else if c == '\\' && q == '"' {
+                escaped = true;
+            } else if c == q {
+                quote = None;
+            }
+            continue;
+        }
+        match c {
+            '"' | '\'' => quote = Some(c),
+            '[' | '{' => depth += 1,
+            ']' | '}' => {
+                depth = depth
+                    .checked_sub(1)
+                    .with_context(|| format!("`{c}` closes no bracket or brace in '{text}'"))?;
+            }
+            ',' if depth == 0 => {
+                parts.push(&values[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    ensure!(quote.is_none(), "a quote is left open in '{text}'");
+    ensure!(depth == 0, "a bracket or brace is left open in '{text}'");
+    parts.push(&values[start..]);
+    Ok(parts)
 }
 
 /// A sweep's members: the Cartesian product of its axes, first axis outermost, enumerated
@@ -211,6 +252,15 @@ mod tests {
         assert!(Axis::parse("eps_n").is_err());
         assert!(Axis::parse("=1").is_err());
         assert!(Axis::parse("x=1,,2").is_err());
+        // Commas inside arrays, tables and quotes do not split the values.
+        let g = Axis::parse("gravity=[0,-9.81], [0, -1.62]")?;
+        assert_eq!(g.values, vec!["[0,-9.81]", "[0, -1.62]"]);
+        assert_eq!(Axis::parse("gravity=[0,-9.81]")?.values, vec!["[0,-9.81]"]);
+        let t = Axis::parse(r#"x={a = [1, 2], b = "p,q"},'r,s',"t\",u""#)?;
+        assert_eq!(t.values, vec![r#"{a = [1, 2], b = "p,q"}"#, "'r,s'", r#""t\",u""#]);
+        assert!(Axis::parse("gravity=[0,-9.81").is_err());
+        assert!(Axis::parse("gravity=0,-9.81]").is_err());
+        assert!(Axis::parse("name=\"a,b").is_err());
         assert_eq!(Grid::new(Vec::new())?.len(), 1);
         // 40 axes of 3 values: 3^40 ≈ 1.2e19 members, never listed; member i by mixed radix.
         let big = Grid::new(
