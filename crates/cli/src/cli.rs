@@ -113,7 +113,9 @@ pub enum Command {
     Simulate(SimulateArgs),
     /// Run the Cartesian product of parameter values in parallel; one CSV row per member.
     Sweep(SweepArgs),
-    /// Join the CSV parts of a sharded sweep, sorted by member.
+    /// Join the CSV parts of a sharded sweep, sorted by member. The merged file is written in
+    /// full; as `sweep`, the command then exits with status 1 when a member diverged or
+    /// failed.
     Merge(MergeArgs),
     /// Solve one LCP or planar frictional-contact problem (local or global) from a file in
     /// Siconos' format.
@@ -226,10 +228,26 @@ impl MergeArgs {
     /// Runs `merge`.
     ///
     /// # Errors
-    /// As [`parts::merge`].
+    /// As [`parts::merge`], and [`CliError::MembersFailed`] once every row is written when a
+    /// member of the merged file diverged or failed, as `sweep` ends on the same rows.
     pub fn run(self) -> Result<()> {
-        let rows = parts::merge(&self.out, &self.parts)?;
-        println!("merged {rows} members into {}", self.out.display());
+        let s = parts::merge_summary(&self.out, &self.parts)?;
+        println!(
+            "merged {} members into {} ({} diverged, {} failed)",
+            s.rows,
+            self.out.display(),
+            s.diverged,
+            s.failed
+        );
+        if s.diverged + s.failed > 0 {
+            return Err(CliError::MembersFailed {
+                out: self.out,
+                rows: s.rows,
+                diverged: s.diverged,
+                failed: s.failed,
+            }
+            .into());
+        }
         Ok(())
     }
 }

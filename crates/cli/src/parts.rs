@@ -25,6 +25,7 @@ use anyhow::{Context, Result};
 use crate::error::CliError;
 use crate::grid::Shard;
 use crate::output::{self, Output, OutputLock};
+use crate::sweep::SweepSummary;
 
 /// Version of the part format; part of the identity line.
 pub const FORMAT: u32 = 1;
@@ -258,6 +259,15 @@ pub fn list_members(members: &[u64]) -> String {
 /// regular file; [`CliError::Locked`] for an output another run holds; unreadable or
 /// unwritable files.
 pub fn merge(out: &Path, parts: &[impl AsRef<Path>]) -> Result<u64> {
+    merge_summary(out, parts).map(|s| s.rows)
+}
+
+/// [`merge`], returning the merged file's members counted by status (`ran` 0: a merge runs
+/// none), so that the command can end as `sweep` does on the same rows.
+///
+/// # Errors
+/// As [`merge`].
+pub fn merge_summary(out: &Path, parts: &[impl AsRef<Path>]) -> Result<SweepSummary> {
     anyhow::ensure!(!parts.is_empty(), "merge needs at least one part");
     let out_file = Output::new(out)?;
     let inputs: Vec<&Path> = parts.iter().map(AsRef::as_ref).collect();
@@ -334,7 +344,7 @@ pub fn merge(out: &Path, parts: &[impl AsRef<Path>]) -> Result<u64> {
     rows.sort_by_key(|(i, _)| *i);
     let rows: Vec<Vec<String>> = rows.into_iter().map(|(_, r)| r).collect();
     write_part(out_file.target(), &header, &columns, &rows)?;
-    Ok(rows.len() as u64)
+    Ok(SweepSummary::of_rows(&columns, &rows, 0))
 }
 
 #[cfg(test)]

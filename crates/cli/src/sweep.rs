@@ -141,7 +141,7 @@ pub struct SweepSummary {
 impl SweepSummary {
     /// The summary of the finished rows of a part with `columns`, of which `ran` were run
     /// now.
-    fn of_rows(columns: &[String], rows: &[Vec<String>], ran: u64) -> Self {
+    pub(crate) fn of_rows(columns: &[String], rows: &[Vec<String>], ran: u64) -> Self {
         let status = columns.iter().position(|c| c == "status");
         let count = |s: &str| {
             rows.iter().filter(|r| status.and_then(|k| r.get(k)).is_some_and(|v| v == s)).count()

@@ -194,3 +194,42 @@ fn a_shard_of_an_enormous_grid_runs_only_its_members() -> Result<()> {
     ensure!(members == [0, 500_000_000_000_000_000], "{members:?}");
     Ok(())
 }
+
+/// A merge of parts holding a diverged member writes every row and ends as `sweep` does on the
+/// same rows: exit status 1 with `CliError::MembersFailed`'s count.
+#[test]
+fn a_merge_with_a_diverged_member_writes_every_row_and_fails_as_the_sweep() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let d = dir.path();
+    let moreau = |args: &[&str]| -> Result<std::process::Output> {
+        Ok(std::process::Command::new(env!("CARGO_BIN_EXE_moreau"))
+            .current_dir(d)
+            .args(args)
+            .output()?)
+    };
+    // dt = 1e-2 is above the woodpecker's stability limit: member 1 diverges.
+    let sweep_args = ["sweep", "woodpecker", "--set", "dt=1e-4,1e-2", "--set", "t_end=0.02"];
+    let whole = moreau(&[&sweep_args[..], &["--out", "whole.csv"]].concat())?;
+    ensure!(whole.status.code() == Some(1), "{:?}", whole.status);
+    for k in 1..=2 {
+        let shard = format!("{k}/2");
+        let out = format!("part{k}.csv");
+        moreau(&[&sweep_args[..], &["--shard", &shard, "--out", &out]].concat())?;
+    }
+    let merged = moreau(&["merge", "merged.csv", "part1.csv", "part2.csv"])?;
+    let (stdout, stderr) =
+        (String::from_utf8_lossy(&merged.stdout), String::from_utf8_lossy(&merged.stderr));
+    ensure!(merged.status.code() == whole.status.code(), "{:?}: {stderr}", merged.status);
+    ensure!(
+        stdout.contains("merged 2 members") && stdout.contains("1 diverged, 0 failed"),
+        "{stdout}"
+    );
+    // The sweep's error line (after its warnings), naming the merged file.
+    let last = |text: &str| text.lines().last().unwrap_or_default().to_owned();
+    let expected = last(&String::from_utf8_lossy(&whole.stderr)).replace("whole.csv", "merged.csv");
+    ensure!(last(&stderr) == expected && stderr.starts_with("error: "), "{stderr} vs {expected}");
+    let text = std::fs::read_to_string(d.join("merged.csv"))?;
+    let rows: Vec<&str> = text.lines().skip(2).collect();
+    ensure!(rows.len() == 2 && rows[1].contains(",diverged,"), "{text}");
+    Ok(())
+}
