@@ -433,7 +433,8 @@ pub struct Simulated {
 /// scene and its step plan are checked before the lock is taken (a refused scene leaves no
 /// file), and `<out>.partial` is created before the first step; the rows go there in batches of a few thousand, and the file is renamed to `out`
 /// once the run has ended at t_end (or its stop rule). A run that fails or diverges leaves
-/// `<out>.partial` for inspection and no `out`; one that stops on a step problem that its
+/// `<out>.partial` for inspection and no `out` (an `out` of an earlier run is removed, and so
+/// is the contacts file's); one that stops on a step problem that its
 /// solver leaves unsolved writes that problem to `<out>.failed.dat` as well
 /// ([`failed::with_failed_problem`]). `warn` receives the warnings about the
 /// initial gaps before the run. With [`SimulateOptions::contacts`], the located contacts of
@@ -531,16 +532,30 @@ pub fn run_to_csv(
         .drain()
         .and_then(|()| Ok(streamer.out.flush()?))
         .with_context(|| format!("writing {}", partial.display()));
+    // A failed run leaves its rows in the partial files only: an `out` (or contacts file) of
+    // an earlier run that succeeded does not describe this one. A removal that fails is told
+    // with the run's error rather than in its place.
+    let remove_former = || {
+        let contacts = contacts_files.as_ref().map(|(file, _)| file.target());
+        [Some(out_file.target()), contacts]
+            .into_iter()
+            .flatten()
+            .filter_map(|path| output::remove_stale(path).err())
+            .map(|e| format!("; {e}"))
+            .collect::<String>()
+    };
     let run = match (run, written) {
         (Ok(run), Ok(())) => run,
         (Ok(_), Err(e)) => return Err(e),
         (Err(e), Ok(())) => {
+            let note = remove_former();
             return Err(failed::with_failed_problem(e, &failed_path)
-                .context(format!("the rows so far are in {}", partial.display())));
+                .context(format!("the rows so far are in {}{note}", partial.display())));
         }
         (Err(e), Err(w)) => {
+            let note = remove_former();
             return Err(failed::with_failed_problem(e, &failed_path).context(format!(
-                "the rows so far could not all be written to {} ({w:#})",
+                "the rows so far could not all be written to {} ({w:#}){note}",
                 partial.display()
             )));
         }

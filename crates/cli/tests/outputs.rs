@@ -391,3 +391,26 @@ fn a_lock_left_by_a_killed_run_is_taken_over_and_a_running_ones_kept() -> Result
     }
     Ok(())
 }
+
+/// A run that fails leaves its rows in OUT.partial only: the OUT of an earlier run that
+/// succeeded on the same output, which does not describe it, is removed.
+#[test]
+fn a_failed_run_removes_the_output_of_an_earlier_one() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("w.csv");
+    let simulate = |dt: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_moreau"))
+            .args(["simulate", "woodpecker", "--set", "t_end=0.02", "--dt", dt, "--out"])
+            .arg(&out)
+            .output()
+    };
+    let o = simulate("1e-4")?;
+    ensure!(o.status.success() && out.exists(), "{}", String::from_utf8_lossy(&o.stderr));
+    // Δt = 1e-2 is above the woodpecker's stability limit: the run diverges.
+    let o = simulate("1e-2")?;
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    ensure!(o.status.code() == Some(1) && stderr.contains("diverged"), "{stderr}");
+    ensure!(!out.exists(), "the former output is left beside the failed run's rows");
+    ensure!(partial_path(&out).exists(), "{stderr}");
+    Ok(())
+}
