@@ -217,11 +217,16 @@ fn the_settling_scenes_name_their_inexact_residual_and_keep_it_through_set_and_t
     assert_eq!(s.stepper_options().inexact_residual, 2e-4);
     let again = Scene::from_toml_str(&s.to_toml_string()).unwrap();
     assert_eq!(again, s);
-    // A value the stepper refuses surfaces when the run is built, naming the option.
-    s.set("inexact_residual", "1.5").unwrap();
-    let Err(e) = s.stepper() else { panic!("1.5 is not a residual to accept") };
-    let e = e.to_string();
-    assert!(e.contains("inexact residual"), "{e}");
+    // A value the stepper would refuse is refused by the scene itself, naming the field, and
+    // leaves the scene as it was.
+    match s.set("inexact_residual", "1.5") {
+        Err(moreau_models::ModelError::BadValue { key, value, reason }) => {
+            assert_eq!((key.as_str(), value.as_str()), ("inexact_residual", "1.5"));
+            assert!(reason.starts_with("must lie in [0, 1)"), "{reason}");
+        }
+        other => panic!("1.5 is not a residual to accept: {other:?}"),
+    }
+    assert_eq!(s, again);
 }
 
 /// Steps `s` to `t_end`; the information of every step taken above the solvers' tolerance, or
