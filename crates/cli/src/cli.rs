@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 
 use crate::grid::{Axis, Shard};
-use crate::{CliError, parts, simulate, solve, sweep};
+use crate::{parts, simulate, solve, sweep};
 
 /// Arguments of `simulate`.
 #[derive(Args, Clone, Debug)]
@@ -181,7 +181,7 @@ impl SweepArgs {
     /// Runs `sweep`.
     ///
     /// # Errors
-    /// As [`sweep::run`], and [`CliError::MembersFailed`] once every row is written when a
+    /// As [`sweep::run`], and [`CliError::MembersFailed`](crate::CliError::MembersFailed) once every row is written when a
     /// member of the output diverged or failed.
     pub fn run(self) -> Result<()> {
         let axes = self.sets.iter().map(|s| Axis::parse(s)).collect::<Result<Vec<_>>>()?;
@@ -211,16 +211,7 @@ impl SweepArgs {
                 s.failed
             );
         }
-        if s.diverged + s.failed > 0 {
-            return Err(CliError::MembersFailed {
-                out: self.out,
-                rows: s.rows,
-                diverged: s.diverged,
-                failed: s.failed,
-            }
-            .into());
-        }
-        Ok(())
+        Ok(s.members_ok(self.out)?)
     }
 }
 
@@ -228,7 +219,7 @@ impl MergeArgs {
     /// Runs `merge`.
     ///
     /// # Errors
-    /// As [`parts::merge`], and [`CliError::MembersFailed`] once every row is written when a
+    /// As [`parts::merge`], and [`CliError::MembersFailed`](crate::CliError::MembersFailed) once every row is written when a
     /// member of the merged file diverged or failed, as `sweep` ends on the same rows.
     pub fn run(self) -> Result<()> {
         let s = parts::merge_summary(&self.out, &self.parts)?;
@@ -239,16 +230,7 @@ impl MergeArgs {
             s.diverged,
             s.failed
         );
-        if s.diverged + s.failed > 0 {
-            return Err(CliError::MembersFailed {
-                out: self.out,
-                rows: s.rows,
-                diverged: s.diverged,
-                failed: s.failed,
-            }
-            .into());
-        }
-        Ok(())
+        Ok(s.members_ok(self.out)?)
     }
 }
 

@@ -155,6 +155,20 @@ impl SweepSummary {
             finished_before: false,
         }
     }
+
+    /// Ok when no member of the output diverged or failed; otherwise
+    /// [`CliError::MembersFailed`] for the output `out` (whose rows are all written).
+    pub(crate) fn members_ok(&self, out: PathBuf) -> Result<(), CliError> {
+        if self.diverged + self.failed == 0 {
+            return Ok(());
+        }
+        Err(CliError::MembersFailed {
+            out,
+            rows: self.rows,
+            diverged: self.diverged,
+            failed: self.failed,
+        })
+    }
 }
 
 /// Builds member `i`'s scene and checks its step plan.
