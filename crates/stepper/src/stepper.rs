@@ -574,7 +574,7 @@ impl<M: Mechanism, O: Observer<M>> RunSteps<'_, M, O> {
         let mut steps = 0;
         let mut stopped = false;
         let (mut inexact_steps, mut inexact_residual) = (0, 0.0f64);
-        for _ in 0..n {
+        for k in 0..n {
             advance(core)?;
             steps += 1;
             let r = report(core);
@@ -582,13 +582,15 @@ impl<M: Mechanism, O: Observer<M>> RunSteps<'_, M, O> {
                 inexact_steps += 1;
                 inexact_residual = inexact_residual.max(residual);
             }
-            if observer.observe(mechanism, &r).is_break() {
-                stopped = true;
+            stopped = observer.observe(mechanism, &r).is_break();
+            // The last step's report, passed on once more: one report per step, so that the
+            // loop keeps `report` inlined.
+            if stopped || k + 1 == n {
+                observer.finish(mechanism, &r);
+            }
+            if stopped {
                 break;
             }
-        }
-        if steps > 0 {
-            observer.finish(mechanism, &report(core));
         }
         Ok(RunSummary {
             steps,
