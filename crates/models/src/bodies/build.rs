@@ -1,12 +1,10 @@
 //! [`SystemSpec::build`]: validation of a declaration and its translation into a
 //! [`Multibody`], with errors that name the offending field by its `--set` path.
 
-use moreau_kinematics::ContactKinematics;
 use moreau_lcp::MAX_ENTRY;
 use moreau_setvalued::ContactLaw;
-use moreau_stepper::Mechanism;
-use nalgebra::{DMatrix, DVector};
 
+use super::assemble::assemble;
 use super::body::{Body, Kind, scale};
 use super::contact_spec::ContactSet;
 use super::contacts::{Rules, pairs};
@@ -22,12 +20,6 @@ use crate::params::{LawParams, finite, non_negative, positive, relation};
 
 /// The name that stands for the world frame; reserved, so no declared body may take it.
 pub const GROUND: &str = "ground";
-
-/// The largest move of a body's origin that assembling the initial positions onto the joints
-/// may make, as a fraction of the mechanism's length (the larger of its
-/// [size](Multibody::size) and the span of its dynamic bodies' declared origins and joints'
-/// anchors), before the declaration is refused as wrong rather than merely inexact.
-pub const MAX_ASSEMBLY_MOVE: f64 = 0.1;
 
 pub(crate) fn bad(key: String, value: &str, reason: String) -> ModelError {
     ModelError::BadValue { key, value: value.to_owned(), reason }
@@ -458,7 +450,7 @@ impl SystemSpec {
     ///
     /// The initial positions are assembled onto the joints (the smallest change of q₀, by
     /// Gauss-Newton iterations), so declared positions need only be close: assembly may move
-    /// a body's origin by at most [`MAX_ASSEMBLY_MOVE`] (10 %) of the mechanism's length, the
+    /// a body's origin by at most [`MAX_ASSEMBLY_MOVE`](super::MAX_ASSEMBLY_MOVE) (10 %) of the mechanism's length, the
     /// larger of its [size](Multibody::size) and 0.6 times the diagonal of the box around its
     /// dynamic bodies' declared origins and its joints' anchors; a declaration further off is
     /// refused, naming the body, the joint and how far it had to move. The initial
@@ -652,140 +644,6 @@ impl SystemSpec {
         mb.q0 = assemble(&mb)?;
         Ok(mb)
     }
-}
-
-/// q₀ moved onto the joints' position constraints g_B(q, 0) = 0 by Gauss-Newton steps
-/// q ← q − W (WᵀW)⁺ g (the smallest change in the Euclidean norm).
-fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
-    let (f, nb) = (mb.num_coordinates(), mb.num_bilaterals());
-    let mut q = mb.q0.clone();
-    if nb == 0 {
-        return Ok(q);
-    }
-    let scale = 1.0 + q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let mut w = DMatrix::zeros(f, nb);
-    let mut g = DVector::zeros(nb);
-    let mut column = vec![0.0; f];
-    for _ in 0..50 {
-        for i in 0..nb {
-            let p = mb.bilateral(i, &q, 0.0, &mut column);
-            g[i] = p.g;
-            w.column_mut(i).copy_from_slice(&column);
-        }
-        let (worst, size) = g
-            .iter()
-            .enumerate()
-            .fold((0, 0.0f64), |(k, m), (i, v)| if v.abs() > m { (i, v.abs()) } else { (k, m) });
-        if !size.is_finite() {
-            return Err(relation(
-                &format!("joints.{}", mb.joints[mb.rows[worst].0].name),
-                size,
-                "the constraint is not finite at t = 0",
-            ));
-        }
-        if size <= 1e-13 * scale {
-            return checked_moves(mb, q);
-        }
-        let normal = w.transpose() * &w;
-        let lambda = normal
-            .svd(true, true)
-            .solve(&g, 1e-12 * scale)
-            .map_err(|e| relation("joints", size, e))?;
-        let dq = &w * lambda;
-        for (qi, d) in q.iter_mut().zip(dq.iter()) {
-            *qi -= d;
-        }
-    }
-    let (worst, size) = (0..nb)
-        .map(|i| (i, mb.bilateral(i, &q, 0.0, &mut column).g.abs()))
-        .fold((0, 0.0f64), |(k, m), (i, v)| if v > m { (i, v) } else { (k, m) });
-    Err(relation(
-        &format!("joints.{}", mb.joints[mb.rows[worst].0].name),
-        size,
-        "the joints cannot all be closed at t = 0 (incompatible anchors or positions)",
-    ))
-}
-
-/// The length against which assembly's moves are measured: the larger of the mechanism's
-/// [size](Multibody::size) and 0.6 times the diagonal of the box around the dynamic bodies'
-/// declared origins and every joint's anchors as declared, so that a pendulum's length counts
-/// as well as its bob's.
-fn assembly_length(mb: &Multibody) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    let mut grow = |p: [f64; 2]| {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    };
-    for k in 0..mb.dynamic.len() {
-        grow([mb.q0[3 * k], mb.q0[3 * k + 1]]);
-    }
-    for j in &mb.joints {
-        let (ra, rb) = match j.kind {
-            JointKind::Revolute { ra, rb }
-            | JointKind::Prismatic { ra, rb, .. }
-            | JointKind::Weld { ra, rb, .. }
-            | JointKind::PointOnLine { ra, rb, .. }
-            | JointKind::RevoluteClearance { ra, rb, .. }
-            | JointKind::TranslationalClearance { ra, rb, .. } => (ra, rb),
-            JointKind::Motor { .. } => continue,
-        };
-        grow(mb.bodies[j.a].frame(&mb.q0, 0.0).point(ra));
-        grow(mb.bodies[j.b].frame(&mb.q0, 0.0).point(rb));
-    }
-    let span = if lo[0].is_finite() { 0.6 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]) } else { 0.0 };
-    mb.size.max(span)
-}
-
-/// The assembled q₀, unless it moves a body's origin from its declared position by more than
-/// [`MAX_ASSEMBLY_MOVE`] of the mechanism's length (the larger of its
-/// [size](Multibody::size) and the span of its dynamic bodies' origins and joints' anchors):
-/// a joint then contradicts the declaration (a wrong anchor or position), and the error names
-/// the body, the joint of its own whose constraint was furthest from closed as declared, and
-/// where the joints put it.
-fn checked_moves(mb: &Multibody, q: Vec<f64>) -> Result<Vec<f64>, ModelError> {
-    let length = assembly_length(mb);
-    let limit = MAX_ASSEMBLY_MOVE * length;
-    let moved = |k: usize| (q[3 * k] - mb.q0[3 * k]).hypot(q[3 * k + 1] - mb.q0[3 * k + 1]);
-    let Some((k, far)) = (0..mb.dynamic.len())
-        .map(|k| (k, moved(k)))
-        .filter(|&(_, d)| d > limit)
-        .fold(None, |m: Option<(usize, f64)>, (k, d)| match m {
-            Some((_, e)) if e >= d => m,
-            _ => Some((k, d)),
-        })
-    else {
-        return Ok(q);
-    };
-    let body = mb.dynamic[k];
-    let mut column = vec![0.0; mb.num_coordinates()];
-    let joint = (0..mb.num_bilaterals())
-        .filter(|&i| {
-            let j = &mb.joints[mb.rows[i].0];
-            j.a == body || j.b == body
-        })
-        .map(|i| (mb.rows[i].0, mb.bilateral(i, &mb.q0, 0.0, &mut column).g.abs()))
-        .fold(None, |m: Option<(usize, f64)>, (j, g)| match m {
-            Some((_, h)) if h >= g => m,
-            _ => Some((j, g)),
-        })
-        .map_or("(none)", |(j, _)| mb.joints[j].name.as_str());
-    let name = &mb.bodies[body].name;
-    let [x0, y0] = [mb.q0[3 * k], mb.q0[3 * k + 1]];
-    Err(bad(
-        format!("bodies.{name}.position"),
-        &format!("[{x0}, {y0}]"),
-        format!(
-            "the joints (`{joint}` the furthest from closed) put the body at [{x}, {y}], {far:.3e} \
-             from its declared position: more than {pct} % of the mechanism's length {length:.3e}, \
-             so the declaration is wrong, not merely inexact; correct the position or the \
-             joint's anchors",
-            x = q[3 * k],
-            y = q[3 * k + 1],
-            pct = 100.0 * MAX_ASSEMBLY_MOVE,
-        ),
-    ))
 }
 
 /// The centre and 0.6 times the diagonal of the box around the origins and finite shapes at

@@ -69,6 +69,7 @@
 //! # Units
 //! SI: m, rad, s, kg, N; inertia kg m², density kg/m², stiffness N/m or N m/rad.
 
+mod assemble;
 mod body;
 mod build;
 mod builder;
@@ -84,7 +85,8 @@ mod motion;
 mod multibody;
 mod spec;
 
-pub use build::{GROUND, MAX_ASSEMBLY_MOVE};
+pub use assemble::MAX_ASSEMBLY_MOVE;
+pub use build::GROUND;
 pub use builder::{BodyHandle, ContactHandle, ForceHandle, JointHandle, MultibodyBuilder};
 pub use fill::{FillPattern, MAX_FILL_BODIES};
 pub use joints::SlotGeometry;
