@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Rng, fc2d_collection, planted_fc2d};
+use common::{Rng, fc2d_collection, planted_fc2d, uniqueness_margin};
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use moreau_lcp::fc2d::{
@@ -137,26 +137,34 @@ fn planted_solutions_with_a_joint_are_found() {
         Newton::new(NewtonOptions::default().with_tolerance(1e-12).with_rho(Rho::Fixed(1.0)))
             .unwrap();
     let mut out = Fc2dSolution::new();
+    let mut compared = 0;
     for case in 0..30 {
         let n_c = 1 + case % 10;
         let p = planted_fc2d(n_c, 0.6, true, &mut rng);
         let mut u = vec![0.0; p.r.len()];
         assert!(Fc2dResidual::compute(p.problem.view(), &p.r, &mut u).natural < 1e-13);
+        // The planted reactions are the only solution where the certificate holds; elsewhere
+        // Newton may find another one, which the residual and the joint rows check.
+        let unique = uniqueness_margin(&p.problem) > 0.0;
         for solver in [&mut newton, &mut fixed] {
             solver.solve_into(p.problem.view(), None, &mut out).unwrap();
             assert_eq!(out.status, Status::Solved, "case {case}: {:?}", out.residual);
             assert_eq!(out.method, Method::Newton);
-            // The joint holds and the planted reactions are found (W is positive
-            // definite, so they are unique).
+            assert!(out.residual.natural <= 1e-12, "case {case}: {:?}", out.residual);
             let bound = 1e-12 * p.problem.view().q_norm_inf().max(1.0);
             let joint = out.u[2 * n_c].abs().max(out.u[2 * n_c + 1].abs());
             assert!(joint <= bound, "case {case}: joint velocity {joint:e}");
-            let diff = out.r.iter().zip(&p.r).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-            assert!(diff < 1e-9, "case {case}: {:?} vs {:?}", out.r, p.r);
+            if unique {
+                let diff = out.r.iter().zip(&p.r).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                assert!(diff < 1e-9, "case {case}: {:?} vs {:?}", out.r, p.r);
+                compared += 1;
+            }
         }
         let auto = Fc2dAuto::default().solve(&p.problem).unwrap();
         assert_eq!(auto.status, Status::Solved, "case {case}");
     }
+    // The certificate holds in 28 of the 30 cases.
+    assert_eq!(compared, 2 * 28);
 }
 
 #[test]

@@ -257,3 +257,35 @@ pub fn planted_fc2d(n_c: usize, mu_max: f64, joint: bool, rng: &mut Rng) -> Plan
     }
     PlantedFc2d { problem: builder.build(&q, &mu).unwrap(), r }
 }
+
+/// A certificate that a problem has one solution only: the smallest over σ ∈ {−1, 1}^n_c of
+/// λ_min of the symmetric part of (I + D_σ) W, with D_σ = Σ_i μ_i σ_i e_N,i e_T,iᵀ.
+///
+/// The problem is the variational inequality r ∈ K, ⟨û(r), s − r⟩ >= 0 for all s ∈ K, with
+/// û = W r + q + μ |u_T| e_N on the contacts' rows and û = W r + q on the bilateral rows
+/// (whose cone is the whole line). Between two r, |u_T,i| changes by σ_i Δu_T,i with σ_i ∈
+/// [−1, 1], so Δû = (I + D_σ) W Δr; the symmetric part is affine in σ and its smallest
+/// eigenvalue concave, smallest at a vertex. A positive value c makes û strongly monotone,
+/// ⟨Δû, Δr⟩ >= c |Δr|², and two solutions would give ⟨Δû, Δr⟩ <= 0: there is one. W
+/// positive definite is not enough on its own: friction makes û non-monotone for μ large.
+pub fn uniqueness_margin(problem: &Fc2d) -> f64 {
+    let view = problem.view();
+    let (n, mu) = (view.n_rows(), view.mu());
+    let w = view.to_dense();
+    let mut worst = f64::INFINITY;
+    for signs in 0..1usize << mu.len() {
+        // Row 2 i of (I + D_σ) W is W's normal row plus μ_i σ_i times its tangential row.
+        let g = |i: usize, j: usize| {
+            let mut x = w[i + j * n];
+            if i < 2 * mu.len() && i.is_multiple_of(2) {
+                let sigma = if signs >> (i / 2) & 1 == 1 { 1.0 } else { -1.0 };
+                x += mu[i / 2] * sigma * w[i + 1 + j * n];
+            }
+            x
+        };
+        let sym = Mat::from_fn(n, n, |i, j| 0.5 * (g(i, j) + g(j, i)));
+        let eigenvalues = sym.self_adjoint_eigenvalues(faer::Side::Lower).unwrap();
+        worst = worst.min(eigenvalues[0]);
+    }
+    worst
+}
