@@ -5,8 +5,8 @@ mod common;
 use common::{Rng, chain_w, fc2d_collection, planted_fc2d, uniqueness_margin};
 use faer::Mat;
 use moreau_lcp::fc2d::{
-    Fc2d, Fc2dAuto, Fc2dBuilder, Fc2dResidual, Fc2dSolution, Fc2dSolver, LcpRoute, LcpRouteOptions,
-    LcpRouteSolver, Newton, Nsgs, NsgsOptions, SiconosStorage,
+    Fc2d, Fc2dAuto, Fc2dAutoOptions, Fc2dBuilder, Fc2dResidual, Fc2dSolution, Fc2dSolver, LcpRoute,
+    LcpRouteOptions, LcpRouteSolver, Newton, Nsgs, NsgsOptions, SiconosStorage,
 };
 use moreau_lcp::{LcpError, MAX_ENTRY, Method, Status};
 
@@ -539,4 +539,23 @@ fn gauss_seidel_started_where_the_residual_overflows_goes_on_from_its_finite_ite
     let s = Nsgs::default().solve(&problem).unwrap();
     assert_eq!(s.status, Status::Solved, "{s:?}");
     assert!(s.r == [1.0, -0.3] && s.u[0] == 0.0, "{s:?}");
+}
+
+#[test]
+fn over_relaxation_costs_sweeps_on_a_single_contact() {
+    // One sticking contact: the local solve is exact, so ω = 1 solves it in one sweep (and a
+    // second, whose lagged residual certifies it), while ω = 1.4 multiplies the error by
+    // −0.4 per sweep: 0.4^20 < 1e-8.
+    let identity = Mat::<f64>::identity(2, 2);
+    let problem = Fc2d::from_dense(identity.as_ref(), &[-1.0, 0.2], &[0.5]).unwrap();
+    let sweeps = |omega: f64| {
+        let options = Fc2dAutoOptions::default().with_omega(omega);
+        let s = Fc2dAuto::new(options).unwrap().solve(&problem).unwrap();
+        assert_eq!(s.status, Status::Solved);
+        assert!((s.r[0] - 1.0).abs() < 1e-8 && (s.r[1] + 0.2).abs() < 1e-8, "{:?}", s.r);
+        s.iterations
+    };
+    let (exact, relaxed) = (sweeps(1.0), sweeps(1.4));
+    assert_eq!(exact, 2);
+    assert!((20..=23).contains(&relaxed), "{relaxed} sweeps");
 }
