@@ -138,6 +138,29 @@ pub enum StepError {
         /// The LCP instance (A, b) of eq. 7.41.
         lcp: Box<Lcp>,
     },
+    /// The contact problem of a step (its LCP, or an island's frictional-contact problem) has
+    /// an entry beyond the range the solvers compute in (|x| ≤ 2^500 ≈ 3.3e150), so it is not
+    /// solved. Its entries are w_Nᵀ M⁻¹ w_N, w_Tᵀ M⁻¹ w_N, ... and w_Nᵀ ũ + ŵ_N with
+    /// ũ = u_A + M⁻¹ h Δt: a mass matrix that is nearly singular (an inertia of 1e-300 next to
+    /// masses of order one), or forces, force directions or velocities far beyond the
+    /// mechanism's scale. `source` names the entry in the solvers' terms (`M` and `q` of the
+    /// LCP are the step's A and b, not the mechanism's mass matrix and coordinates).
+    #[error(
+        "the contact problem of step {step} (t = {t}) has an entry {value:e} beyond the \
+         solvers' range of 3.3e150: M(q, t) is nearly singular or h, w_N, w_T or the velocities \
+         are far beyond the mechanism's scale; check them, or write the mechanism in other units"
+    )]
+    ProblemOutOfRange {
+        /// Index of the step (0 for the first step of the stepper).
+        step: u64,
+        /// Start time t_A of the step (s).
+        t: f64,
+        /// The entry out of range.
+        value: f64,
+        /// The solvers' refusal, naming the entry of the problem.
+        #[source]
+        source: LcpError,
+    },
     /// A contact found by [`crate::BodyStructure::detect`] that the stepper cannot use.
     #[error("detected contact {index} (id {id}): {reason}")]
     InvalidContact {

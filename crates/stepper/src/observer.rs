@@ -11,7 +11,8 @@ use crate::{ContactReport, ContactState, Mechanism, Rows, StepReport};
 /// Receives every step of a run; returning [`ControlFlow::Break`] stops the run after it.
 ///
 /// Closures `FnMut(&StepReport) -> ControlFlow<()>` are observers too (with the default
-/// [`Observer::finish`], which does nothing).
+/// [`Observer::finish`], which does nothing), and so is `()`, which keeps nothing:
+/// `stepper.run_until(t_end, &mut ())?` only advances the state.
 pub trait Observer<M: ?Sized> {
     /// Called after each step with the mechanism and the step's report.
     fn observe(&mut self, mechanism: &M, report: &StepReport<'_>) -> ControlFlow<()>;
@@ -31,6 +32,12 @@ pub trait Observer<M: ?Sized> {
 impl<M: ?Sized, F: FnMut(&StepReport<'_>) -> ControlFlow<()>> Observer<M> for F {
     fn observe(&mut self, _mechanism: &M, report: &StepReport<'_>) -> ControlFlow<()> {
         self(report)
+    }
+}
+
+impl<M: ?Sized> Observer<M> for () {
+    fn observe(&mut self, _mechanism: &M, _report: &StepReport<'_>) -> ControlFlow<()> {
+        ControlFlow::Continue(())
     }
 }
 

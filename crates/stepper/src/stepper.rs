@@ -254,6 +254,18 @@ fn check_directions(w_n: &[f64], w_t: &[f64]) -> Result<(), LcpFailure> {
     }
 }
 
+/// The rheonomic terms ŵ_N, ŵ_T of the contacts `which` (their `points`) must be finite; the
+/// error names the first contact whose terms are not, by its index among all contacts.
+#[cold]
+#[inline(never)]
+fn check_rheonomic(which: &[usize], points: &[ContactPoint]) -> Result<(), LcpFailure> {
+    match which.iter().zip(points).find(|(_, p)| !(p.w_n_hat.is_finite() && p.w_t_hat.is_finite()))
+    {
+        None => Ok(()),
+        Some((&index, _)) => Err(LcpFailure::NonFinite { what: "ŵ_N/ŵ_T of contact", index }),
+    }
+}
+
 /// Names the first non-finite value among h, u_E and q_E of a step (in that order); `Ok` when
 /// all are finite after all.
 #[cold]

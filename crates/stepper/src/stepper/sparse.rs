@@ -747,6 +747,9 @@ impl Core {
                 index: 0,
                 t,
             },
+            IslandFailure::Input(source @ moreau_lcp::LcpError::OutOfRange { value, .. }) => {
+                StepError::ProblemOutOfRange { step: self.step, t, value, source }
+            }
             IslandFailure::Input(e) => StepError::Lcp(e),
             IslandFailure::Status(status, problem) => StepError::IslandFailed {
                 step: self.step,

@@ -404,6 +404,7 @@ impl Core {
                 poison += n_j * 0.0 + t_j * 0.0;
             }
             let point = ws.points[a];
+            poison += point.w_n_hat * 0.0 + point.w_t_hat * 0.0;
             ws.w_n_hat[a] = point.w_n_hat;
             ws.w_t_hat[a] = point.w_t_hat;
             let gamma_n = dot(w_n, u_a) + point.w_n_hat;
@@ -424,6 +425,7 @@ impl Core {
             for a in 0..na {
                 check_directions(&ws.w_n[a * f..][..f], &ws.w_t[a * f..][..f])?;
             }
+            check_rheonomic(&ws.active, &ws.points[..na])?;
         }
         let nf = ws.frictional.len();
         let s = na + 2 * nf;
@@ -614,6 +616,9 @@ impl Core {
             None => mech.contact(i, &ws.q_m, t_m, w_n, w_t),
         };
         check_directions(w_n, w_t)?;
+        if !(point.w_n_hat.is_finite() && point.w_t_hat.is_finite()) {
+            check_rheonomic(&[i], std::slice::from_ref(&point))?;
+        }
         ws.w_n_hat[0] = point.w_n_hat;
         ws.w_t_hat[0] = point.w_t_hat;
         let gamma_na = dot(w_n, u_a) + point.w_n_hat;
@@ -666,6 +671,9 @@ impl Core {
             // of f64 in between: report that as the state it is.
             LcpFailure::Input(moreau_lcp::LcpError::NonFinite { .. }) => {
                 StepError::NonFinite { what: "LCP (A, b): the state has diverged", index: 0, t }
+            }
+            LcpFailure::Input(source @ moreau_lcp::LcpError::OutOfRange { value, .. }) => {
+                StepError::ProblemOutOfRange { step: self.step, t, value, source }
             }
             LcpFailure::Input(e) | LcpFailure::Solver(e) => StepError::Lcp(e),
             LcpFailure::Status(status) => {

@@ -1,0 +1,209 @@
+//! A mechanism derived by hand as a user of the crate would: a rigid rod whose two ends can
+//! touch the floor, checked against closed forms, with the gap tolerance's default and the
+//! errors a wrong implementation gets.
+
+use moreau_stepper::StepError;
+use moreau_stepper::prelude::*;
+
+const G: f64 = 9.81;
+
+/// A rod of mass m and length L, q = (x, y, θ) of its centre; end k (k = 0, 1) at
+/// (x ± a cos θ, y ± a sin θ), a = L/2, touches the floor y = 0.
+#[derive(Clone)]
+struct Rod {
+    m: f64,
+    l: f64,
+    /// A horizontal force on the centre (N).
+    push: f64,
+    laws: [ContactLaw; 2],
+    /// What the mechanism gets wrong, for the error tests.
+    fault: Fault,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Fault {
+    None,
+    RheonomicNan,
+    TinyInertia,
+}
+
+impl Rod {
+    fn new(law: ContactLaw) -> Self {
+        Rod { m: 1.0, l: 1.0, push: 0.0, laws: [law, law], fault: Fault::None }
+    }
+    fn side(i: usize) -> f64 {
+        if i == 0 { 1.0 } else { -1.0 }
+    }
+    fn inertia(&self) -> f64 {
+        if self.fault == Fault::TinyInertia { 1e-300 } else { self.m * self.l * self.l / 12.0 }
+    }
+}
+
+impl ContactKinematics for Rod {
+    fn num_coordinates(&self) -> usize {
+        3
+    }
+    fn num_contacts(&self) -> usize {
+        2
+    }
+    fn normal_gap(&self, i: usize, q: &[f64], _t: f64) -> f64 {
+        q[1] + Self::side(i) * 0.5 * self.l * q[2].sin()
+    }
+    fn contact(
+        &self,
+        i: usize,
+        q: &[f64],
+        t: f64,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) -> ContactPoint {
+        let a = Self::side(i) * 0.5 * self.l;
+        let (s, c) = q[2].sin_cos();
+        w_n.copy_from_slice(&[0.0, 1.0, a * c]);
+        w_t.copy_from_slice(&[1.0, 0.0, -a * s]);
+        let w_n_hat = if self.fault == Fault::RheonomicNan && i == 1 { f64::NAN } else { 0.0 };
+        ContactPoint { g_n: self.normal_gap(i, q, t), g_t: q[0] + a * c, w_n_hat, w_t_hat: 0.0 }
+    }
+}
+
+impl Mechanism for Rod {
+    fn laws(&self) -> &[ContactLaw] {
+        &self.laws
+    }
+    fn mass_matrix(&self, _q: &[f64], _t: f64, m: &mut [f64]) {
+        m.fill(0.0);
+        m[0] = self.m;
+        m[4] = self.m;
+        m[8] = self.inertia();
+    }
+    fn forces(&self, _q: &[f64], _u: &[f64], _t: f64, h: &mut [f64]) {
+        h.copy_from_slice(&[self.push, -self.m * G, 0.0]);
+    }
+    fn potential_energy(&self, q: &[f64], _t: f64) -> Option<f64> {
+        Some(self.m * G * q[1])
+    }
+    fn constant_mass_matrix(&self) -> bool {
+        true
+    }
+}
+
+fn options(dt: f64) -> StepperOptions {
+    StepperOptions::new(dt).with_gap_tolerance(1e-12)
+}
+
+#[test]
+fn a_tilted_rod_bouncing_without_friction_at_eps_one_keeps_its_energy() {
+    // Lower end 0.5 m above the floor, θ = −0.3: it lands at v = sqrt(2 g 0.5) and, with
+    // ε_N = 1 on one end, leaves with P_N = 2 v m_eff, 1/m_eff = 1/m + (a cos θ)²/J.
+    let (th, a, dt) = (0.3f64, 0.5, 1e-4);
+    let mut s = Stepper::new(
+        Rod::new(ContactLaw::frictionless(1.0).unwrap()),
+        &[0.0, a * th.sin() + 0.5, -th],
+        &[0.0; 3],
+        0.0,
+        options(dt),
+    )
+    .unwrap();
+    let record = s.record_until(3.0).unwrap();
+    assert!(record.impacts.len() >= 10, "{} impacts", record.impacts.len());
+    let e = record.total_energy();
+    let spread = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max);
+    assert!(spread < 1e-12 * e[0], "energy spread {spread:e} of {}", e[0]);
+    let first = &record.impacts[0];
+    let v = (2.0 * G * 0.5f64).sqrt();
+    let arm = a * th.cos();
+    let m_eff = 1.0 / (1.0 + arm * arm * 12.0);
+    // Within a step's gravity g Δt of the closed form.
+    assert!((first.gamma_n_before + v).abs() < 2.0 * G * dt, "{}", first.gamma_n_before);
+    assert!((first.gamma_n_after + first.gamma_n_before).abs() < 1e-12);
+    assert!((first.p_n - 2.0 * v * m_eff).abs() < 4.0 * G * dt * m_eff, "{}", first.p_n);
+}
+
+#[test]
+fn a_flat_rod_sliding_stops_where_coulomb_says() {
+    // v0 = 2 m/s, μ = 0.3: it stops at v0 / (μ g) after v0² / (2 μ g).
+    let (mu, v0, dt) = (0.3, 2.0, 1e-3);
+    let law = ContactLaw::new(0.0, 0.0, mu).unwrap();
+    let mut s = Stepper::new(Rod::new(law), &[0.0; 3], &[v0, 0.0, 0.0], 0.0, options(dt)).unwrap();
+    let record = s.record_until(1.0).unwrap();
+    let stop = record.u.iter().position(|u| u[0].abs() < 1e-12).unwrap();
+    assert!((record.t[stop] - v0 / (mu * G)).abs() < 2.0 * dt, "{}", record.t[stop]);
+    let x = record.q[record.len() - 1][0];
+    assert!((x - v0 * v0 / (2.0 * mu * G)).abs() < 1e-3, "{x}");
+    assert!(record.impacts.is_empty());
+}
+
+#[test]
+fn a_pushed_rod_sticks_below_mu_m_g_and_slides_above() {
+    let mu = 0.3;
+    for frac in [0.9, 1.1] {
+        let mut rod = Rod::new(ContactLaw::new(0.0, 0.0, mu).unwrap());
+        rod.push = frac * mu * G;
+        let mut s = Stepper::new(rod, &[0.0; 3], &[0.0; 3], 0.0, options(1e-3)).unwrap();
+        s.run_until(1.0, &mut ()).unwrap();
+        let acc = if frac > 1.0 { (frac - 1.0) * mu * G } else { 0.0 };
+        assert!((s.u()[0] - acc).abs() < 1e-12, "{frac}: {}", s.u()[0]);
+        assert!((s.q()[0] - 0.5 * acc).abs() < 1e-9, "{frac}: {}", s.q()[0]);
+    }
+}
+
+#[test]
+fn without_a_gap_tolerance_a_rod_started_on_the_floor_falls_through_one_step() {
+    // The default threshold of 0: the first step closes both ends, round-off leaves their next
+    // midpoint gaps above zero, the rod falls freely for a step and lands with impacts at
+    // γ_N,A = −g Δt, resting g Δt² deep; held by friction below μ m g, it slips F Δt² / m.
+    let dt = 1e-3;
+    let run = |gap_tolerance: f64| {
+        let mut rod = Rod::new(ContactLaw::new(0.0, 0.0, 0.3).unwrap());
+        rod.push = 0.9 * 0.3 * G;
+        let o = StepperOptions::new(dt).with_gap_tolerance(gap_tolerance);
+        let mut s = Stepper::new(rod, &[0.0; 3], &[0.0; 3], 0.0, o).unwrap();
+        let record = s.record_until(0.1).unwrap();
+        let n = record.len() - 1;
+        (record.impacts, record.q[n][0], record.q[n][1])
+    };
+    let (impacts, x, y) = run(0.0);
+    assert_eq!(impacts.len(), 2);
+    assert!(impacts.iter().all(|i| (i.gamma_n_before + G * dt).abs() < 1e-12));
+    assert!((y + G * dt * dt).abs() < 1e-12, "{y}");
+    assert!((x - 0.9 * 0.3 * G * dt * dt).abs() < 1e-12, "{x}");
+    let (impacts, x, y) = run(1e-12);
+    assert!(impacts.is_empty());
+    assert!(x.abs() < 1e-15 && y.abs() < 1e-15, "{x} {y}");
+}
+
+#[test]
+fn a_non_finite_rheonomic_term_is_named_as_such() {
+    let mut rod = Rod::new(ContactLaw::new(0.5, 0.0, 0.3).unwrap());
+    rod.fault = Fault::RheonomicNan;
+    let mut s = Stepper::new(rod, &[0.0; 3], &[0.0; 3], 0.0, options(1e-3)).unwrap();
+    let e = s.step().unwrap_err();
+    assert!(matches!(e, StepError::NonFinite { index: 1, .. }), "{e:?}");
+    assert!(e.to_string().contains("ŵ_N/ŵ_T of contact at index 1"), "{e}");
+    // End 1 alone on the floor and frictionless takes the closed form, and is named alike.
+    let mut rod = Rod::new(ContactLaw::frictionless(0.5).unwrap());
+    rod.fault = Fault::RheonomicNan;
+    let mut s =
+        Stepper::new(rod, &[0.0, 0.5 * 0.1f64.sin(), 0.1], &[0.0; 3], 0.0, options(1e-3)).unwrap();
+    let e = s.step().unwrap_err();
+    assert!(e.to_string().contains("ŵ_N/ŵ_T of contact at index 1"), "{e}");
+}
+
+#[test]
+fn a_problem_beyond_the_solvers_range_names_the_step_and_the_mass_matrix() {
+    // Resting on both ends with J = 1e-300: W_Nᵀ M⁻¹ W_N holds (a cos θ)² / J = 2.5e299.
+    let mut rod = Rod::new(ContactLaw::new(0.5, 0.0, 0.3).unwrap());
+    rod.fault = Fault::TinyInertia;
+    let mut s = Stepper::new(rod, &[0.0; 3], &[0.0; 3], 0.5, options(1e-3)).unwrap();
+    let e = s.step().unwrap_err();
+    match &e {
+        StepError::ProblemOutOfRange { step, t, value, .. } => {
+            assert_eq!((*step, *t), (0, 0.5));
+            assert!(*value > 1e150, "{value:e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(e.to_string().contains("M(q, t) is nearly singular"), "{e}");
+    assert!(std::error::Error::source(&e).is_some());
+    assert_eq!(s.t(), 0.5);
+}
