@@ -61,7 +61,10 @@
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let ball = Ball { m: 1.0, r: 0.1, laws: [ContactLaw::frictionless(0.9)?] };
-//! let mut stepper = Stepper::new(ball, &[1.0], &[0.0], 0.0, StepperOptions::new(1e-3))?;
+//! // A contact counts as closed at g_N <= 1e-12 m: with the default of 0, a contact left
+//! // open by round-off after it closed sits out a step (see `StepperOptions::gap_tolerance`).
+//! let options = StepperOptions::new(1e-3).with_gap_tolerance(1e-12);
+//! let mut stepper = Stepper::new(ball, &[1.0], &[0.0], 0.0, options)?;
 //! let record = stepper.record_until(1.0)?;
 //! // The first impact happens at t1 = sqrt(2 (y0 − r) / g) ≈ 0.428 s.
 //! let first = record.p_n.iter().position(|p| p[0] > 0.0).unwrap();
@@ -118,23 +121,28 @@
 
 /// Everything a hand-derived mechanism needs, in one import: the two traits to implement
 /// ([`Mechanism`] and its supertrait `ContactKinematics`), their value types, the contact law,
-/// and the stepper with its options, record and error.
+/// the finite-difference check of the force directions (`check_jacobians` at
+/// `sample_states`), and the stepper with its options, observers, record, reports and error.
 ///
 /// ```
 /// use moreau_stepper::prelude::*;
 /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// let law = ContactLaw::new(0.5, 0.0, 0.3)?;
-/// let options = StepperOptions::new(1e-3).with_solver(SolverChoice::Lemke);
-/// assert_eq!((law.mu(), options.dt), (0.3, 1e-3));
+/// let options = StepperOptions::new(1e-3).with_gap_tolerance(1e-12);
+/// assert_eq!((law.mu(), options.dt, options.solver), (0.3, 1e-3, SolverChoice::Auto));
+/// let samples = sample_states(&[0.0, 0.2, 0.1], 0.0, &SampleOptions::default())?;
+/// assert_eq!(samples.len(), SampleOptions::default().count);
 /// # Ok(())
 /// # }
 /// ```
 pub mod prelude {
     pub use crate::{
-        BilateralPoint, Mechanism, Record, SharedWork, SolverChoice, StepError, StepReport,
-        Stepper, StepperOptions,
+        BilateralPoint, ContactReport, ContactState, Impact, Mechanism, Observer, Record, Recorder,
+        RunSummary, SharedWork, SolverChoice, StepError, StepReport, Stepper, StepperOptions,
     };
-    pub use moreau_kinematics::{ContactKinematics, ContactPoint};
+    pub use moreau_kinematics::{
+        ContactKinematics, ContactPoint, FdOptions, SampleOptions, check_jacobians, sample_states,
+    };
     pub use moreau_setvalued::ContactLaw;
 }
 

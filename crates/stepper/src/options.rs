@@ -152,12 +152,16 @@ pub struct StepperOptions {
     #[serde(default)]
     pub friction_rows_when_frictionless: bool,
     /// Active-set threshold (m): contact i enters the LCP when g_N,i(q_M, t_M) ≤ this value.
-    /// Default 0, the scheme exactly as written. After an LCP step that closes a contact, the
-    /// next midpoint gap is zero only up to round-off (γ_N,E ≈ 1e-19 m/s, say); when it comes
-    /// out positive, the contact drops out of one step and the body falls freely for Δt,
-    /// which shifts a resting or sliding body by about g Δt²/2. A threshold of a few orders of
-    /// magnitude above round-off in the mechanism's length unit (1e-12 m, say) keeps such
-    /// contacts closed and changes nothing else.
+    /// Default 0, the scheme exactly as written. After an LCP step that closes a contact at
+    /// g_N = 0 (a body started at rest or sliding on its support), the next midpoint gap is
+    /// zero only up to round-off (γ_N,E ≈ 1e-19 m/s, say); when it comes out positive, the
+    /// contact drops out of one step and the body falls freely for Δt. No error says so: the
+    /// body lands in the next step with an impact at γ_N,A = −g Δt, listed in
+    /// `Record::impacts`, and rests g Δt² deep (1e-5 m at Δt = 1 ms), and a contact held by
+    /// friction loses its grip for that step (a body pushed by F below μ m g slips
+    /// F Δt² / m). A threshold of a few orders of magnitude above round-off in the
+    /// mechanism's length unit (1e-12 m, say) keeps such contacts closed and changes nothing
+    /// else; a declared mechanism's options give one relative to its size.
     #[serde(default)]
     pub gap_tolerance: f64,
     /// Project the end positions q_E back onto g_N ≥ 0 after each step (along M⁻¹ W_N, the
@@ -214,7 +218,10 @@ pub struct StepperOptions {
 }
 
 impl StepperOptions {
-    /// Options with time step `dt` and the default solver.
+    /// Options with time step `dt`, the default solver, no projection and every threshold at
+    /// 0. For a mechanism whose contacts rest or slide, add a gap tolerance above round-off
+    /// in its length unit: `StepperOptions::new(dt).with_gap_tolerance(1e-12)` (see
+    /// [`Self::gap_tolerance`] for what its default of 0 does).
     pub fn new(dt: f64) -> Self {
         Self {
             dt,
