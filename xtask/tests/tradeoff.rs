@@ -123,3 +123,30 @@ fn quick_tradeoff_writes_the_table_figures_and_orders() -> Result<()> {
     ensure!(md.contains("Step size for an error target"));
     Ok(())
 }
+
+/// A run that a typed error stops is listed as failed and counted in the study's error; a
+/// reference that fails leaves the model's errors unmeasured and fails the study too.
+#[test]
+fn failed_runs_are_listed_and_end_the_study_in_an_error() -> Result<()> {
+    let mut ball = studies(true)[0].clone();
+    ball.steps = vec![1e-2];
+    // PGS refuses a tolerance outside (0, 1).
+    ball.solvers = vec![Solver::Auto, Solver::Pgs { tolerance: 2.0 }];
+    let results = xtask::tradeoff::run_studies(&[ball]);
+    let failed = xtask::tradeoff::failed_runs(&results);
+    ensure!(failed.len() == 1 && failed[0].starts_with("ball pgs 2e0 Δt = 1e-2 s: "), "{failed:?}");
+    let message = format!("{:#}", xtask::tradeoff::check_runs(&results).expect_err("a failure"));
+    ensure!(message.contains("1 of 2 runs of the speed/accuracy study failed"), "{message}");
+
+    let mut cam = studies(true)[4].clone();
+    ensure!(cam.label() == "cam");
+    (cam.steps, cam.solvers) = (vec![1e-2], vec![Solver::Auto]);
+    // A mass the model refuses: the reference, the run at h_ref/2 and the run fail.
+    cam.sets = vec![("m".into(), "-1".into())];
+    let results = xtask::tradeoff::run_studies(&[cam]);
+    let failed = xtask::tradeoff::failed_runs(&results);
+    ensure!(failed.len() == 3 && failed[0].starts_with("cam auto Δt = 3e-5 s: "), "{failed:?}");
+    let message = format!("{:#}", xtask::tradeoff::check_runs(&results).expect_err("a failure"));
+    ensure!(message.contains("3 of 3 runs of the speed/accuracy study failed"), "{message}");
+    Ok(())
+}

@@ -30,6 +30,7 @@ fn fig(ctx: &Ctx<'_>, _e: &Entry) -> Result<Output> {
     let results = tradeoff::run_studies(&tradeoff::studies(ctx.quick));
     let command = if ctx.quick { "cargo xtask reproduce --quick" } else { "cargo xtask reproduce" };
     let written = tradeoff::write(&results, ctx.out, command)?;
+    tradeoff::check_runs(&results)?;
     Ok(Output {
         files: written.files,
         key_numbers: written.key_numbers,

@@ -648,3 +648,42 @@ pub fn write(results: &[StudyResult], out: &Path, command: &str) -> Result<Writt
     let files = crate::reproduce::names(&paths);
     Ok(Written { files, markdown: md, key_numbers: key_numbers(results) })
 }
+
+/// The runs that a typed error stopped, references included, each as `model solver Δt:
+/// reason`. A diverged run is a result of the study (the step is beyond the stability
+/// limit), not a failure.
+pub fn failed_runs(results: &[StudyResult]) -> Vec<String> {
+    results
+        .iter()
+        .flat_map(|r| {
+            let references = r.reference.iter().flat_map(|(a, b)| [a, b]);
+            references.chain(&r.runs).filter_map(move |m| {
+                let reason = m.outcome.as_ref().err()?;
+                Some(format!(
+                    "{} {} Δt = {:e} s: {reason}",
+                    r.study.label(),
+                    m.solver.label(),
+                    m.dt
+                ))
+            })
+        })
+        .collect()
+}
+
+/// Ends in an error that counts and names the failed runs ([`failed_runs`]), if any.
+///
+/// # Errors
+/// When a run of the study failed.
+pub fn check_runs(results: &[StudyResult]) -> Result<()> {
+    let failed = failed_runs(results);
+    let all: usize =
+        results.iter().map(|r| r.runs.len() + 2 * usize::from(r.reference.is_some())).sum();
+    if let Some(first) = failed.first() {
+        anyhow::bail!(
+            "{} of {all} runs of the speed/accuracy study failed (listed as failed in \
+             tradeoff.csv), the first: {first}",
+            failed.len()
+        );
+    }
+    Ok(())
+}
