@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use moreau_cli::cli::{self, MergeArgs, SimulateArgs, SolveArgs, SweepArgs};
 use xtask::scene_frames::FramesArgs;
@@ -24,11 +24,12 @@ enum Command {
         /// Output folder.
         #[arg(long, default_value = "target/reproduce")]
         out: PathBuf,
-        /// Shorter horizons and fewer runs (for CI).
+        /// A smaller speed/accuracy study (step sizes down to 3e-4 s, references at 3e-5 s); the
+        /// report's figures are the same as in a full run (for CI).
         #[arg(long)]
         quick: bool,
-        /// Worker threads (default: one per core).
-        #[arg(long)]
+        /// Worker threads, at least 1 (default: one per core).
+        #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
         jobs: Option<usize>,
     },
     /// Run one model or scene file and write its record as CSV (the `moreau simulate` command).
@@ -43,8 +44,8 @@ enum Command {
         /// Four step sizes from 1e-2 to 3e-4 s and a coarser reference (a few seconds).
         #[arg(long)]
         quick: bool,
-        /// Worker threads (default: one per core).
-        #[arg(long)]
+        /// Worker threads, at least 1 (default: one per core).
+        #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
         jobs: Option<usize>,
     },
     /// How the many-body step scales: time per step, iterations and force balance on the scale
@@ -87,9 +88,11 @@ fn main() -> ExitCode {
 fn run(command: Command) -> Result<()> {
     match command {
         Command::Reproduce { out, quick, jobs } => {
+            reproduce::writable(&out).context("--out")?;
             let summary = reproduce::run(&reproduce::Options { out: out.clone(), quick, jobs })?;
             println!(
-                "wrote {} files to {} in {:.1} s (simulations {:.1} s of CPU)",
+                "wrote {} files to {} in {:.1} s (the report's simulations {:.1} s of CPU, \
+                 besides the speed/accuracy and scaling studies)",
                 summary.files,
                 out.display(),
                 summary.total_seconds,
@@ -99,6 +102,7 @@ fn run(command: Command) -> Result<()> {
         Command::Simulate(args) => cli::Command::Simulate(args).run()?,
         Command::Sweep(args) => cli::Command::Sweep(args).run()?,
         Command::Tradeoff { out, quick, jobs } => {
+            reproduce::writable(&out).context("--out")?;
             let summary = tradeoff::run(&tradeoff::Options { out: out.clone(), quick, jobs })?;
             println!(
                 "wrote {} files to {} in {:.1} s (simulations {:.1} s of CPU)",
@@ -109,6 +113,11 @@ fn run(command: Command) -> Result<()> {
             );
         }
         Command::Scale { out, quick, problems, only } => {
+            // The outputs are checked before the runs, which take minutes to hours.
+            reproduce::writable(&out).context("--out")?;
+            if let Some(dir) = &problems {
+                reproduce::writable(dir).context("--problems")?;
+            }
             let mut specs = scale::specs(quick);
             if let Some(only) = &only {
                 specs.retain(|s| s.label().split_whitespace().any(|w| w == only));

@@ -21,6 +21,9 @@ pub const DEFAULT_COUNT: usize = 6;
 /// Frames of the animation.
 pub const ANIMATION_FRAMES: usize = 60;
 
+/// Most frames of a strip (17 rows of six): a larger strip would be an image of gigabytes.
+pub const MAX_FRAMES: usize = 100;
+
 /// Arguments of `frames`.
 #[derive(Args, Clone, Debug)]
 pub struct FramesArgs {
@@ -33,11 +36,11 @@ pub struct FramesArgs {
     /// Override a scene key: --set key=value (repeatable; each entry once).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
-    /// Instants of the strip's frames (s), comma-separated, within the run.
+    /// Instants of the strip's frames (s), comma-separated, within the run (at most 100).
     #[arg(long, value_delimiter = ',', conflicts_with = "count")]
     pub times: Option<Vec<f64>>,
     /// Number of the strip's frames, evenly spaced from t = 0 to the end of the run
-    /// (default 6).
+    /// (default 6, at most 100).
     #[arg(long)]
     pub count: Option<usize>,
     /// Output folder (created when missing).
@@ -80,8 +83,10 @@ fn stem(args: &FramesArgs) -> String {
 /// # Errors
 /// The errors of the run (as `simulate`: no model, a model that disagrees with the scene file,
 /// unknown keys, a refused step plan, divergence); a time outside the run or not finite, a
-/// count of zero; an unwritable output.
+/// count of zero, more than [`MAX_FRAMES`] frames; an unwritable output (refused before the
+/// run).
 pub fn run(args: &FramesArgs) -> Result<Vec<PathBuf>> {
+    crate::reproduce::writable(&args.out).context("--out")?;
     let options = SimulateOptions {
         model: args.model.clone(),
         scene: args.scene.clone(),
@@ -90,8 +95,6 @@ pub fn run(args: &FramesArgs) -> Result<Vec<PathBuf>> {
     };
     let result = simulate::run(&options)?;
     let rows = rows(&result, args.times.as_deref(), args.count)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
     let stem = stem(args);
     let mut strip = strip(&result, &stem, &rows);
     let r = result.record();
@@ -181,8 +184,15 @@ pub fn networks(result: &RunResult, rows: &[usize]) -> Result<Vec<Frame>> {
 /// over the run ([`DEFAULT_COUNT`] when neither is given).
 ///
 /// # Errors
-/// A time that is not finite or lies outside the run; a count of zero.
+/// A time that is not finite or lies outside the run; a count of zero; more than
+/// [`MAX_FRAMES`] frames.
 pub fn rows(result: &RunResult, times: Option<&[f64]>, count: Option<usize>) -> Result<Vec<usize>> {
+    let frames = times.map_or(count.unwrap_or(DEFAULT_COUNT), <[f64]>::len);
+    ensure!(
+        frames <= MAX_FRAMES,
+        "{frames} frames asked for ({}): a strip holds at most {MAX_FRAMES}",
+        if times.is_some() { "--times" } else { "--count" }
+    );
     let t = &result.record().t;
     let (first, last) = match (t.first(), t.last()) {
         (Some(&a), Some(&b)) => (a, b),

@@ -14,7 +14,8 @@
 //! - the observed order of convergence p, the least-squares slope of log error against log h
 //!   ([`fit_order`]), in impact-free phases and globally.
 //!
-//! A run that stops with a typed error is a result: it is listed as `failed: <reason>`.
+//! A run that stops with a typed error is listed as `failed: <reason>`, and the study, once
+//! every file is written, ends in an error that counts such runs ([`check_runs`]).
 //!
 //! Runs stream their steps through an observer that keeps only what the errors need (states
 //! at sample times, contact transitions), so runs of millions of steps need little memory.
@@ -603,12 +604,11 @@ fn evaluate_study(
 /// Runs `cargo xtask tradeoff`.
 ///
 /// # Errors
-/// When the output folder cannot be written or a figure cannot be drawn. Failed runs are
-/// results, not errors.
+/// When the output folder cannot be written or a figure cannot be drawn; when a run failed,
+/// once every file is written ([`check_runs`]).
 pub fn run(options: &Options) -> Result<Summary> {
     let start = Instant::now();
-    std::fs::create_dir_all(&options.out)
-        .with_context(|| format!("creating {}", options.out.display()))?;
+    crate::reproduce::writable(&options.out)?;
     faer::set_global_parallelism(faer::Par::Seq);
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(jobs) = options.jobs {
@@ -619,6 +619,7 @@ pub fn run(options: &Options) -> Result<Summary> {
     let command =
         if options.quick { "cargo xtask tradeoff --quick" } else { "cargo xtask tradeoff" };
     let written = write(&results, &options.out, command)?;
+    check_runs(&results)?;
     let simulation_seconds = results
         .iter()
         .flat_map(|r| r.runs.iter().chain(r.reference.iter().flat_map(|(a, b)| [a, b])))

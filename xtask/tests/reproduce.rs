@@ -148,6 +148,22 @@ fn check_outputs(dir: &Path) -> Result<()> {
     ensure!(report.contains("## Scaling"), "report.md lacks the scaling section");
     let ball = &s["key_numbers"]["ball"];
     let dt = number(ball, "dt")?;
+    // Each model's key numbers come with the costs of their run: 10 s at Δt = 1 ms.
+    ensure!(number(ball, "steps")? == 10_000.0, "{ball}");
+    ensure!(number(ball, "lcp_solves")? > 0.0 && number(ball, "wall_seconds")? > 0.0, "{ball}");
+    let top: BTreeSet<&str> =
+        s.as_object().context("an object")?.keys().map(String::as_str).collect();
+    let documented = [
+        "generator",
+        "quick",
+        "key_numbers",
+        "scale",
+        "figures",
+        "runs",
+        "simulation_seconds",
+        "total_seconds",
+    ];
+    ensure!(top == documented.into_iter().collect(), "summary.json's keys: {top:?}");
     let t1 = number(ball, "key_numbers.first_impact.t")?;
     let t1_exact = (2.0 * 0.9f64 / 9.81).sqrt();
     ensure!((t1 - t1_exact).abs() <= dt, "first impact {t1} vs closed form {t1_exact}");
@@ -233,5 +249,28 @@ fn quick_reproduction_is_complete_and_independent_of_the_thread_count() -> Resul
         let b = std::fs::read(two.path().join(name))?;
         ensure!(a == b, "{name} differs between 1 and 2 threads");
     }
+    Ok(())
+}
+
+/// A figure that cannot be written fails the reproduction, naming the figure, and leaves no
+/// summary or report: neither its own nor that of an earlier reproduction into the folder.
+#[test]
+fn a_failed_figure_leaves_no_report() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    for name in ["summary.json", "report.html", "report.md"] {
+        std::fs::write(dir.path().join(name), "an earlier reproduction")?;
+    }
+    // A folder where Fig 8.2's PNG goes.
+    std::fs::create_dir(dir.path().join("fig08_02_ball.png"))?;
+    let err = run(&Options { out: dir.path().to_owned(), quick: true, jobs: Some(2) })
+        .expect_err("Fig 8.2 cannot be written");
+    let message = format!("{err:#}");
+    ensure!(message.contains("1 of 18 figures and tables failed"), "{message}");
+    ensure!(message.contains("Fig 8.2 (fig08_02_ball)"), "{message}");
+    for name in ["summary.json", "report.html", "report.md"] {
+        ensure!(!dir.path().join(name).exists(), "{name} is left from an earlier reproduction");
+    }
+    // The other figures are drawn.
+    ensure!(dir.path().join("fig08_03_ball_dt.png").exists());
     Ok(())
 }

@@ -127,15 +127,43 @@ pub fn registry() -> Vec<Entry> {
     entries
 }
 
+/// Makes sure `dir` is a folder that files can be written into: creates it when missing and
+/// writes and removes a probe file, so that a bad output is refused before any run.
+///
+/// # Errors
+/// When `dir` is a file, lies under a file, or cannot be created or written.
+pub fn writable(dir: &Path) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        bail!("{} is a file, not a folder", dir.display());
+    }
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("creating the folder {}", dir.display()))?;
+    let probe = dir.join(".xtask-write-probe");
+    std::fs::write(&probe, b"").with_context(|| format!("writing into {}", dir.display()))?;
+    std::fs::remove_file(&probe).with_context(|| format!("writing into {}", dir.display()))?;
+    Ok(())
+}
+
+/// The files written once every figure is drawn, in this order.
+pub const REPORT_FILES: [&str; 3] = ["summary.json", "report.html", "report.md"];
+
 /// Runs the reproduction.
 ///
 /// # Errors
 /// When the output folder cannot be written, a run that a figure needs fails, or drawing
-/// fails.
+/// fails; then `summary.json`, `report.html` and `report.md` are not written (those of an
+/// earlier reproduction into the folder are removed first).
 pub fn run(options: &Options) -> Result<Summary> {
     let start = Instant::now();
-    std::fs::create_dir_all(&options.out)
-        .with_context(|| format!("creating {}", options.out.display()))?;
+    writable(&options.out)?;
+    // The report of an earlier reproduction into the same folder goes first: a reproduction
+    // that fails leaves no report that looks complete.
+    for name in REPORT_FILES {
+        let path = options.out.join(name);
+        if path.exists() {
+            std::fs::remove_file(&path).with_context(|| format!("removing {}", path.display()))?;
+        }
+    }
     faer::set_global_parallelism(faer::Par::Seq);
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(jobs) = options.jobs {
@@ -185,8 +213,15 @@ fn reproduce(options: &Options, start: Instant) -> Result<Summary> {
         })
         .collect();
     let mut figures = Vec::new();
+    let mut failures = Vec::new();
     for (e, d) in entries.iter().zip(drawn) {
-        let (out, seconds) = d?;
+        let (out, seconds) = match d {
+            Ok(d) => d,
+            Err(err) => {
+                failures.push(format!("{err:#}"));
+                continue;
+            }
+        };
         figures.push(FigureReport {
             id: e.id.to_owned(),
             stem: e.stem.to_owned(),
@@ -198,21 +233,33 @@ fn reproduce(options: &Options, start: Instant) -> Result<Summary> {
             draw_seconds: seconds,
         });
     }
+    if !failures.is_empty() {
+        bail!(
+            "{} of {} figures and tables failed, and no summary.json or report was written:\n{}",
+            failures.len(),
+            entries.len(),
+            failures.join("\n")
+        );
+    }
 
     let infos: Vec<RunInfo> = specs
         .iter()
         .filter_map(|s| runs.get(&s.name).and_then(|r| r.as_ref().ok()).map(|r| r.info.clone()))
         .collect();
-    let failed: Vec<Value> = specs
-        .iter()
-        .filter_map(|s| match runs.get(&s.name) {
-            Some(Err(e)) => Some(json!({"run": s.name, "error": e})),
-            _ => None,
-        })
-        .collect();
+    // Each model's key numbers with its run's parameters, Δt, solver, steps, LCP solves and
+    // wall time.
+    let with_costs = |run: &RunResult| -> Value {
+        let mut v = keys::summary(run);
+        if let Value::Object(map) = &mut v {
+            map.insert("steps".into(), json!(run.info.steps));
+            map.insert("lcp_solves".into(), json!(run.info.lcp_solves));
+            map.insert("wall_seconds".into(), json!(run.info.wall_seconds));
+        }
+        v
+    };
     let model_keys = |names: &[&str]| -> Value {
         let list: Vec<Value> =
-            names.iter().filter_map(|n| ctx.run(n).ok()).map(keys::summary).collect();
+            names.iter().filter_map(|n| ctx.run(n).ok()).map(with_costs).collect();
         if list.len() == 1 {
             list.into_iter().next().unwrap_or(Value::Null)
         } else {
@@ -242,7 +289,6 @@ fn reproduce(options: &Options, start: Instant) -> Result<Summary> {
             "runs": f.runs, "key_numbers": f.key_numbers,
         })).collect::<Vec<_>>(),
         "runs": infos,
-        "failed_runs": failed,
         "simulation_seconds": simulation_seconds,
         "total_seconds": total_seconds,
     });
