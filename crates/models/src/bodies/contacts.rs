@@ -134,6 +134,24 @@ impl Rules {
             if let Some(m) = c.margin {
                 positive(&format!("{path}.margin"), m)?;
             }
+            // A second contact between the same two shapes would close with the first: the
+            // step problem would split their impulse at will, and the friction taken would be
+            // the larger of their laws', not either one's.
+            let same = |e: &&Explicit| {
+                (e.a, e.shape_a, e.b, e.shape_b) == (a, c.shape_a, b, c.shape_b)
+                    || (e.b, e.shape_b, e.a, e.shape_a) == (a, c.shape_a, b, c.shape_b)
+            };
+            if let Some(first) = explicit.iter().find(same) {
+                return Err(bad(
+                    format!("{path}.body_b"),
+                    &c.body_b,
+                    format!(
+                        "contact `{}` is already between these two shapes (shape {} of `{}` and \
+                         shape {} of `{}`); declare each pair of shapes once",
+                        first.name, c.shape_a, c.body_a, c.shape_b, c.body_b
+                    ),
+                ));
+            }
             explicit.push(Explicit {
                 a,
                 shape_a: c.shape_a,
@@ -154,6 +172,32 @@ impl Rules {
             let path = format!("contacts_auto.overrides.{k}");
             let a = resolve(bodies, &format!("{path}.bodies.0"), &o.bodies[0])?;
             let b = resolve(bodies, &format!("{path}.bodies.1"), &o.bodies[1])?;
+            // An override that no automatic pair takes would be dropped without a word.
+            let refuse = |why: String| Err(bad(format!("{path}.bodies.1"), &o.bodies[1], why));
+            if a == b {
+                return refuse(
+                    "the same body as bodies.0: a body has no contact with itself".into(),
+                );
+            }
+            if !bodies[a].is_dynamic() && !bodies[b].is_dynamic() {
+                return refuse(
+                    "neither body is dynamic: the pair gets no automatic contact".to_owned(),
+                );
+            }
+            let pair = |x: usize, y: usize| (x, y) == (a, b) || (y, x) == (a, b);
+            if rules.jointed.iter().any(|&(x, y)| pair(x, y)) {
+                return refuse(
+                    "a joint connects the two bodies: the pair gets no automatic contact"
+                        .to_owned(),
+                );
+            }
+            let same = |&(x, y, _): &(usize, usize, ContactLaw)| pair(x, y);
+            if let Some(k) = rules.overrides.iter().position(same) {
+                return refuse(format!(
+                    "contacts_auto.overrides.{k} already gives the laws of `{}` and `{}`",
+                    o.bodies[0], o.bodies[1]
+                ));
+            }
             rules.overrides.push((a, b, law(&path, o.eps_n, o.eps_t, o.mu)?));
         }
         Ok(rules)
