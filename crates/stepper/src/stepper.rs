@@ -284,7 +284,8 @@ impl<M: Mechanism> Stepper<M> {
     /// [`StepError::Dimension`] for state vectors or law lists of the wrong length,
     /// [`StepError::NonFinite`] for a non-finite state, and the solver's option errors. For a
     /// mechanism with a [`crate::BodyStructure`]: [`StepError::Dimension`] when f is not three
-    /// times its number of bodies.
+    /// times its number of bodies; for one that says [`Mechanism::maximal_coordinates`]: when f
+    /// is not a multiple of three.
     pub fn new(
         mechanism: M,
         q0: &[f64],
@@ -321,6 +322,13 @@ impl<M: Mechanism> Stepper<M> {
                     });
                 }
                 Some(Box::new(BodyPath::new(nb, mechanism.num_bilaterals())))
+            }
+            None if mechanism.maximal_coordinates() && !f.is_multiple_of(3) => {
+                return Err(StepError::Dimension {
+                    what: "coordinates (three per body: the mechanism says maximal_coordinates)",
+                    expected: 3 * f.div_ceil(3),
+                    found: f,
+                });
             }
             None => None,
         };

@@ -207,3 +207,56 @@ fn a_problem_beyond_the_solvers_range_names_the_step_and_the_mass_matrix() {
     assert!(std::error::Error::source(&e).is_some());
     assert_eq!(s.t(), 0.5);
 }
+
+/// A point of mass 1 on a vertical line, q = (y), that says it holds rigid bodies in maximal
+/// coordinates (x, y, θ per body), which one coordinate cannot.
+struct Slider {
+    laws: [ContactLaw; 1],
+}
+
+impl ContactKinematics for Slider {
+    fn num_coordinates(&self) -> usize {
+        1
+    }
+    fn num_contacts(&self) -> usize {
+        1
+    }
+    fn normal_gap(&self, _i: usize, q: &[f64], _t: f64) -> f64 {
+        q[0]
+    }
+    fn contact(
+        &self,
+        i: usize,
+        q: &[f64],
+        t: f64,
+        w_n: &mut [f64],
+        w_t: &mut [f64],
+    ) -> ContactPoint {
+        (w_n[0], w_t[0]) = (1.0, 0.0);
+        ContactPoint { g_n: self.normal_gap(i, q, t), ..ContactPoint::default() }
+    }
+}
+
+impl Mechanism for Slider {
+    fn laws(&self) -> &[ContactLaw] {
+        &self.laws
+    }
+    fn mass_matrix(&self, _q: &[f64], _t: f64, m: &mut [f64]) {
+        m[0] = 1.0;
+    }
+    fn forces(&self, _q: &[f64], _u: &[f64], _t: f64, h: &mut [f64]) {
+        h[0] = -G;
+    }
+    fn maximal_coordinates(&self) -> bool {
+        true
+    }
+}
+
+#[test]
+fn maximal_coordinates_need_three_coordinates_per_body() {
+    let slider = Slider { laws: [ContactLaw::frictionless(0.0).unwrap()] };
+    let e =
+        Stepper::new(slider, &[0.1], &[0.0], 0.0, options(1e-3).with_projection(true)).unwrap_err();
+    assert!(matches!(e, StepError::Dimension { expected: 3, found: 1, .. }), "{e:?}");
+    assert!(e.to_string().contains("maximal_coordinates"), "{e}");
+}
