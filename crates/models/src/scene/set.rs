@@ -203,8 +203,7 @@ impl Scene {
                 }
             }
         }
-        let scene: Scene =
-            doc.try_into().map_err(|e: toml::de::Error| bad(e.message().to_owned()))?;
+        let scene: Scene = doc.try_into().map_err(|e: toml::de::Error| bad(reason_of(&e)))?;
         // A refusal that already names a key and its value is given as it is; one of the key
         // itself gives only its reason.
         scene.validate().map_err(|e| match e {
@@ -216,6 +215,18 @@ impl Scene {
         })?;
         *self = scene;
         Ok(())
+    }
+}
+
+/// The reason a changed scene does not read, without the line `in `bodies.motion`` that the
+/// reader adds: the key is named already, and that path leaves out the element's name.
+fn reason_of(e: &toml::de::Error) -> String {
+    let message = e.message().trim_end();
+    match message.rsplit_once('\n') {
+        Some((reason, last)) if last.starts_with("in `") && last.ends_with('`') => {
+            reason.trim_end().to_owned()
+        }
+        _ => message.to_owned(),
     }
 }
 
