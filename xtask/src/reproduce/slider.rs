@@ -84,8 +84,20 @@ fn ideal_model(run: &RunResult) -> Result<&SliderCrankIdeal> {
     }
 }
 
-fn revolutions(run: &RunResult) -> Vec<f64> {
-    run.q(0).into_iter().map(|th| th / std::f64::consts::TAU).collect()
+/// The crank's revolutions θ1 / 2π along the run, which must have reached the two
+/// revolutions the figures show (a run cut short by its t_end would draw fewer).
+fn revolutions(run: &RunResult) -> Result<Vec<f64>> {
+    let revs: Vec<f64> = run.q(0).into_iter().map(|th| th / std::f64::consts::TAU).collect();
+    let last = revs.last().copied().unwrap_or(0.0);
+    if !(last >= 2.0) {
+        bail!(
+            "run {} ended at t = {} s after {last:.4} crank revolutions, short of the 2 its \
+             figures show",
+            run.spec.name,
+            run.record().t.last().copied().unwrap_or(0.0)
+        );
+    }
+    Ok(revs)
 }
 
 fn corner(run: &RunResult, k: usize) -> Result<Vec<f64>> {
@@ -100,7 +112,7 @@ fn portrait(run: &RunResult) -> Result<(Vec<f64>, Vec<f64>)> {
 
 fn fig8_15(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
     let run = ctx.run(EPS_RUNS[1])?;
-    let revs = revolutions(run);
+    let revs = revolutions(run)?;
     let mut panels = Vec::new();
     for k in 0..4 {
         let title = format!("({}) corner {}", ["a", "b", "c", "d"][k], k + 1);
@@ -119,8 +131,8 @@ fn fig8_16(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
     let run = ctx.run(EPS_RUNS[1])?;
     let ideal = ctx.run(IDEAL)?;
     let im = ideal_model(ideal)?;
-    let revs = revolutions(run);
-    let irevs = revolutions(ideal);
+    let revs = revolutions(run)?;
+    let irevs = revolutions(ideal)?;
     let ith1 = ideal.q(0);
     let iw1 = ideal.u(0);
     let ideal_rod_speed: Vec<f64> =
@@ -189,7 +201,13 @@ fn fig8_17(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
         let title = format!("({}) ε_N = {eps}", ["a", "b", "c", "d"][j]);
         panels.push(
             Panel::new(&title, "crank revolutions [-]", "Y1 [-]", &format!("revolutions_e{eps}"))
-                .with(Series::line("", &format!("Y1_e{eps}"), revolutions(run), corner(run, 0)?, j))
+                .with(Series::line(
+                    "",
+                    &format!("Y1_e{eps}"),
+                    revolutions(run)?,
+                    corner(run, 0)?,
+                    j,
+                ))
                 .legend(LegendAt::None),
         );
         numbers.push(keys::slider(run));
@@ -208,6 +226,7 @@ fn fig8_18(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
     let mut numbers = Vec::new();
     for (j, (name, eps)) in EPS_RUNS.iter().zip(EPS).enumerate() {
         let run = ctx.run(name)?;
+        revolutions(run)?;
         let (px, py) = portrait(run)?;
         let title = format!("({}) ε_N = {eps}", ["a", "b", "c", "d"][j]);
         panels.push(
@@ -223,4 +242,25 @@ fn fig8_18(ctx: &Ctx<'_>, e: &Entry) -> Result<Output> {
     );
     let files = fig.write(ctx.out, e.stem)?;
     Ok(Output { files: names(&files), key_numbers: json!(numbers), markdown: None })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_short_of_two_revolutions_is_refused() -> Result<()> {
+        // The crank turns at about 150 rad/s: 0.02 s is about half a revolution.
+        let short =
+            RunSpec::new("short", ModelKind::SliderCrankIdeal, &[("t_end", "0.02")]).execute()?;
+        let err = revolutions(&short).unwrap_err().to_string();
+        assert!(
+            err.contains("run short ended at t = 0.02") && err.contains("short of the 2"),
+            "{err}"
+        );
+        let full = RunSpec::new("full", ModelKind::SliderCrankIdeal, &[]).execute()?;
+        let revs = revolutions(&full)?;
+        assert!((2.0..2.01).contains(revs.last().unwrap()), "{:?}", revs.last());
+        Ok(())
+    }
 }
