@@ -16,7 +16,14 @@ const Q0: [f64; 3] = [0.0, 0.2, 0.3];
 
 fn setup() -> (BoxOnIncline, Record) {
     let m = BoxOnIncline::new(1.0, 0.1, 0.05, 20f64.to_radians(), MU, EPS_N).unwrap();
-    let mut s = Stepper::new(m.clone(), &Q0, &[0.0; 3], 0.0, StepperOptions::new(DT)).unwrap();
+    let mut s = Stepper::new(
+        m.clone(),
+        &Q0,
+        &[0.0; 3],
+        0.0,
+        StepperOptions::new(DT).with_gap_tolerance(1e-12),
+    )
+    .unwrap();
     let r = s.record_until(1.5).unwrap();
     (m, r)
 }
