@@ -506,7 +506,8 @@ enum Cell {
     Text(String),
     /// A number shown with this many decimals in Markdown.
     Fixed(f64, usize),
-    /// A number shown in scientific notation in Markdown.
+    /// A number shown in scientific notation in Markdown; NaN, a number that does not apply
+    /// to the run (the force balance of a flow), is an empty CSV field and "—".
     Sci(f64),
 }
 
@@ -514,6 +515,7 @@ impl Cell {
     fn csv(&self) -> String {
         match self {
             Cell::Text(t) => t.clone(),
+            Cell::Sci(v) if v.is_nan() => String::new(),
             Cell::Fixed(v, _) | Cell::Sci(v) => format!("{v:e}"),
         }
     }
@@ -522,6 +524,7 @@ impl Cell {
         match self {
             Cell::Text(t) => t.clone(),
             Cell::Fixed(v, d) => format!("{v:.d$}"),
+            Cell::Sci(v) if v.is_nan() => "—".to_owned(),
             Cell::Sci(v) => format!("{v:.1e}"),
         }
     }
@@ -698,6 +701,13 @@ pub fn write(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_number_that_does_not_apply_is_left_blank() {
+        let (nan, one) = (Cell::Sci(f64::NAN), Cell::Sci(1.5e-9));
+        assert_eq!((nan.csv().as_str(), nan.markdown().as_str()), ("", "—"));
+        assert_eq!((one.csv().as_str(), one.markdown().as_str()), ("1.5e-9", "1.5e-9"));
+    }
 
     /// A disk of 2 kg at rest above a floor, its contacts detected: the scene's text with the
     /// disk's centre at `y` (m).
