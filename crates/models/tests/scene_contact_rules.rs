@@ -1,6 +1,7 @@
 //! Contact declarations that a scene would otherwise take without a word: a second explicit
 //! contact between the same two shapes, and automatic-contact overrides that no pair takes
-//! (a body with itself, two bodies that do not move, a jointed pair, a pair given twice).
+//! (a body with itself, two bodies that do not move, a jointed pair, a pair given twice, a
+//! pair whose shapes explicit contacts all join, a pair the collision groups exclude).
 //! Each is refused naming the field; the laws that are taken are checked on the conveyor
 //! belt of `scenes/bodies/conveyor.toml`, where a disk set down on the belt accelerates at
 //! μ g while it slips.
@@ -147,4 +148,32 @@ fn set_refuses_an_override_of_a_body_with_itself_and_leaves_the_scene() {
     assert_eq!(key, "contacts_auto.overrides.0.bodies.1", "{e}");
     assert!(e.to_string().contains("a body has no contact with itself"), "{e}");
     assert_eq!(scene, before);
+}
+
+#[test]
+fn overrides_of_pairs_that_explicit_contacts_or_collision_groups_take_away_are_refused() {
+    let law = "eps_n = 0.0, eps_t = 0.0, mu = 0.5";
+    let auto = format!(
+        "[contacts_auto]\neps_n = 0.0\neps_t = 0.0\nmu = 0.2\n\
+         overrides = [{{ bodies = [\"disk\", \"belt\"], {law} }}]\n"
+    );
+    // The explicit contact `slip` joins the disk's only shape to the belt's: the automatic
+    // contacts skip that pair of shapes, and the override would not reach it.
+    let covered = format!("{CONVEYOR}\n{auto}");
+    let e = Scene::from_toml_str(&covered).unwrap_err();
+    assert_eq!(field(&e), "contacts_auto.overrides.0.bodies.1", "{e}");
+    assert!(e.to_string().contains("explicit contacts already join every shape"), "{e}");
+    // Without the override the explicit law holds: μ = 0.2.
+    let plain = format!("{CONVEYOR}\n[contacts_auto]\neps_n = 0.0\neps_t = 0.0\nmu = 0.7\n");
+    let a = slip_acceleration(&Scene::from_toml_str(&plain).unwrap());
+    assert!((a - 0.2).abs() < 1e-9, "{a}");
+    // The disk in group 2 and the belt's mask without it: no automatic contact between them.
+    let head = &CONVEYOR[..CONVEYOR.find("[[contacts]]").unwrap()];
+    let grouped = head
+        .replace("name = \"belt\"\n", "name = \"belt\"\nmask = 1\n")
+        .replace("name = \"disk\"\n", "name = \"disk\"\ngroup = 2\n");
+    assert_ne!(grouped, head);
+    let e = Scene::from_toml_str(&format!("{grouped}{auto}")).unwrap_err();
+    assert_eq!(field(&e), "contacts_auto.overrides.0.bodies.1", "{e}");
+    assert!(e.to_string().contains("collision groups and masks exclude the pair"), "{e}");
 }

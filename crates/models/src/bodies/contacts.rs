@@ -191,6 +191,24 @@ impl Rules {
                         .to_owned(),
                 );
             }
+            let (ba, bb) = (&bodies[a], &bodies[b]);
+            if ba.group & bb.mask == 0 || bb.group & ba.mask == 0 {
+                return refuse(
+                    "the collision groups and masks exclude the pair: it gets no automatic \
+                     contact"
+                        .to_owned(),
+                );
+            }
+            let shape_pairs = (0..ba.shapes.len())
+                .flat_map(|sa| (0..bb.shapes.len()).map(move |sb| (sa, sb)))
+                .collect::<Vec<_>>();
+            if shape_pairs.iter().all(|&(sa, sb)| rules.explicit(a, sa, b, sb).is_some()) {
+                return refuse(
+                    "explicit contacts already join every shape of the two bodies, under their \
+                     own laws: the pair gets no automatic contact"
+                        .to_owned(),
+                );
+            }
             let same = |&(x, y, _): &(usize, usize, ContactLaw)| pair(x, y);
             if let Some(k) = rules.overrides.iter().position(same) {
                 return refuse(format!(
