@@ -114,7 +114,9 @@ pub struct AutoContacts {
     /// default 1 % of the smaller shape's bounding box diagonal at t = 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub margin: Option<f64>,
-    /// Laws for particular pairs of bodies.
+    /// Laws for particular pairs of bodies, each pair once. A pair that gets no automatic
+    /// contact is refused: a body with itself, two bodies that do not move, a jointed pair,
+    /// a pair the collision groups exclude, or one whose shapes explicit contacts all join.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub overrides: Vec<PairOverride>,
 }
