@@ -79,6 +79,15 @@ pub(crate) struct Explicit {
     pub name: String,
 }
 
+impl Explicit {
+    /// Whether this contact joins shape `sa` of body `a` and shape `sb` of body `b`, in either
+    /// order.
+    fn joins(&self, a: usize, sa: usize, b: usize, sb: usize) -> bool {
+        (self.a, self.shape_a, self.b, self.shape_b) == (a, sa, b, sb)
+            || (self.b, self.shape_b, self.a, self.shape_a) == (a, sa, b, sb)
+    }
+}
+
 /// Which pairs of shapes are in contact and under which law: the explicit contacts, and the
 /// automatic ones when declared. Both contact sets read the scene through these rules, so that
 /// a fixed slot and a detected contact exist for the same pairs with the same laws.
@@ -100,7 +109,7 @@ impl Rules {
         bodies: &mut Vec<Body>,
         jointed: Vec<(usize, usize)>,
     ) -> Result<Self, ModelError> {
-        let mut explicit = Vec::new();
+        let mut explicit: Vec<Explicit> = Vec::new();
         for c in &spec.contacts {
             let path = format!("contacts.{}", c.name);
             let a = resolve(bodies, &format!("{path}.body_a"), &c.body_a)?;
@@ -137,11 +146,7 @@ impl Rules {
             // A second contact between the same two shapes would close with the first: the
             // step problem would split their impulse at will, and the friction taken would be
             // the larger of their laws', not either one's.
-            let same = |e: &&Explicit| {
-                (e.a, e.shape_a, e.b, e.shape_b) == (a, c.shape_a, b, c.shape_b)
-                    || (e.b, e.shape_b, e.a, e.shape_a) == (a, c.shape_a, b, c.shape_b)
-            };
-            if let Some(first) = explicit.iter().find(same) {
+            if let Some(first) = explicit.iter().find(|e| e.joins(a, c.shape_a, b, c.shape_b)) {
                 return Err(bad(
                     format!("{path}.body_b"),
                     &c.body_b,
@@ -174,31 +179,10 @@ impl Rules {
             let b = resolve(bodies, &format!("{path}.bodies.1"), &o.bodies[1])?;
             // An override that no automatic pair takes would be dropped without a word.
             let refuse = |why: String| Err(bad(format!("{path}.bodies.1"), &o.bodies[1], why));
-            if a == b {
-                return refuse(
-                    "the same body as bodies.0: a body has no contact with itself".into(),
-                );
-            }
-            if !bodies[a].is_dynamic() && !bodies[b].is_dynamic() {
-                return refuse(
-                    "neither body is dynamic: the pair gets no automatic contact".to_owned(),
-                );
-            }
-            let pair = |x: usize, y: usize| (x, y) == (a, b) || (y, x) == (a, b);
-            if rules.jointed.iter().any(|&(x, y)| pair(x, y)) {
-                return refuse(
-                    "a joint connects the two bodies: the pair gets no automatic contact"
-                        .to_owned(),
-                );
+            if let Some(reason) = rules.excluded(bodies, a, b) {
+                return refuse(format!("{reason}: the pair gets no automatic contact"));
             }
             let (ba, bb) = (&bodies[a], &bodies[b]);
-            if ba.group & bb.mask == 0 || bb.group & ba.mask == 0 {
-                return refuse(
-                    "the collision groups and masks exclude the pair: it gets no automatic \
-                     contact"
-                        .to_owned(),
-                );
-            }
             let shape_pairs = (0..ba.shapes.len())
                 .flat_map(|sa| (0..bb.shapes.len()).map(move |sb| (sa, sb)))
                 .collect::<Vec<_>>();
@@ -209,7 +193,8 @@ impl Rules {
                         .to_owned(),
                 );
             }
-            let same = |&(x, y, _): &(usize, usize, ContactLaw)| pair(x, y);
+            let same =
+                |&(x, y, _): &(usize, usize, ContactLaw)| (x, y) == (a, b) || (y, x) == (a, b);
             if let Some(k) = rules.overrides.iter().position(same) {
                 return refuse(format!(
                     "contacts_auto.overrides.{k} already gives the laws of `{}` and `{}`",
@@ -224,28 +209,37 @@ impl Rules {
     /// The explicit contact between shape `sa` of body `a` and shape `sb` of body `b`, in
     /// either order.
     pub fn explicit(&self, a: usize, sa: usize, b: usize, sb: usize) -> Option<&Explicit> {
-        self.explicit.iter().find(|e| {
-            (e.a, e.shape_a, e.b, e.shape_b) == (a, sa, b, sb)
-                || (e.b, e.shape_b, e.a, e.shape_a) == (a, sa, b, sb)
-        })
+        self.explicit.iter().find(|e| e.joins(a, sa, b, sb))
+    }
+
+    /// Why bodies a and b get no automatic contact, whatever the shapes, or `None` when they
+    /// may: the same body, the collision groups exclude the pair, neither has coordinates, or
+    /// a joint connects them.
+    #[inline]
+    fn excluded(&self, bodies: &[Body], a: usize, b: usize) -> Option<&'static str> {
+        let (ba, bb) = (&bodies[a], &bodies[b]);
+        if a == b {
+            Some("the same body as bodies.0: a body has no contact with itself")
+        } else if ba.group & bb.mask == 0 || bb.group & ba.mask == 0 {
+            Some("the collision groups and masks exclude the pair")
+        } else if !(ba.is_dynamic() || bb.is_dynamic()) {
+            Some("neither body is dynamic")
+        } else if self.jointed.iter().any(|&(x, y)| (x, y) == (a, b) || (y, x) == (a, b)) {
+            Some("a joint connects the two bodies")
+        } else {
+            None
+        }
     }
 
     /// The law of the automatic contacts between bodies a and b, or `None` when they get none:
-    /// no automatic contacts declared, the collision groups exclude the pair, a joint connects
-    /// them, or neither has coordinates.
+    /// no automatic contacts declared, or [`Self::excluded`] gives a reason.
     pub fn automatic(&self, bodies: &[Body], a: usize, b: usize) -> Option<ContactLaw> {
         let (default, _) = self.auto?;
-        let (ba, bb) = (&bodies[a], &bodies[b]);
-        let allowed = ba.group & bb.mask != 0 && bb.group & ba.mask != 0;
-        let same = |&(x, y): &(usize, usize)| (x, y) == (a, b) || (y, x) == (a, b);
-        if a == b || !allowed || !(ba.is_dynamic() || bb.is_dynamic()) {
+        if self.excluded(bodies, a, b).is_some() {
             return None;
         }
-        if self.jointed.iter().any(same) {
-            return None;
-        }
-        let law = self.overrides.iter().find(|(x, y, _)| same(&(*x, *y))).map_or(default, |o| o.2);
-        Some(law)
+        let same = |&(x, y, _): &(usize, usize, ContactLaw)| (x, y) == (a, b) || (y, x) == (a, b);
+        Some(self.overrides.iter().find(|o| same(o)).map_or(default, |o| o.2))
     }
 }
 
