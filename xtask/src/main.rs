@@ -88,7 +88,6 @@ fn main() -> ExitCode {
 fn run(command: Command) -> Result<()> {
     match command {
         Command::Reproduce { out, quick, jobs } => {
-            reproduce::writable(&out).context("--out")?;
             let summary = reproduce::run(&reproduce::Options { out: out.clone(), quick, jobs })?;
             println!(
                 "wrote {} files to {} in {:.1} s (the report's simulations {:.1} s of CPU, \
@@ -102,7 +101,6 @@ fn run(command: Command) -> Result<()> {
         Command::Simulate(args) => cli::Command::Simulate(args).run()?,
         Command::Sweep(args) => cli::Command::Sweep(args).run()?,
         Command::Tradeoff { out, quick, jobs } => {
-            reproduce::writable(&out).context("--out")?;
             let summary = tradeoff::run(&tradeoff::Options { out: out.clone(), quick, jobs })?;
             println!(
                 "wrote {} files to {} in {:.1} s (simulations {:.1} s of CPU)",

@@ -608,7 +608,7 @@ fn evaluate_study(
 /// once every file is written ([`check_runs`]).
 pub fn run(options: &Options) -> Result<Summary> {
     let start = Instant::now();
-    crate::reproduce::writable(&options.out)?;
+    crate::reproduce::writable(&options.out).context("--out")?;
     faer::set_global_parallelism(faer::Par::Seq);
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(jobs) = options.jobs {

@@ -155,7 +155,7 @@ pub const REPORT_FILES: [&str; 3] = ["summary.json", "report.html", "report.md"]
 /// earlier reproduction into the folder are removed first).
 pub fn run(options: &Options) -> Result<Summary> {
     let start = Instant::now();
-    writable(&options.out)?;
+    writable(&options.out).context("--out")?;
     // The report of an earlier reproduction into the same folder goes first: a reproduction
     // that fails leaves no report that looks complete.
     for name in REPORT_FILES {
