@@ -399,6 +399,45 @@ fn validation_names_what_is_wrong() {
 }
 
 #[test]
+fn half_plane_normal_of_any_usable_length_gives_the_unit_normal_and_others_are_refused() {
+    // A disk of radius 0.5 centred at (1, 0) against the half-plane x <= 0: gap 0.5, normal
+    // (-1, 0) from the disk to the plane, whatever the length of the declared normal.
+    let d = disk(0.0, 0.0, 0.5);
+    let at = Pose::new(1.0, 0.0, 0.0);
+    for length in [1.0, 1e-150, 1e150] {
+        let plane = Shape::HalfPlane { point: [0.0, 0.0], normal: [length, 0.0] };
+        assert!(plane.validate().is_ok());
+        let p = points(&d, at, &plane, Pose::default(), 1.0);
+        assert_eq!(p.len(), 1);
+        assert_relative_eq!(p[0].gap, 0.5, epsilon = 1e-15);
+        assert_eq!(p[0].normal, [-1.0, 0.0]);
+    }
+    // The normal (3, 4): the disk's centre is 3/5 from the boundary line, the gap 0.1.
+    let plane = Shape::HalfPlane { point: [0.0, 0.0], normal: [3.0, 4.0] };
+    let p = points(&d, at, &plane, Pose::default(), 1.0);
+    assert_relative_eq!(p[0].gap, 0.1, epsilon = 1e-15);
+    assert_relative_eq!(p[0].normal[0], -0.6, epsilon = 1e-15);
+    assert_relative_eq!(p[0].normal[1], -0.8, epsilon = 1e-15);
+    // Normals whose squared length underflows or overflows normalised to nothing, a
+    // non-unit vector or zero (the disk 0.5 inside, normal (0, 0)): refused by validation and
+    // by `collide` alike.
+    for normal in [[1e-200, 0.0], [1e-160, 1e-160], [1e-320, 0.0], [1e200, 0.0], [1e200, 1e200]] {
+        let plane = Shape::HalfPlane { point: [0.0, 0.0], normal };
+        let problem = match plane.validate() {
+            Err(KinematicsError::InvalidShape { shape: "half_plane", problem, .. }) => problem,
+            other => panic!("normal {normal:?}: expected an invalid half-plane, got {other:?}"),
+        };
+        assert!(problem.starts_with("normal too small or too large"), "{problem}");
+        let mut out = Vec::new();
+        assert!(matches!(
+            collide(&d, &at, &plane, &Pose::default(), 1.0, &mut out),
+            Err(KinematicsError::InvalidShape { shape: "half_plane", problem: p, .. }) if p == problem
+        ));
+        assert!(out.is_empty());
+    }
+}
+
+#[test]
 fn mass_properties_closed_forms() {
     // A 0.4 × 0.2 box about its centre, then offset by (1, 2).
     let (w, h) = (0.4, 0.2);

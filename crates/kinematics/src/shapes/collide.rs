@@ -2,7 +2,7 @@
 
 use super::convex::{Core, CorePoint, Feature, point_contact, polygon_contacts};
 use super::nonconvex::{convex_chain, half_plane_chain};
-use super::shape::{Placement, V};
+use super::shape::{NORMAL_OUT_OF_SCALE, Placement, V, normal_scales};
 use super::{ManifoldPoint, Pose, Shape};
 use crate::KinematicsError;
 
@@ -64,8 +64,17 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
 ///   segment k having feature k·n + i and point v of the chain m·n + v, each chain point at
 ///   most once: for a disk only where it is a local minimum of the distance, for a polygon or
 ///   capsule also at the far end of the chord lying on its face there, so that a face rests on
-///   a chain as on a polygon; a disk in a concave corner touches both segments. A polyline is touched from both sides; a profile is a solid, so a
-///   disk whose centre has entered it gets one point on the nearest segment with gap −(d + r).
+///   a chain as on a polygon; a disk in a concave corner touches both segments. A polyline is
+///   touched from both sides; a profile is a solid, so a disk whose centre has entered it gets
+///   one point on the nearest segment with gap −(d + r). Capsules and polygons are not tested
+///   for being inside a profile: each segment is met by the face of the pair that separates
+///   most, the capsule's or polygon's own included, so a capsule whose axis has crossed a
+///   segment by d gets that segment's point with the normal reversed and gap d − r (into the
+///   solid), and a polygon more than half across a segment gets no point from it; keep them
+///   shallower than that (a capsule by less than its radius).
+///
+/// Poses are not checked: a non-finite coordinate gives non-finite gaps, which no margin
+/// admits, so no point.
 ///
 /// # Errors
 /// [`KinematicsError::UnsupportedPair`] for two half-planes, or two shapes among polylines
@@ -73,7 +82,8 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
 /// 0), segments (capsules of radius 0) and polylines; [`KinematicsError::InvalidOption`] for a
 /// negative or NaN margin;
 /// [`KinematicsError::InvalidShape`] for a shape with too few points, a capsule whose ends
-/// coincide or a half-plane with a zero normal (the checks that cost nothing; the others are
+/// coincide or a half-plane whose normal is zero or too small or large to normalise (|n|² not
+/// a normal f64) (the checks that cost nothing; the others are
 /// [`Shape::validate`]'s).
 pub fn collide(
     a: &Shape,
@@ -181,14 +191,21 @@ fn single(p: &CorePoint) -> ManifoldPoint {
     manifold_point(p, 0, false)
 }
 
-/// Refuses a shape with too few points, a capsule whose ends coincide or a zero normal.
+/// Refuses a shape with too few points, a capsule whose ends coincide or a normal that is zero
+/// or does not normalise.
 fn usable(shape: &Shape) -> Result<(), KinematicsError> {
     let (enough, problem) = match shape {
         Shape::Polygon { vertices } => (vertices.len() >= 3, "too few points"),
         Shape::Profile { points } => (points.len() >= 3, "too few points"),
         Shape::Polyline { points } => (points.len() >= 2, "too few points"),
         Shape::Capsule { a, b, .. } => (a != b, "its two ends coincide (a disk has one centre)"),
-        Shape::HalfPlane { normal, .. } => (*normal != [0.0, 0.0], "zero normal"),
+        Shape::HalfPlane { normal, .. } => {
+            if *normal == [0.0, 0.0] {
+                (false, "zero normal")
+            } else {
+                (normal_scales(normal), NORMAL_OUT_OF_SCALE)
+            }
+        }
         Shape::Disk { .. } => (true, ""),
     };
     if enough {

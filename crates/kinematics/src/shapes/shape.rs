@@ -93,7 +93,8 @@ pub enum Shape {
     HalfPlane {
         /// A point of the boundary line (m).
         point: [f64; 2],
-        /// The outward normal, non-zero; it need not be of unit length.
+        /// The outward normal, non-zero; it need not be of unit length, but its length must lie
+        /// in about 1.5e-154..1.3e154 (|n|² a normal f64), so that it can be normalised.
         normal: [f64; 2],
     },
     /// An open chain of segments through `points`, touched from either side and possibly
@@ -137,6 +138,18 @@ fn check_chain(
         }
     }
     Ok(())
+}
+
+/// Why a half-plane's normal that is not zero is refused: its squared length is not a normal
+/// f64, so that normalising it gives a zero, inaccurate or non-finite unit normal.
+pub(crate) const NORMAL_OUT_OF_SCALE: &str =
+    "normal too small or too large to normalise (|n|² outside 2.2e-308..1.8e308)";
+
+/// Whether a half-plane's normal can be normalised accurately: |n|² is a normal f64 (neither
+/// zero, subnormal nor beyond f64's range), so |n| lies in about 1.5e-154..1.3e154.
+#[inline]
+pub(crate) fn normal_scales(normal: &[f64; 2]) -> bool {
+    (normal[0] * normal[0] + normal[1] * normal[1]).is_normal()
 }
 
 /// The signed area, the first moments and the polar second moment about the origin of the
@@ -192,7 +205,8 @@ impl Shape {
 
     /// Checks the shape once, before it is used: finite coordinates, radius ≥ 0, a polygon
     /// strictly convex and counter-clockwise with at least 3 vertices, a capsule's ends
-    /// distinct, a half-plane's normal non-zero, a polyline of at least 2 points and a profile
+    /// distinct, a half-plane's normal non-zero and of a length that normalises (|n|² a normal
+    /// f64), a polyline of at least 2 points and a profile
     /// of at least 3, counter-clockwise and not crossing itself, no two consecutive points equal.
     ///
     /// # Errors
@@ -235,6 +249,9 @@ impl Shape {
                 }
                 if normal[0] == 0.0 && normal[1] == 0.0 {
                     return Err(invalid(name, "zero normal", None));
+                }
+                if !normal_scales(normal) {
+                    return Err(invalid(name, NORMAL_OUT_OF_SCALE, None));
                 }
                 Ok(())
             }
