@@ -332,6 +332,13 @@ fn lcp_route_reports_size_and_certified_infeasibility() {
     assert_eq!(s.status, Status::NoSolution);
     let s = nsgs(1e-8, 50).solve(&problem).unwrap();
     assert_ne!(s.status, Status::Solved);
+    // The default solver pivots after its first window of 50 sweeps and reports the proof,
+    // at r = 0 (u = q), instead of sweeping its 100,000 to an iteration limit.
+    let s = Fc2dAuto::default().solve(&problem).unwrap();
+    assert_eq!((s.status, s.method), (Status::NoSolution, Method::LcpRoute));
+    assert_eq!((s.r.as_slice(), s.u.as_slice()), ([0.0, 0.0].as_slice(), [-1.0, 0.0].as_slice()));
+    assert!(s.iterations < 100, "{} iterations", s.iterations);
+    assert_eq!(s.residual.natural, 1.0);
 }
 
 #[test]

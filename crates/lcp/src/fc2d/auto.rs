@@ -112,7 +112,9 @@ impl Default for Fc2dAutoOptions {
 ///    here, at a cost of a few nanoseconds per stored block and sweep.
 /// 2. A problem of at most `lcp_max_contacts` contacts that is not solved yet goes to
 ///    the exact [`LcpRoute`] (a dense pivoting solve of 3 n_c rows, whose cost grows as
-///    n_c³). If it ends [`Status::Solved`], that is the answer ([`Method::LcpRoute`]).
+///    n_c³). If it ends [`Status::Solved`], that is the answer ([`Method::LcpRoute`]); if
+///    it ends [`Status::NoSolution`] (enumeration proved that the problem has none), so is
+///    that, with the LCP route's r and pivots, rather than the sweeps that could not end.
 /// 3. Otherwise Gauss-Seidel resumes by windows, each warm-started from the last. When a
 ///    window divides the residual by less than `stall_factor` and at most
 ///    `max_cluster_contacts` groups are still off (their local natural map above the
@@ -132,7 +134,7 @@ impl Default for Fc2dAutoOptions {
 ///    [`Method::NsgsClusters`] (and [`Fc2dSolution::lcp_method`] the LCP solver's
 ///    method when the last kept cluster was solved by pivoting).
 ///
-/// The solve ends [`Status::IterationLimit`] when the sweep budget is spent first,
+/// Otherwise the solve ends [`Status::IterationLimit`] when the sweep budget is spent first,
 /// [`Status::NumericalFailure`] on non-finite iterates. [`Fc2dSolution::iterations`]
 /// counts the Gauss-Seidel sweeps.
 ///
@@ -526,7 +528,8 @@ impl Fc2dSolver for Fc2dAuto {
             self.sub_out.r.clear();
             self.sub_out.r.extend_from_slice(&out.r);
             self.lcp.solve_into(problem, None, out)?;
-            if out.status == Status::Solved {
+            // Solved, or proved to have no solution by enumeration: no sweep can do better.
+            if out.status == Status::Solved || out.status == Status::NoSolution {
                 return Ok(());
             }
             out.r.clear();
