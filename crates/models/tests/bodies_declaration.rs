@@ -100,3 +100,107 @@ fn a_position_far_from_the_joint_is_refused_naming_the_body_and_the_joint() {
         }
     }
 }
+
+/// A rod of 1 m hinged to the world at its end, with `extra` joints appended.
+fn driven_rod(extra: &str) -> Result<Multibody, ModelError> {
+    let text = format!(
+        r#"
+dt = 0.001
+t_end = 0.01
+gravity = [0.0, -9.81]
+[[bodies]]
+name = "rod"
+type = "dynamic"
+mass = 1.0
+inertia = 0.0833333333333333
+position = [0.5, 0.0]
+[[joints]]
+type = "revolute"
+name = "hinge"
+body_a = "ground"
+anchor_a = [0.0, 0.0]
+body_b = "rod"
+anchor_b = [-0.5, 0.0]
+{extra}
+"#
+    );
+    match moreau_models::Scene::from_toml_str(&text)?.build()? {
+        moreau_models::AnyModel::Declared(mb) => Ok(mb),
+        _ => unreachable!("the scene declares its bodies"),
+    }
+}
+
+const MOTOR: &str = r#"
+[[joints]]
+type = "motor"
+name = "motor"
+body_a = "ground"
+body_b = "rod"
+omega = 6.283185307179586
+"#;
+
+const WELD: &str = r#"
+[[joints]]
+type = "weld"
+name = "weld"
+body_a = "ground"
+anchor_a = [0.0, 0.0]
+body_b = "rod"
+anchor_b = [-0.5, 0.0]
+"#;
+
+/// The joints an error names, and its value.
+fn conflict(result: Result<Multibody, ModelError>) -> (String, f64, String) {
+    match result {
+        Err(ModelError::InvalidParameter { field, value, reason }) => (field, value, reason),
+        other => panic!("expected the joints refused, got {:?}", other.map(|_| ())),
+    }
+}
+
+#[test]
+fn a_motor_on_a_welded_pair_is_refused_naming_both_joints() {
+    let (field, value, reason) = conflict(driven_rod(&format!("{MOTOR}{WELD}")));
+    assert_eq!(field, "joints.motor");
+    // The least-squares angular velocity Ω/2 leaves Ω/2 = π on each of the two rows.
+    assert!((value - std::f64::consts::PI).abs() < 1e-9, "{value}");
+    assert!(reason.contains("`motor`, `weld`") && !reason.contains("`hinge`"), "{reason}");
+}
+
+#[test]
+fn two_motors_at_different_speeds_are_refused_and_at_one_speed_built() {
+    let second = |omega: f64| {
+        MOTOR
+            .replace("name = \"motor\"", "name = \"second\"")
+            .replace("6.283185307179586", &omega.to_string())
+    };
+    let (field, value, reason) = conflict(driven_rod(&format!("{MOTOR}{}", second(1.0))));
+    assert_eq!(field, "joints.motor");
+    assert!((value - (2.0 * std::f64::consts::PI - 1.0) / 2.0).abs() < 1e-9, "{value}");
+    assert!(reason.contains("`motor`, `second`"), "{reason}");
+    // The same speed twice is redundant, not contradictory; so is a weld with a motor at rest.
+    driven_rod(&format!("{MOTOR}{}", second(2.0 * std::f64::consts::PI))).unwrap();
+    driven_rod(&format!("{}{WELD}", MOTOR.replace("6.283185307179586", "0.0"))).unwrap();
+}
+
+#[test]
+fn a_body_held_by_a_turning_driven_body_and_by_a_hinge_elsewhere_is_refused() {
+    // The driven disk turns about [2, 0]; the rod welded to it must turn about [2, 0] too,
+    // which its hinge at the origin does not allow.
+    let extra = r#"
+[[bodies]]
+name = "disk"
+type = "driven"
+position = [2.0, 0.0]
+motion = { kind = "rotate", pivot = [2.0, 0.0], omega = 1.0 }
+[[joints]]
+type = "weld"
+name = "glue"
+body_a = "disk"
+anchor_a = [-1.0, 0.0]
+body_b = "rod"
+anchor_b = [0.5, 0.0]
+"#;
+    let (field, _, reason) = conflict(driven_rod(extra));
+    assert!(field == "joints.hinge" || field == "joints.glue", "{field}");
+    assert!(reason.contains("`hinge`") && reason.contains("`glue`"), "{reason}");
+}

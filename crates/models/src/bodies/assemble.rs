@@ -1,5 +1,6 @@
 //! Assembly of a declaration's initial positions onto its joints: q₀ moved onto the position
-//! constraints g_B(q, 0) = 0, and refused when a joint contradicts the declared positions.
+//! constraints g_B(q, 0) = 0, and refused when a joint contradicts the declared positions or
+//! when driven joints ask for velocities that no motion has.
 
 use moreau_kinematics::ContactKinematics;
 use moreau_stepper::Mechanism;
@@ -46,7 +47,9 @@ pub(crate) fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
             ));
         }
         if size <= 1e-13 * scale {
-            return checked_moves(mb, q);
+            let q = checked_moves(mb, q)?;
+            consistent_drives(mb, &w, &g_hat(mb, &q))?;
+            return Ok(q);
         }
         let normal = w.transpose() * &w;
         let lambda = normal
@@ -146,6 +149,61 @@ fn checked_moves(mb: &Multibody, q: Vec<f64>) -> Result<Vec<f64>, ModelError> {
             x = q[3 * k],
             y = q[3 * k + 1],
             pct = 100.0 * MAX_ASSEMBLY_MOVE,
+        ),
+    ))
+}
+
+/// The rheonomic terms ŵ_B of the bilateral rows at (q, 0).
+fn g_hat(mb: &Multibody, q: &[f64]) -> DVector<f64> {
+    let mut column = vec![0.0; mb.num_coordinates()];
+    DVector::from_iterator(
+        mb.num_bilaterals(),
+        (0..mb.num_bilaterals()).map(|i| mb.bilateral(i, q, 0.0, &mut column).w_hat),
+    )
+}
+
+/// Refuses joints whose velocity constraints W_Bᵀ u + ŵ_B = 0 no velocity u satisfies at
+/// t = 0: rows that depend on one another (W_B's columns not independent) with rheonomic terms
+/// that contradict each other, such as a motor turning a body that a weld holds, or two motors
+/// at different speeds on one pair of bodies. Their position constraints then part as soon as
+/// t > 0 and every step would fail. The least-squares velocity leaves a residual on exactly the
+/// rows in conflict, and the error names their joints. Without a rheonomic term (no motor, no
+/// joint to a driven body) u = 0 satisfies every row and nothing is computed.
+fn consistent_drives(
+    mb: &Multibody,
+    w: &DMatrix<f64>,
+    w_hat: &DVector<f64>,
+) -> Result<(), ModelError> {
+    let drive = w_hat.amax();
+    if drive == 0.0 || !drive.is_finite() {
+        return Ok(());
+    }
+    let wt = w.transpose();
+    let svd = wt.clone().svd(true, true);
+    let sigma = svd.singular_values.max();
+    let u = svd.solve(&(-w_hat), 1e-10 * sigma).map_err(|e| relation("joints", drive, e))?;
+    let residual = &wt * u + w_hat;
+    let tolerance = 1e-8 * drive;
+    if residual.amax() <= tolerance {
+        return Ok(());
+    }
+    let mut names: Vec<&str> = Vec::new();
+    for (i, r) in residual.iter().enumerate() {
+        let name = mb.joints[mb.rows[i].0].name.as_str();
+        if r.abs() > tolerance && !names.contains(&name) {
+            names.push(name);
+        }
+    }
+    let list = names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+    Err(relation(
+        &format!("joints.{}", names[0]),
+        residual.amax(),
+        &format!(
+            "the joints {list} ask for velocities that no motion has at t = 0 (their rows \
+             depend on one another and their drives differ: a motor on a welded pair, two \
+             motors on one pair, a joint to a driven body that another joint holds still); \
+             the value is the least-squares residual of their velocity constraints; remove \
+             or change one of them"
         ),
     ))
 }
