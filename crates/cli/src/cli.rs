@@ -256,8 +256,18 @@ impl SolveArgs {
             Some(lcp) => format!("{} ({lcp})", s.method),
             None => s.method.to_string(),
         };
+        // A residual above the tolerance was accepted at the round-off of the solution.
+        let round_off = if s.residual > s.tolerance {
+            format!(
+                " (above the tolerance {:e}, within the round-off {:.3e} that floating point \
+                 leaves at this solution)",
+                s.tolerance, s.round_off
+            )
+        } else {
+            String::new()
+        };
         println!(
-            "{size}: {} by {method} in {} iterations, residual {:.3e}",
+            "{size}: {} by {method} in {} iterations, residual {:.3e}{round_off}",
             s.status, s.iterations, s.residual
         );
         if let Some(out) = &self.out {

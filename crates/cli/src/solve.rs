@@ -73,8 +73,10 @@ impl Problem {
 /// given, or of a kind the file reads as up to there) followed by data its sizes leave out
 /// (Siconos' free-text comment after an LCP, and the flag after an FC2D problem, are read);
 /// [`CliError::Problem`] when the file cannot be read, is not of the kind given, is of no
-/// kind (with each reader's reason) or of more than one, or is a global problem whose M
-/// cannot be factored; [`CliError::UnknownProblemKind`] for another kind.
+/// kind (with each reader's reason) or of more than one, is a global problem whose M
+/// cannot be factored, or ends inside a number (no space or line end after its last
+/// number, as in a file cut off: `1.000e-02` cut to `1.` would read as μ = 1);
+/// [`CliError::UnknownProblemKind`] for another kind.
 pub fn read(path: &Path, kind: Option<&str>) -> Result<Problem> {
     let refuse = |reason: String| CliError::Problem { path: path.to_owned(), reason };
     let trailing = |kind: &'static str, e: &LcpError| match e {
@@ -88,6 +90,37 @@ pub fn read(path: &Path, kind: Option<&str>) -> Result<Problem> {
         _ => None,
     };
     let text = std::fs::read_to_string(path).map_err(|e| refuse(format!("cannot be read: {e}")))?;
+    let problem = read_text(&text, kind, &refuse, &trailing)?;
+    if let Some((line, token)) = cut_inside_number(&text) {
+        return Err(refuse(format!(
+            "ends inside its last number '{token}' on line {line}, with no space or line end \
+             after it: the file looks cut off (Siconos and `simulate` end every file with one), \
+             and the number may be the start of a longer one; add a line end if the file is \
+             whole"
+        ))
+        .into());
+    }
+    Ok(problem)
+}
+
+/// Where `text` ends inside a number: its last token, when it reads as a number and no
+/// whitespace follows it, with its 1-based line.
+fn cut_inside_number(text: &str) -> Option<(usize, &str)> {
+    if text.ends_with(|c: char| c.is_whitespace()) {
+        return None;
+    }
+    let token = text.split_whitespace().next_back()?;
+    token.parse::<f64>().ok()?;
+    Some((text.lines().count(), token))
+}
+
+/// [`read`] of the file's `text`, with its refusals.
+fn read_text(
+    text: &str,
+    kind: Option<&str>,
+    refuse: &dyn Fn(String) -> CliError,
+    trailing: &dyn Fn(&'static str, &LcpError) -> Option<CliError>,
+) -> Result<Problem> {
     let bytes = text.as_bytes();
     let read_as = |kind: &str| match kind {
         "lcp" => Lcp::read_siconos(bytes).map(Problem::Lcp),
@@ -148,6 +181,12 @@ pub struct Solved {
     /// The residual the solver is judged by (dimensionless): `Residual::relative` of an
     /// LCP, `Fc2dResidual::natural` of a contact problem.
     pub residual: f64,
+    /// The tolerance the solver was given: `--tolerance`, or the solver's default.
+    pub tolerance: f64,
+    /// For a contact problem whose residual is above the tolerance, the residual that
+    /// floating point does not resolve at the solution (`Fc2dResidual::round_off`): a solver
+    /// calls such a problem solved when its residual is within it; 0 otherwise.
+    pub round_off: f64,
     /// The CSV columns of the solution.
     pub columns: Vec<&'static str>,
     /// The solution's rows: (i, z_i, w_i), or (contact, r_N, r_T, u_N, u_T).
@@ -164,8 +203,22 @@ macro_rules! options {
     }};
 }
 
+/// The solver `$solver` of options `$options` to `$tolerance` (as [`options!`]), boxed as
+/// `$boxed`, with the tolerance it was given.
+macro_rules! solver {
+    ($solver:ident, $options:ident, $tolerance:expr, $boxed:ty) => {{
+        let options = options!($options, $tolerance);
+        let tolerance = options.tolerance;
+        (Box::new($solver::new(options)?) as $boxed, tolerance)
+    }};
+}
+
 /// Solves `problem` with the solver named `solver` (the first of [`LCP_SOLVERS`] or
 /// [`FC2D_SOLVERS`] when `None`), to `tolerance` when given (the solver's default otherwise).
+///
+/// A contact problem's solver calls it solved when its residual is within the tolerance or
+/// within the round-off at the solution ([`Solved::round_off`]), which may exceed a tight
+/// tolerance.
 ///
 /// # Errors
 /// [`CliError::UnknownSolver`] for a name that is not a solver of the problem's kind;
@@ -184,15 +237,19 @@ pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) ->
     match problem {
         Problem::Lcp(lcp) => {
             let name = solver.unwrap_or(LCP_SOLVERS[0]);
-            let mut solver: Box<dyn Solver> = match name {
-                "auto" => Box::new(Auto::new(
-                    AutoOptions::default()
-                        .with_lemke(options!(LemkeOptions, tolerance))
-                        .with_enumeration(options!(EnumerationOptions, tolerance)),
-                )?),
-                "lemke" => Box::new(Lemke::new(options!(LemkeOptions, tolerance))?),
-                "pgs" => Box::new(Pgs::new(options!(PgsOptions, tolerance))?),
-                "enum" => Box::new(Enumeration::new(options!(EnumerationOptions, tolerance))?),
+            type Boxed = Box<dyn Solver>;
+            let (mut solver, given) = match name {
+                "auto" => {
+                    let lemke = options!(LemkeOptions, tolerance);
+                    let given = lemke.tolerance;
+                    let options = AutoOptions::default()
+                        .with_lemke(lemke)
+                        .with_enumeration(options!(EnumerationOptions, tolerance));
+                    (Box::new(Auto::new(options)?) as Boxed, given)
+                }
+                "lemke" => solver!(Lemke, LemkeOptions, tolerance, Boxed),
+                "pgs" => solver!(Pgs, PgsOptions, tolerance, Boxed),
+                "enum" => solver!(Enumeration, EnumerationOptions, tolerance, Boxed),
                 other => return Err(unknown(other, &LCP_SOLVERS).into()),
             };
             let s: Solution = solver.solve(lcp)?;
@@ -206,18 +263,21 @@ pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) ->
                 lcp_method: None,
                 iterations: s.iterations,
                 residual: s.residual.relative,
+                tolerance: given,
+                round_off: 0.0,
                 columns: vec!["i", "z", "w"],
                 rows,
             })
         }
         Problem::Fc2d(p) | Problem::Gfc2d(p) => {
             let name = solver.unwrap_or(FC2D_SOLVERS[0]);
-            let mut solver: Box<dyn Fc2dSolver> = match name {
-                "auto" => Box::new(Fc2dAuto::new(options!(Fc2dAutoOptions, tolerance))?),
-                "nsgs" => Box::new(Nsgs::new(options!(NsgsOptions, tolerance))?),
-                "newton" => Box::new(Newton::new(options!(NewtonOptions, tolerance))?),
-                "proximal" => Box::new(Proximal::new(options!(ProximalOptions, tolerance))?),
-                "lcp-route" => Box::new(LcpRoute::new(options!(LcpRouteOptions, tolerance))?),
+            type Boxed = Box<dyn Fc2dSolver>;
+            let (mut solver, given) = match name {
+                "auto" => solver!(Fc2dAuto, Fc2dAutoOptions, tolerance, Boxed),
+                "nsgs" => solver!(Nsgs, NsgsOptions, tolerance, Boxed),
+                "newton" => solver!(Newton, NewtonOptions, tolerance, Boxed),
+                "proximal" => solver!(Proximal, ProximalOptions, tolerance, Boxed),
+                "lcp-route" => solver!(LcpRoute, LcpRouteOptions, tolerance, Boxed),
                 other => return Err(unknown(other, &FC2D_SOLVERS).into()),
             };
             let s: Fc2dSolution = solver.solve(p)?;
@@ -233,6 +293,8 @@ pub fn solve(problem: &Problem, solver: Option<&str>, tolerance: Option<f64>) ->
                 lcp_method: s.lcp_method,
                 iterations: s.iterations,
                 residual: s.residual.natural,
+                tolerance: given,
+                round_off: if s.residual.natural > given { s.residual.round_off } else { 0.0 },
                 columns: vec!["contact", "r_n", "r_t", "u_n", "u_t"],
                 rows,
             })
@@ -264,7 +326,8 @@ fn write_csv(solved: &Solved, mut w: impl Write) -> Result<()> {
 /// Those of [`read`] and [`solve`]; an output that is the problem file or not a regular file
 /// ([`CliError::Output`]) or that another run holds ([`CliError::Locked`]); an unwritable
 /// output; [`CliError::NotSolved`] when the solver misses its tolerance, after writing its
-/// last iterate to `<out>.partial` (nothing is written to `out`).
+/// last iterate to `<out>.partial` and removing an `out` that an earlier solve left (nothing
+/// is written to `out`).
 pub fn run(
     path: &Path,
     kind: Option<&str>,
@@ -292,6 +355,10 @@ pub fn run(
         out.publish_written(&partial, w)?;
         Ok(solved)
     } else {
+        // An `out` an earlier solve wrote is the solution of another problem, or of this one
+        // by another solver or tolerance: it does not describe this solve.
+        drop(w);
+        output::remove_stale(out.target())?;
         Err(not_solved(&solved, Some(partial)).into())
     }
 }

@@ -267,3 +267,92 @@ fn a_problem_followed_by_data_is_refused_naming_the_line() -> Result<()> {
     }
     Ok(())
 }
+
+#[test]
+fn a_problem_file_cut_inside_its_last_number_is_refused() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let siconos = Path::new(env!("CARGO_MANIFEST_DIR")).join("../lcp/tests/data/siconos");
+    // The FC2D problem's last line holds its two μ = 1.000000000000000020816682e-02; cut in
+    // the second after `1.`, the file used to be solved with μ = 1 for that contact.
+    let text = std::fs::read_to_string(siconos.join("fc2d/FC2D_SliderCrankLagrangian00000.dat"))?;
+    let whole = text.trim_end();
+    let last = whole.rfind(char::is_whitespace).map_or(0, |k| k + 1);
+    assert_eq!(&whole[last..], "1.000000000000000020816682e-02");
+    let cut = dir.path().join("cut.dat");
+    std::fs::write(&cut, &whole[..last + 2])?;
+    let lines = whole.lines().count();
+    let e = read(&cut, None).expect_err("a file cut inside a number");
+    let text = format!("{e:#}");
+    anyhow::ensure!(matches!(cli_error(&e), Some(CliError::Problem { .. })), "{text}");
+    anyhow::ensure!(
+        text.contains(&format!("ends inside its last number '1.' on line {lines}")),
+        "{text}"
+    );
+    // As an FC2D file too, and through the command: exit status 1, nothing solved.
+    anyhow::ensure!(read(&cut, Some("fc2d")).is_err());
+    let o =
+        std::process::Command::new(env!("CARGO_BIN_EXE_moreau")).arg("solve").arg(&cut).output()?;
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    anyhow::ensure!(o.status.code() == Some(1) && o.stdout.is_empty(), "{stderr}");
+    anyhow::ensure!(stderr.contains("the file looks cut off"), "{stderr}");
+    // The whole file, and Siconos' files that end with a space after their last number, read.
+    let Problem::Fc2d(p) = read(&siconos.join("fc2d/FC2D_SliderCrankLagrangian00000.dat"), None)?
+    else {
+        panic!("an FC2D file")
+    };
+    assert_eq!(p.mu(), [0.01, 0.01]);
+    assert!(!std::fs::read_to_string(siconos.join("lcp/lcp_mmc.dat"))?.ends_with('\n'));
+    let Problem::Lcp(lcp) = read(&siconos.join("lcp/lcp_mmc.dat"), None)? else {
+        panic!("an LCP file")
+    };
+    assert_eq!(lcp.n(), 26);
+    Ok(())
+}
+
+#[test]
+fn a_solve_that_misses_its_tolerance_removes_the_solution_of_an_earlier_one() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let (good, none) = (dir.path().join("good.dat"), dir.path().join("none.dat"));
+    Lcp::from_rows(&[vec![2.0]], &[-2.0])?.write_siconos(std::fs::File::create(&good)?)?;
+    Lcp::from_rows(&[vec![-1.0]], &[-1.0])?.write_siconos(std::fs::File::create(&none)?)?;
+    let out = dir.path().join("z.csv");
+    run(&good, None, None, None, Some(&out))?;
+    assert_eq!(numbers(&out)?.1, vec![vec![0.0, 1.0, 0.0]]);
+    // The second problem has no solution: its last iterate goes to z.csv.partial, and the
+    // first problem's z = 1 no longer stands in z.csv for it.
+    let e = run(&none, None, None, None, Some(&out)).unwrap_err();
+    let Some(CliError::NotSolved { status, partial: Some(partial), .. }) = cli_error(&e) else {
+        panic!("{e:#}");
+    };
+    assert_eq!(*status, Status::NoSolution);
+    assert!(!out.exists(), "z.csv of the earlier solve is left");
+    assert_eq!(numbers(partial)?.1, vec![vec![0.0, 0.0, -1.0]]);
+    Ok(())
+}
+
+#[test]
+fn a_residual_met_at_round_off_is_reported_above_the_tolerance() -> Result<()> {
+    // The island of boxes of 0.2 and 2e5 kg: the LCP route ends at a natural residual of
+    // 1.7e-11, which its solver accepts at the round-off of the solution, above 1e-12.
+    let file = data("stack_mass_ratio_island.dat");
+    let s = solve(&read(&file, None)?, Some("lcp-route"), Some(1e-12))?;
+    assert_eq!((s.status, s.tolerance), (Status::Solved, 1e-12));
+    assert!(s.residual > 1e-12 && s.residual <= s.round_off, "{s:?}");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_moreau"))
+        .args(["solve", "--solver", "lcp-route", "--tolerance", "1e-12"])
+        .arg(&file)
+        .output()?;
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    anyhow::ensure!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    anyhow::ensure!(
+        stdout.contains(&format!(
+            "residual {:.3e} (above the tolerance 1e-12, within the round-off {:.3e}",
+            s.residual, s.round_off
+        )),
+        "{stdout}"
+    );
+    // Met to the tolerance itself, the line says nothing more.
+    let s = solve(&read(&file, None)?, Some("lcp-route"), Some(1e-8))?;
+    assert!(s.residual <= 1e-8 && s.round_off == 0.0, "{s:?}");
+    Ok(())
+}
