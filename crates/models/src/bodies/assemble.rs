@@ -28,11 +28,12 @@ pub(crate) fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
     let scale = 1.0 + q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut w = DMatrix::zeros(f, nb);
     let mut g = DVector::zeros(nb);
+    let mut w_hat = DVector::zeros(nb);
     let mut column = vec![0.0; f];
     for _ in 0..50 {
         for i in 0..nb {
             let p = mb.bilateral(i, &q, 0.0, &mut column);
-            g[i] = p.g;
+            (g[i], w_hat[i]) = (p.g, p.w_hat);
             w.column_mut(i).copy_from_slice(&column);
         }
         let (worst, size) = g
@@ -48,7 +49,7 @@ pub(crate) fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
         }
         if size <= 1e-13 * scale {
             let q = checked_moves(mb, q)?;
-            consistent_drives(mb, &w, &g_hat(mb, &q))?;
+            consistent_drives(mb, &w, &w_hat)?;
             return Ok(q);
         }
         let normal = w.transpose() * &w;
@@ -151,15 +152,6 @@ fn checked_moves(mb: &Multibody, q: Vec<f64>) -> Result<Vec<f64>, ModelError> {
             pct = 100.0 * MAX_ASSEMBLY_MOVE,
         ),
     ))
-}
-
-/// The rheonomic terms ŵ_B of the bilateral rows at (q, 0).
-fn g_hat(mb: &Multibody, q: &[f64]) -> DVector<f64> {
-    let mut column = vec![0.0; mb.num_coordinates()];
-    DVector::from_iterator(
-        mb.num_bilaterals(),
-        (0..mb.num_bilaterals()).map(|i| mb.bilateral(i, q, 0.0, &mut column).w_hat),
-    )
 }
 
 /// Refuses joints whose velocity constraints W_Bᵀ u + ŵ_B = 0 no velocity u satisfies at
