@@ -16,6 +16,16 @@ pub enum LcpError {
         /// Number of columns of M.
         cols: usize,
     },
+    /// A row of M given row by row has a length other than the number of rows.
+    #[error("row {row} of the LCP matrix M has {found} entries, expected {expected} (one per row)")]
+    RaggedRow {
+        /// Index (0-based) of the first row of the wrong length.
+        row: usize,
+        /// The number of rows, which every row's length must equal.
+        expected: usize,
+        /// The row's length.
+        found: usize,
+    },
     /// Two sizes that must agree do not.
     #[error("dimension mismatch for {what}: expected {expected}, found {found}")]
     DimensionMismatch {

@@ -129,11 +129,12 @@ impl Lcp {
     /// Builds an LCP from the rows of M and the vector q.
     ///
     /// # Errors
-    /// As [`Lcp::new`]; a row of the wrong length gives [`LcpError::NotSquare`].
+    /// As [`Lcp::new`]; the first row whose length is not the number of rows gives
+    /// [`LcpError::RaggedRow`] with its index.
     pub fn from_rows(rows: &[Vec<f64>], q: &[f64]) -> Result<Lcp, LcpError> {
         let n = rows.len();
-        if let Some(bad) = rows.iter().find(|r| r.len() != n) {
-            return Err(LcpError::NotSquare { rows: n, cols: bad.len() });
+        if let Some((row, bad)) = rows.iter().enumerate().find(|(_, r)| r.len() != n) {
+            return Err(LcpError::RaggedRow { row, expected: n, found: bad.len() });
         }
         let m = Mat::from_fn(n, n, |i, j| rows[i][j]);
         let q = Col::from_fn(q.len(), |i| q[i]);

@@ -256,8 +256,15 @@ fn non_finite_and_malformed_input_is_rejected() {
     assert!(matches!(Lcp::from_rows(&[], &[]), Err(LcpError::Empty)));
     assert!(matches!(
         Lcp::from_rows(&[vec![1.0, 2.0], vec![1.0]], &[1.0, 1.0]),
-        Err(LcpError::NotSquare { rows: 2, cols: 1 })
+        Err(LcpError::RaggedRow { row: 1, expected: 2, found: 1 })
     ));
+    // Every row of a 3 x 3 problem is checked, and the first bad one is named.
+    let ragged = Lcp::from_rows(&[vec![1.0; 3], vec![1.0; 4], vec![1.0; 2]], &[1.0; 3]);
+    assert!(matches!(ragged, Err(LcpError::RaggedRow { row: 1, expected: 3, found: 4 })));
+    assert_eq!(
+        ragged.unwrap_err().to_string(),
+        "row 1 of the LCP matrix M has 4 entries, expected 3 (one per row)"
+    );
     assert!(matches!(
         Lcp::from_rows(&[vec![1.0]], &[1.0, 2.0]),
         Err(LcpError::DimensionMismatch { what: "q", expected: 1, found: 2 })
