@@ -236,10 +236,17 @@ pub fn write_part(
 
 /// A short list of member indices: all of them up to 20, else the first 20 and a count.
 pub fn list_members(members: &[u64]) -> String {
-    let shown: Vec<String> = members.iter().take(20).map(u64::to_string).collect();
-    match members.len() {
-        n if n > 20 => format!("{} ... ({n} in all)", shown.join(", ")),
-        _ => shown.join(", "),
+    list_count(members, members.len() as u64)
+}
+
+/// The first members of a list of `count` (at most 20 shown), with the count when some are
+/// left out.
+fn list_count(first: &[u64], count: u64) -> String {
+    let shown: Vec<String> = first.iter().take(20).map(u64::to_string).collect();
+    if count > shown.len() as u64 {
+        format!("{} ... ({count} in all)", shown.join(", "))
+    } else {
+        shown.join(", ")
     }
 }
 
@@ -302,16 +309,21 @@ pub fn merge_summary(out: &Path, parts: &[impl AsRef<Path>]) -> Result<SweepSumm
                 .into());
             }
         }
-        let have: BTreeSet<u64> = part.rows.iter().map(|(i, _)| *i).collect();
-        let missing: Vec<u64> =
-            part.header.shard.members(part.header.members).filter(|i| !have.contains(i)).collect();
-        if !missing.is_empty() {
+        // Every row belongs to the shard (read_part checks it), so the rows are all there
+        // when they are as many as the shard's members; the first missing ones are listed
+        // without enumerating a shard of an enormous sweep.
+        let shard = part.header.shard;
+        let absent = shard.count(part.header.members) - part.rows.len() as u64;
+        if absent > 0 {
+            let have: BTreeSet<u64> = part.rows.iter().map(|(i, _)| *i).collect();
+            let first: Vec<u64> =
+                shard.members(part.header.members).filter(|i| !have.contains(i)).take(20).collect();
             let members = format!(
                 "{} of its shard {}/{} (an unfinished run: continue it with `moreau sweep \
                  --resume`)",
-                list_members(&missing),
-                part.header.shard.k,
-                part.header.shard.n
+                list_count(&first, absent),
+                shard.k,
+                shard.n
             );
             return Err(CliError::MissingMembers { part: part.path.clone(), members }.into());
         }
@@ -328,13 +340,14 @@ pub fn merge_summary(out: &Path, parts: &[impl AsRef<Path>]) -> Result<SweepSumm
             }
         }
     }
-    let missing: Vec<u64> = (0..total).filter(|i| !owner.contains_key(i)).take(21).collect();
-    if !missing.is_empty() {
-        let counted = (0..total).filter(|i| !owner.contains_key(i)).count();
-        let shown = list_members(&missing[..missing.len().min(20)]);
+    // Every member held is below `total` (read_part checks it): the members missing are
+    // counted from the members held, and only the first of them are looked for.
+    let absent = total - owner.len() as u64;
+    if absent > 0 {
+        let first: Vec<u64> = (0..total).filter(|i| !owner.contains_key(i)).take(20).collect();
         let members = format!(
-            "{shown}{} of {total}: no part holds them (a shard not given?)",
-            if counted > 20 { format!(" ... ({counted} in all)") } else { String::new() }
+            "{} of {total}: no part holds them (a shard not given?)",
+            list_count(&first, absent)
         );
         return Err(CliError::MissingMembers { part: PathBuf::from("the parts"), members }.into());
     }

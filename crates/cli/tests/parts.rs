@@ -233,3 +233,77 @@ fn a_merge_with_a_diverged_member_writes_every_row_and_fails_as_the_sweep() -> R
     ensure!(rows.len() == 2 && rows[1].contains(",diverged,"), "{text}");
     Ok(())
 }
+
+/// The members of a `CliError::MissingMembers`.
+fn missing_members(e: &anyhow::Error) -> Option<String> {
+    match cli_error(e) {
+        Some(CliError::MissingMembers { members, .. }) => Some(members.clone()),
+        _ => None,
+    }
+}
+
+/// Merging an incomplete set of parts of an enormous sweep is refused at once, its missing
+/// members counted from the rows held rather than enumerated (10^18 of them here).
+#[test]
+fn an_incomplete_merge_of_an_enormous_grid_is_refused_at_once() -> Result<()> {
+    let many = |key: &str, v: &str| Axis::parse(&format!("{key}={}", vec![v; 1000].join(",")));
+    let axes = vec![
+        many("eps_n", "0.5")?,
+        many("init.y0", "1")?,
+        many("m", "1")?,
+        many("g", "9.81")?,
+        many("t_end", "0.01")?,
+        many("dt", "0.001")?,
+    ];
+    let dir = tempfile::tempdir()?;
+    let mut parts = Vec::new();
+    for k in 1..=2 {
+        let mut o = SweepOptions::new("ball", axes.clone());
+        o.shard = Some(Shard { k, n: 500_000_000_000_000_000 });
+        let p = dir.path().join(format!("s{k}.csv"));
+        ensure!(run(&o, &p)?.rows == 2);
+        parts.push(p);
+    }
+    let out = dir.path().join("merged.csv");
+    let (tx, rx) = std::sync::mpsc::channel();
+    let (o, p) = (out.clone(), parts.clone());
+    std::thread::spawn(move || {
+        let _ = tx.send(merge(&o, &p).map_err(|e| (format!("{e:#}"), missing_members(&e))));
+    });
+    let result = rx
+        .recv_timeout(std::time::Duration::from_secs(60))
+        .map_err(|_| anyhow::anyhow!("the merge still runs after 60 s"))?;
+    let Err((message, Some(members))) = result else {
+        anyhow::bail!("expected the missing members, got {result:?}");
+    };
+    ensure!(
+        members.starts_with("2, 3, 4, ")
+            && members.contains(" ... (999999999999999996 in all) of 1000000000000000000"),
+        "{message}"
+    );
+    ensure!(!out.exists());
+
+    // A part that lacks members of its shard (a shard of 5·10^17 members, one row) says how
+    // many without listing them.
+    let text = std::fs::read_to_string(&parts[0])?;
+    let lines: Vec<&str> = text.lines().collect();
+    let head = lines[0].replace("shard 1/500000000000000000", "shard 1/2");
+    std::fs::write(&parts[0], format!("{head}\n{}\n{}\n", lines[1], lines[2]))?;
+    let (tx, rx) = std::sync::mpsc::channel();
+    let p = parts[0].clone();
+    std::thread::spawn(move || {
+        let _ = tx.send(merge(&out, &[p]).map_err(|e| missing_members(&e)));
+    });
+    let result = rx
+        .recv_timeout(std::time::Duration::from_secs(60))
+        .map_err(|_| anyhow::anyhow!("the merge still runs after 60 s"))?;
+    let Err(Some(members)) = result else {
+        anyhow::bail!("expected the missing members, got {result:?}");
+    };
+    ensure!(
+        members.starts_with("2, 4, 6, ")
+            && members.contains(" ... (499999999999999999 in all) of its shard 1/2"),
+        "{members}"
+    );
+    Ok(())
+}
