@@ -235,6 +235,32 @@ fn member_row(
     row
 }
 
+/// Why the existing `partial` of a sweep `identity` run without `--resume` is not written
+/// over: an unfinished run of this sweep, which `--resume` continues, or a file that it would
+/// not continue (another sweep's or shard's unfinished run, or not a sweep's at all).
+fn partial_reason(partial: &Path, identity: &PartHeader) -> String {
+    let first = std::fs::File::open(partial).ok().and_then(|f| {
+        let mut line = String::new();
+        std::io::BufRead::read_line(&mut std::io::BufReader::new(f), &mut line).ok()?;
+        Some(line)
+    });
+    let first = first.unwrap_or_default();
+    match PartHeader::parse(first.trim_end_matches(['\n', '\r'])) {
+        Ok(h) if h == *identity => {
+            "holds an unfinished run of this sweep; pass --resume to continue it, or remove it"
+                .into()
+        }
+        Ok(h) => format!(
+            "holds an unfinished run of another sweep or shard ({}), which --resume would not \
+             continue; remove it, or give another --out",
+            h.line()
+        ),
+        Err(_) => "is not an unfinished run of a sweep (an earlier `simulate` of this output?); \
+                   remove it, or give another --out"
+            .into(),
+    }
+}
+
 /// Runs the sweep (or its shard) and writes the CSV part to `out`.
 ///
 /// Before any run: `out` must not be the scene file nor an existing file other than a regular
@@ -378,12 +404,8 @@ pub fn run_with_warnings(
     let mut kept: Vec<Vec<String>> = Vec::new();
     if partial.exists() {
         if !options.resume {
-            return Err(CliError::Output {
-                path: partial,
-                reason: "holds an unfinished run; pass --resume to continue it, or remove it"
-                    .into(),
-            }
-            .into());
+            let reason = partial_reason(&partial, &identity);
+            return Err(CliError::Output { path: partial, reason }.into());
         }
         let part = parts::read_part(&partial, true)?;
         if part.header != identity || part.columns != columns {

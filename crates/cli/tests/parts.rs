@@ -307,3 +307,35 @@ fn an_incomplete_merge_of_an_enormous_grid_is_refused_at_once() -> Result<()> {
     );
     Ok(())
 }
+
+/// A sweep run without `--resume` over an `OUT.partial` leaves it as it is, and advises
+/// `--resume` only when that would continue it: for this sweep's unfinished run, not for
+/// another sweep's or for a record that `simulate` left.
+#[test]
+fn a_sweep_over_an_unfinished_file_advises_resume_only_for_its_own() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let full = dir.path().join("full.csv");
+    run(&options("0.1,0.3", None)?, &full)?;
+    let text = std::fs::read_to_string(&full)?;
+    let own: String = text.lines().take(3).map(|l| format!("{l}\n")).collect();
+    let out = dir.path().join("out.csv");
+    let partial = partial_path(&out);
+    let record = "t,y,v,PN1,PT1,A1,T,V,dissipated\n0,1,0,0,0,0,0,8.829,0\n";
+    for (content, other, advice) in [
+        (own.as_str(), options("0.1,0.3", None)?, "pass --resume to continue it"),
+        (own.as_str(), options("0.1,0.4", None)?, "which --resume would not continue"),
+        (record, options("0.1,0.3", None)?, "is not an unfinished run of a sweep"),
+    ] {
+        std::fs::write(&partial, content)?;
+        let e = run(&other, &out).expect_err("an unfinished file");
+        let message = format!("{e:#}");
+        ensure!(message.contains(advice), "{message}");
+        ensure!(message.contains(&partial.display().to_string()), "{message}");
+        ensure!(std::fs::read_to_string(&partial)? == content && !out.exists());
+        // The advice holds: --resume continues this sweep's run and refuses the others.
+        let resumed = run(&SweepOptions { resume: true, ..other }, &out);
+        ensure!(resumed.is_ok() == advice.starts_with("pass"), "{advice}: {resumed:?}");
+        let _ = std::fs::remove_file(&out);
+    }
+    Ok(())
+}
