@@ -335,7 +335,16 @@ pub fn merge_summary(out: &Path, parts: &[impl AsRef<Path>]) -> Result<SweepSumm
     for (p, part) in read.iter().enumerate() {
         for (i, _) in &part.rows {
             if let Some(q) = owner.insert(*i, p) {
-                let reason = format!("member {i} is also in {}", read[q].path.display());
+                let (this, other) = (&part.path, &read[q].path);
+                let same = matches!(
+                    (std::fs::canonicalize(this), std::fs::canonicalize(other)),
+                    (Ok(a), Ok(b)) if a == b
+                );
+                let reason = if same {
+                    format!("is given twice (also as {}); give each part once", other.display())
+                } else {
+                    format!("member {i} is also in {}", other.display())
+                };
                 return Err(CliError::MixedParts { part: part.path.clone(), reason }.into());
             }
         }

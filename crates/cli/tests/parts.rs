@@ -90,6 +90,26 @@ fn merge_refuses_incomplete_sets() -> Result<()> {
 }
 
 #[test]
+fn merge_names_a_part_given_twice_and_a_shard_held_twice() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let a = parts(dir.path(), "0.1,0.3,0.5", 3, "a")?;
+    let out = dir.path().join("m.csv");
+    // The same file under another spelling of its path.
+    let again = dir.path().join(".").join("a1.csv");
+    let e = merge(&out, &[&a[0], &a[1], &a[2], &again]).expect_err("a part given twice");
+    let text = format!("{e:#}");
+    ensure!(matches!(cli_error(&e), Some(CliError::MixedParts { .. })), "{text}");
+    ensure!(text.contains("is given twice (also as ") && text.contains("a1.csv)"), "{text}");
+    // A copy of a shard is another file holding the same members.
+    let copy = dir.path().join("copy.csv");
+    std::fs::copy(&a[0], &copy)?;
+    let e = format!("{:#}", merge(&out, &[&a[0], &a[1], &a[2], &copy]).expect_err("a copy"));
+    ensure!(e.contains("copy.csv: member 0 is also in ") && e.contains("a1.csv"), "{e}");
+    ensure!(!out.exists());
+    Ok(())
+}
+
+#[test]
 fn a_part_with_crlf_line_ends_merges_as_it_was() -> Result<()> {
     let dir = tempfile::tempdir()?;
     let a = parts(dir.path(), "0.1,0.3,0.5", 2, "a")?;
