@@ -35,6 +35,19 @@ pub enum Divergence {
         /// The largest natural angular frequency ω_max at the initial state (rad/s).
         omega_max: f64,
     },
+    /// A contact penetrates deeper than the model's size: a body passed through another, the
+    /// step too long for its contacts.
+    Penetration {
+        /// The depth max(0, −g_N) of the deepest contact (the model's length unit: m for a
+        /// report model).
+        depth: f64,
+        /// The deepest penetration the guard accepts (the model's size, see
+        /// [`crate::guard::Scales`]).
+        bound: f64,
+        /// Where the gap was taken: `the step's midpoint` (where the step's contacts are
+        /// chosen) or `the run's end`.
+        at: &'static str,
+    },
     /// The stepper met a non-finite number.
     NonFinite {
         /// The stepper's message.
@@ -57,6 +70,12 @@ impl std::fmt::Display for Divergence {
                 f,
                 "time step dt = {dt:e} s exceeds the stability limit 2/ω_max = {limit:.6e} s of \
                  the stiffest mode (ω_max = {omega_max:.6e} rad/s at the initial state)"
+            ),
+            Self::Penetration { depth, bound, at } => write!(
+                f,
+                "a contact penetrates {depth:.6e} deep at {at}, deeper than the bound \
+                 {bound:.3e} (the guards' length ℓ: 1 m, or a declared mechanism's size): a \
+                 body has passed through another, the time step is too long for the contacts"
             ),
             Self::NonFinite { message } => write!(f, "{message}"),
         }

@@ -1,6 +1,7 @@
 //! Guards that keep a run from passing off a meaningless result: the step plan (Δt ≤ t_end,
 //! t_end a whole number of steps, a bound on the number of steps), warnings about the initial
-//! gaps, and the divergence guard (stability limit, energy growth, state magnitude).
+//! gaps, and the divergence guard (stability limit, energy growth, state magnitude,
+//! penetration).
 //!
 //! # The step plan
 //! A run takes n = t_end/Δt steps and its last row lies at t_end. A t_end that is not a whole
@@ -27,9 +28,12 @@
 //! exceeds its initial value by more than [`ENERGY_GROWTH`] times max(T₀ + |V₀|,
 //! [`ENERGY_FLOOR`]) (for a declared mechanism, T₀ + |V₀| + m |g| ℓ with m its dynamic mass
 //! and ℓ its size, since its V has an arbitrary zero). A driven mechanism gets the stability
-//! and magnitude checks only. And every entry of q and u must stay below
+//! and magnitude checks only. Every entry of q and u must stay below
 //! [`MAGNITUDE_FACTOR`] (1 + max |q₀, u₀|), for a declared mechanism in its own units
-//! ([`Bounds::of`]).
+//! ([`Bounds::of`]). And no contact may sink more than [`PENETRATION_LIMIT`] ℓ deeper than the
+//! deepest one at the start, at a step's midpoint (where the step's contacts are chosen) or at
+//! the run's end: a body carried through what it should strike by a step too long for its
+//! contacts.
 //!
 //! **Units.** The constants are in metres, seconds and joules for the report's models. A
 //! declared mechanism may be written in any consistent units, and its guards measure it in
@@ -66,6 +70,23 @@ pub const ENERGY_FLOOR: f64 = 1e-6;
 
 /// Factor of the state magnitude bound.
 pub const MAGNITUDE_FACTOR: f64 = 1e8;
+
+/// The deepest penetration accepted beyond the deepest one at the start, in units of the
+/// model's length ℓ ([`Scales`]): a contact that sinks deeper than the mechanism's size means
+/// that a body has passed through another.
+pub const PENETRATION_LIMIT: f64 = 1.0;
+
+/// The deepest penetration max(0, −g_N) of the contacts of `model` at (q, t) (0 without
+/// contacts).
+fn deepest_penetration(model: &AnyModel, q: &[f64], t: f64) -> f64 {
+    let n = model.num_contacts();
+    if n == 0 {
+        return 0.0;
+    }
+    let mut gaps = vec![0.0; n];
+    model.normal_gaps(q, t, &mut gaps);
+    gaps.iter().fold(0.0f64, |m, g| m.max(-g))
+}
 
 /// The units in which the guards measure a model: a length for its gaps, positions and the
 /// shifts of the stability limit's differences, and a time that makes velocities of lengths.
@@ -505,6 +526,9 @@ pub struct Bounds {
     pub q: Vec<f64>,
     /// The largest |u_j| accepted, per velocity.
     pub u: Vec<f64>,
+    /// The deepest penetration max(0, −g_N) accepted: the deepest at the start (a scene
+    /// may start penetrating, with a warning) plus [`PENETRATION_LIMIT`] ℓ.
+    pub penetration: f64,
 }
 
 impl Bounds {
@@ -551,7 +575,8 @@ impl Bounds {
             let b = MAGNITUDE_FACTOR * (1.0 + largest);
             (vec![b; q0.len()], vec![b; u0.len()])
         };
-        Bounds { energy, q, u }
+        let penetration = deepest_penetration(model, q0, 0.0) + PENETRATION_LIMIT * scales.length;
+        Bounds { energy, q, u, penetration }
     }
 }
 
@@ -587,6 +612,11 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
                     bound: bounds[j],
                 });
             }
+        }
+        let bound = self.bounds.penetration;
+        if !(r.penetration <= bound) {
+            let (depth, at) = (r.penetration, "the step's midpoint");
+            return Some(Divergence::Penetration { depth, bound, at });
         }
         if let Some((initial, bound)) = self.bounds.energy {
             let v = model.potential_energy(r.q, r.t).unwrap_or(0.0);
@@ -659,8 +689,18 @@ impl<O: Observer<AnyModel>> Observer<AnyModel> for Guarded<'_, O> {
         self.inner.observe(model, report)
     }
 
-    /// Passes the last step on unless it diverged, which the inner observer did not see.
+    /// Checks the contacts' gaps at the run's end, which no step's midpoint has seen (a run of
+    /// one step that carries a body through another), and passes the last step on unless the
+    /// run diverged, which the inner observer did not see.
     fn finish(&mut self, model: &AnyModel, last: &StepReport<'_>) {
+        if self.diverged.is_none() {
+            let depth = deepest_penetration(model, last.q, last.t);
+            let bound = self.bounds.penetration;
+            if !(depth <= bound) {
+                let cause = Divergence::Penetration { depth, bound, at: "the run's end" };
+                self.diverged = Some(CliError::Diverged { cause, step: last.step, t: last.t });
+            }
+        }
         if self.diverged.is_none() {
             self.inner.finish(model, last);
         }
@@ -684,8 +724,8 @@ pub struct GuardedRun {
 ///
 /// # Errors
 /// The errors of [`plan_steps`]; [`CliError::Diverged`] for a step above the stability limit,
-/// energy growth, a state beyond the magnitude bound or a non-finite state (with the step);
-/// the scene's and the stepper's other errors.
+/// energy growth, a state beyond the magnitude bound, a contact sunk beyond its bound or a
+/// non-finite state (with the step); the scene's and the stepper's other errors.
 pub fn run_guarded<O: Observer<AnyModel>>(
     scene: &Scene,
     model: &AnyModel,

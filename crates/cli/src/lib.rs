@@ -15,7 +15,8 @@
 //! What a run guarantees ([`guard`]): Δt ≤ t_end, t_end a whole number of steps and the last
 //! row at t_end, at most [`guard::DEFAULT_MAX_STEPS`] steps unless asked for, a stop with a
 //! typed [`CliError::Diverged`] naming the cause and the step when Δt exceeds the stability
-//! limit, the energy of a mechanism without drives grows, or the state explodes; warnings
+//! limit, the energy of a mechanism without drives grows, the state explodes, or a body is
+//! carried through what it should strike (a contact sinks deeper than its size); warnings
 //! about penetrating or touching initial gaps. A declared mechanism written in other units
 //! (micrometres and milligrams, kilometres and kilotonnes) is guarded in its own
 //! ([`guard::Scales`]). A declared mechanism's contacts can be written

@@ -178,6 +178,51 @@ fn divergence_stops_the_run_naming_cause_and_step() -> Result<()> {
     Ok(())
 }
 
+/// A time step that carries a body through what it should strike is a divergence: the ball
+/// dropped from 1 m (radius 0.1 m) in one step of 10 s used to end 489.5 m below its floor
+/// with status `ok`.
+#[test]
+fn a_body_carried_through_its_contact_stops_the_run() -> Result<()> {
+    let penetration = |e: &anyhow::Error| match cli_error(e) {
+        Some(CliError::Diverged {
+            cause: Divergence::Penetration { depth, bound, at },
+            step,
+            ..
+        }) => Some((*depth, *bound, *at, *step)),
+        _ => None,
+    };
+    // One step: its midpoint is the initial state, 0.9 m above the floor; the end is not.
+    let e = run(&SimulateOptions { dt: Some(10.0), tf: Some(10.0), ..ball(&[]) })
+        .expect_err("one step through the floor");
+    let (depth, bound, at, step) = penetration(&e).context(format!("{e:#}"))?;
+    // y = 1 - 10 · 98.1 / 2 = -489.5, the gap y - r = -489.6.
+    ensure!((depth - 489.6).abs() < 1e-9 && bound == 1.0 && step == 0, "{e:#}");
+    ensure!(at == "the run's end", "{e:#}");
+    // Steps of 1 s: the second step's midpoint lies 8.91 m deep.
+    let e = run(&SimulateOptions { dt: Some(1.0), tf: Some(10.0), ..ball(&[]) })
+        .expect_err("through the floor");
+    let (depth, _, at, step) = penetration(&e).context(format!("{e:#}"))?;
+    ensure!((depth - 8.91).abs() < 1e-9 && at == "the step's midpoint" && step == 1, "{e:#}");
+    // Steps of 0.1 s sink the ball 0.17 m into the floor (its centre at y = -0.074 m) and
+    // bounce: a coarse run, kept.
+    let coarse = run(&SimulateOptions { dt: Some(0.1), tf: Some(10.0), ..ball(&[]) })?;
+    let lowest = coarse.record().q.column(0).fold(f64::INFINITY, f64::min);
+    ensure!((lowest + 0.0739007).abs() < 1e-6, "{lowest}");
+    // A ball that starts 1.1 m deep (with a warning) is measured from there.
+    run(&SimulateOptions { tf: Some(0.01), ..ball(&["init.y0=-1"]) })?;
+    // In a sweep the member is diverged, its row kept.
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("s.csv");
+    let axes = vec![Axis::parse("dt=10,1e-3")?, Axis::parse("t_end=10")?];
+    let s = sweep(&SweepOptions::new("ball", axes), &out)?;
+    ensure!(s.rows == 2 && s.diverged == 1, "{s:?}");
+    let text = std::fs::read_to_string(&out)?;
+    let rows: Vec<&str> = text.lines().skip(2).collect();
+    ensure!(rows[0].contains(",diverged,") && rows[0].contains("penetrates"), "{}", rows[0]);
+    ensure!(rows[1].contains(",ok,"), "{}", rows[1]);
+    Ok(())
+}
+
 #[test]
 fn the_step_plan_ends_at_t_end_or_refuses() -> Result<()> {
     for (dt, tf, what) in [
