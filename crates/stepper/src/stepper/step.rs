@@ -202,7 +202,7 @@ impl Core {
             }
             let (size, solved) =
                 Self::contact_step::<K, N>(mech, &self.options, &mut self.solver, ws, &self.u, t_m)
-                    .map_err(|e| self.lcp_error(e))?;
+                    .map_err(|e| self.lcp_error(e, t_m))?;
             let ws = &mut self.ws;
             ws.lcp_size = size;
             ws.lcp_info = Some(solved);
@@ -662,16 +662,20 @@ impl Core {
         Ok(Some((1, info)))
     }
 
-    /// Turns a failure of the contact step into the public error, with the LCP instance.
-    pub(super) fn lcp_error(&self, failure: LcpFailure) -> StepError {
+    /// Turns a failure of the contact step into the public error, with the LCP instance. A
+    /// non-finite number, found in what was evaluated at the midpoint, is reported at t_M
+    /// (`t_m`), as M, h and g_N are; the other errors name the step by its start t_A.
+    pub(super) fn lcp_error(&self, failure: LcpFailure, t_m: f64) -> StepError {
         let t = self.t;
         match failure {
-            LcpFailure::NonFinite { what, index } => StepError::NonFinite { what, index, t },
+            LcpFailure::NonFinite { what, index } => StepError::NonFinite { what, index, t: t_m },
             // Finite M, h and W give a finite LCP unless the state has grown past the range
             // of f64 in between: report that as the state it is.
-            LcpFailure::Input(moreau_lcp::LcpError::NonFinite { .. }) => {
-                StepError::NonFinite { what: "LCP (A, b): the state has diverged", index: 0, t }
-            }
+            LcpFailure::Input(moreau_lcp::LcpError::NonFinite { .. }) => StepError::NonFinite {
+                what: "LCP (A, b): the state has diverged",
+                index: 0,
+                t: t_m,
+            },
             LcpFailure::Input(source @ moreau_lcp::LcpError::OutOfRange { value, .. }) => {
                 StepError::ProblemOutOfRange { step: self.step, t, value, source }
             }
