@@ -76,16 +76,19 @@ pub const MAGNITUDE_FACTOR: f64 = 1e8;
 /// that a body has passed through another.
 pub const PENETRATION_LIMIT: f64 = 1.0;
 
-/// The deepest penetration max(0, −g_N) of the contacts of `model` at (q, t) (0 without
-/// contacts).
+/// The deepest penetration max(0, −g_N) of the contacts of `model` at (q, t): those it lists
+/// and those its bodies' detection finds (a detected contact set); 0 without contacts.
 fn deepest_penetration(model: &AnyModel, q: &[f64], t: f64) -> f64 {
-    let n = model.num_contacts();
-    if n == 0 {
-        return 0.0;
+    let mut gaps = vec![0.0; model.num_contacts()];
+    if !gaps.is_empty() {
+        model.normal_gaps(q, t, &mut gaps);
     }
-    let mut gaps = vec![0.0; n];
-    model.normal_gaps(q, t, &mut gaps);
-    gaps.iter().fold(0.0f64, |m, g| m.max(-g))
+    let mut detected = Vec::new();
+    if let Some(s) = model.body_structure() {
+        s.detect(q, t, 0.0, &mut detected);
+    }
+    let found = detected.iter().map(|c| c.point.g_n);
+    gaps.iter().copied().chain(found).fold(0.0f64, |m, g| m.max(-g))
 }
 
 /// The units in which the guards measure a model: a length for its gaps, positions and the
@@ -526,8 +529,8 @@ pub struct Bounds {
     pub q: Vec<f64>,
     /// The largest |u_j| accepted, per velocity.
     pub u: Vec<f64>,
-    /// The deepest penetration max(0, −g_N) accepted: the deepest at the start (a scene
-    /// may start penetrating, with a warning) plus [`PENETRATION_LIMIT`] ℓ.
+    /// The deepest penetration max(0, −g_N) accepted: the deepest at the start (a scene may
+    /// start penetrating) plus [`PENETRATION_LIMIT`] ℓ.
     pub penetration: f64,
 }
 

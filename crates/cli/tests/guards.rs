@@ -210,6 +210,23 @@ fn a_body_carried_through_its_contact_stops_the_run() -> Result<()> {
     ensure!((lowest + 0.0739007).abs() < 1e-6, "{lowest}");
     // A ball that starts 1.1 m deep (with a warning) is measured from there.
     run(&SimulateOptions { tf: Some(0.01), ..ball(&["init.y0=-1"]) })?;
+    // The declared ball with its contact detected, in one step: its size is 0.17 m.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies");
+    let detected = |sets: &[&str]| SimulateOptions {
+        scene: Some(root.join("ball.toml")),
+        sets: sets.iter().map(|s| (*s).to_owned()).collect(),
+        dt: Some(10.0),
+        tf: Some(10.0),
+        ..SimulateOptions::default()
+    };
+    let e = run(&detected(&["contact_set=detected"])).expect_err("one detected step through");
+    let (depth, bound, at, _) = penetration(&e).context(format!("{e:#}"))?;
+    ensure!((depth - 489.6).abs() < 1e-9 && at == "the run's end", "{e:#}");
+    ensure!((bound - 0.6 * 0.2 * 2f64.sqrt()).abs() < 1e-12, "{e:#}");
+    // Started 0.5 m inside the floor, it is measured from there too.
+    let deep = SimulateOptions { dt: Some(1e-3), tf: Some(0.01), ..detected(&[]) };
+    let sets = ["contact_set=detected", "bodies.ball.position=[0,-0.4]"];
+    run(&SimulateOptions { sets: sets.map(str::to_owned).to_vec(), ..deep })?;
     // In a sweep the member is diverged, its row kept.
     let dir = tempfile::tempdir()?;
     let out = dir.path().join("s.csv");
