@@ -128,6 +128,17 @@ pub enum CliError {
         /// The limit.
         limit: u64,
     },
+    /// A command-line option whose text is not of its form (a sweep's `--set key=v1,v2,...`,
+    /// `--shard K/N`), named as it was typed.
+    #[error("{option} {text}: {reason}")]
+    BadOption {
+        /// The option: `--set` or `--shard`.
+        option: &'static str,
+        /// Its text as given.
+        text: String,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// The same scene entry set twice (directly or through an alias).
     #[error("'{second}' sets {entry}, which '{first}' already sets; give each key once")]
     RepeatedKey {

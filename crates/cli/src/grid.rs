@@ -4,7 +4,9 @@
 use std::io::IsTerminal;
 use std::sync::Mutex;
 
-use anyhow::{Context, Result, bail, ensure};
+use anyhow::{Context, Result};
+
+use crate::error::CliError;
 
 /// One swept parameter: a scene key and the values it takes (as written on the command line).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -21,24 +23,36 @@ impl Axis {
     /// (`gravity=[0,-9.81],[0,-1.62]` has two).
     ///
     /// # Errors
-    /// When there is no `=`, the key is empty, a value is empty or a bracket, brace or quote
-    /// is left open.
+    /// [`CliError::BadOption`] naming `--set` and the text, when there is no `=`, the key is
+    /// empty, a value is empty or a bracket, brace or quote is left open.
     pub fn parse(text: &str) -> Result<Self> {
+        let bad = |reason: &str| CliError::BadOption {
+            option: "--set",
+            text: text.to_owned(),
+            reason: reason.to_owned(),
+        };
         let Some((key, values)) = text.split_once('=') else {
-            bail!("expected key=value[,value...], got '{text}'");
+            return Err(bad("expected key=value[,value...]").into());
         };
         let key = key.trim();
-        ensure!(!key.is_empty(), "empty key in '{text}'");
-        let values: Vec<String> =
-            top_level_split(values, text)?.into_iter().map(|v| v.trim().to_owned()).collect();
-        ensure!(values.iter().all(|v| !v.is_empty()), "empty value in '{text}'");
+        if key.is_empty() {
+            return Err(bad("the key is empty").into());
+        }
+        let values: Vec<String> = top_level_split(values)
+            .map_err(|e| bad(&e))?
+            .into_iter()
+            .map(|v| v.trim().to_owned())
+            .collect();
+        if let Some(i) = values.iter().position(String::is_empty) {
+            return Err(bad(&format!("value {} of {} is empty", i + 1, values.len())).into());
+        }
         Ok(Self { key: key.to_owned(), values })
     }
 }
 
 /// `values` split at its commas outside `[]`, `{}` and quotes (`"…"`, `'…'`, a backslash
-/// escaping the next character in double quotes); `text` is the option, for the errors.
-fn top_level_split<'a>(values: &'a str, text: &str) -> Result<Vec<&'a str>> {
+/// escaping the next character in double quotes).
+fn top_level_split(values: &str) -> Result<Vec<&str>, String> {
     let (mut parts, mut start, mut depth) = (Vec::new(), 0, 0usize);
     let (mut quote, mut escaped) = (None::<char>, false);
     for (i, c) in values.char_indices() {
@@ -58,7 +72,7 @@ fn top_level_split<'a>(values: &'a str, text: &str) -> Result<Vec<&'a str>> {
             ']' | '}' => {
                 depth = depth
                     .checked_sub(1)
-                    .with_context(|| format!("`{c}` closes no bracket or brace in '{text}'"))?;
+                    .ok_or_else(|| format!("`{c}` closes no bracket or brace"))?;
             }
             ',' if depth == 0 => {
                 parts.push(&values[start..i]);
@@ -67,8 +81,12 @@ fn top_level_split<'a>(values: &'a str, text: &str) -> Result<Vec<&'a str>> {
             _ => {}
         }
     }
-    ensure!(quote.is_none(), "a quote is left open in '{text}'");
-    ensure!(depth == 0, "a bracket or brace is left open in '{text}'");
+    if quote.is_some() {
+        return Err("a quote is left open".into());
+    }
+    if depth != 0 {
+        return Err("a bracket or brace is left open".into());
+    }
     parts.push(&values[start..]);
     Ok(parts)
 }
@@ -139,12 +157,21 @@ impl Shard {
     /// Parses `K/N` with 1 ≤ K ≤ N.
     ///
     /// # Errors
-    /// When the text is not of that form.
+    /// [`CliError::BadOption`] naming `--shard` and the text, when it is not of that form.
     pub fn parse(text: &str) -> Result<Self> {
-        let (k, n) = text.split_once('/').with_context(|| format!("expected K/N, got '{text}'"))?;
-        let k: usize = k.trim().parse().with_context(|| format!("shard K in '{text}'"))?;
-        let n: usize = n.trim().parse().with_context(|| format!("shard N in '{text}'"))?;
-        ensure!(n >= 1 && (1..=n).contains(&k), "shard '{text}' needs 1 <= K <= N");
+        let bad = |reason: String| CliError::BadOption {
+            option: "--shard",
+            text: text.to_owned(),
+            reason,
+        };
+        let (k, n) = text.split_once('/').ok_or_else(|| bad("expected K/N".into()))?;
+        let number = |x: &str, what: &str| {
+            x.trim().parse::<usize>().map_err(|e| bad(format!("{what} '{}': {e}", x.trim())))
+        };
+        let (k, n) = (number(k, "K")?, number(n, "N")?);
+        if !(n >= 1 && (1..=n).contains(&k)) {
+            return Err(bad("needs 1 <= K <= N".into()).into());
+        }
         Ok(Self { k, n })
     }
 

@@ -92,7 +92,11 @@ impl PartHeader {
             id: get("id")?.to_owned(),
             model: get("model")?.to_owned(),
             members: get("members")?.parse().map_err(|_| "bad member count".to_owned())?,
-            shard: Shard::parse(get("shard")?).map_err(|e| e.to_string())?,
+            shard: {
+                let shard = get("shard")?;
+                Shard::parse(shard)
+                    .map_err(|_| format!("bad shard '{shard}' (K/N with 1 <= K <= N)"))?
+            },
             version: get("moreau")?.to_owned(),
         })
     }
