@@ -427,96 +427,25 @@ fn omega_max_by_body(
 
 /// The square root of the largest eigenvalue of M⁻¹ sym(K) (0 when none is positive or M is
 /// not SPD), for dense column-major n × n matrices M (SPD) and K: the eigenvalues of
-/// A = L⁻¹ sym(K) L⁻ᵀ with M = L Lᵀ, a symmetric matrix.
+/// A = L⁻¹ sym(K) L⁻ᵀ with M = L Lᵀ, a symmetric matrix, by faer's Cholesky factor and
+/// self-adjoint eigenvalues.
 fn largest_frequency(m: &[f64], k: &[f64], f: usize) -> f64 {
-    let Some(l) = cholesky(m, f) else { return 0.0 };
-    let mut a = vec![0.0; f * f];
-    for i in 0..f {
-        for j in 0..f {
-            a[i + f * j] = 0.5 * (k[i + f * j] + k[j + f * i]);
-        }
+    use faer::{Mat, Side};
+    if f == 0 {
+        return 0.0;
     }
-    for j in 0..f {
-        forward(&l, f, &mut a[f * j..f * (j + 1)]);
+    let m = Mat::from_fn(f, f, |i, j| m[i + f * j]);
+    let Ok(llt) = m.llt(Side::Lower) else { return 0.0 };
+    let l = llt.L();
+    // L⁻¹ sym(K), then (L⁻¹ (L⁻¹ sym(K))ᵀ) = L⁻¹ sym(K) L⁻ᵀ, sym(K) being symmetric.
+    let mut a = Mat::from_fn(f, f, |i, j| 0.5 * (k[i + f * j] + k[j + f * i]));
+    l.solve_lower_triangular_in_place(a.as_mut());
+    let mut a = a.transpose().to_owned();
+    l.solve_lower_triangular_in_place(a.as_mut());
+    match a.self_adjoint_eigenvalues(Side::Lower) {
+        Ok(e) => e.into_iter().fold(0.0, f64::max).sqrt(),
+        Err(_) => 0.0,
     }
-    transpose(&mut a, f);
-    for j in 0..f {
-        forward(&l, f, &mut a[f * j..f * (j + 1)]);
-    }
-    symmetric_eigenvalues(&mut a, f).into_iter().fold(0.0, f64::max).sqrt()
-}
-
-/// Lower Cholesky factor of the column-major SPD matrix `m`; `None` when not SPD.
-fn cholesky(m: &[f64], f: usize) -> Option<Vec<f64>> {
-    let mut l = vec![0.0; f * f];
-    for j in 0..f {
-        let d = m[j + f * j] - (0..j).map(|p| l[j + f * p] * l[j + f * p]).sum::<f64>();
-        if !(d > 0.0) {
-            return None;
-        }
-        let d = d.sqrt();
-        l[j + f * j] = d;
-        for i in j + 1..f {
-            let s = m[i + f * j] - (0..j).map(|p| l[i + f * p] * l[j + f * p]).sum::<f64>();
-            l[i + f * j] = s / d;
-        }
-    }
-    Some(l)
-}
-
-/// Solves L x = b in place (L lower, column-major).
-fn forward(l: &[f64], f: usize, b: &mut [f64]) {
-    for i in 0..f {
-        let s = b[i] - (0..i).map(|p| l[i + f * p] * b[p]).sum::<f64>();
-        b[i] = s / l[i + f * i];
-    }
-}
-
-fn transpose(a: &mut [f64], f: usize) {
-    for i in 0..f {
-        for j in i + 1..f {
-            a.swap(i + f * j, j + f * i);
-        }
-    }
-}
-
-/// Eigenvalues of a small symmetric matrix by cyclic Jacobi rotations (at most 50 sweeps).
-fn symmetric_eigenvalues(a: &mut [f64], f: usize) -> Vec<f64> {
-    for _ in 0..50 {
-        let off: f64 = (0..f)
-            .flat_map(|i| (0..f).map(move |j| (i, j)))
-            .filter(|(i, j)| i != j)
-            .map(|(i, j)| a[i + f * j] * a[i + f * j])
-            .sum();
-        let diag: f64 = (0..f).map(|i| a[i + f * i] * a[i + f * i]).sum();
-        if off <= 1e-30 * diag.max(f64::MIN_POSITIVE) {
-            break;
-        }
-        for p in 0..f {
-            for q in p + 1..f {
-                let apq = a[p + f * q];
-                if apq == 0.0 {
-                    continue;
-                }
-                let theta = (a[q + f * q] - a[p + f * p]) / (2.0 * apq);
-                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-                let t = if theta == 0.0 { 1.0 } else { t };
-                let c = 1.0 / (t * t + 1.0).sqrt();
-                let s = t * c;
-                for k in 0..f {
-                    let (akp, akq) = (a[k + f * p], a[k + f * q]);
-                    a[k + f * p] = c * akp - s * akq;
-                    a[k + f * q] = s * akp + c * akq;
-                }
-                for k in 0..f {
-                    let (apk, aqk) = (a[p + f * k], a[q + f * k]);
-                    a[p + f * k] = c * apk - s * aqk;
-                    a[q + f * k] = s * apk + c * aqk;
-                }
-            }
-        }
-    }
-    (0..f).map(|i| a[i + f * i]).collect()
 }
 
 /// The bounds of the divergence guard for a model at its initial state.
@@ -791,21 +720,35 @@ mod tests {
     }
 
     #[test]
-    fn eigenvalues_of_a_planted_matrix() {
-        // Q diag(1, 4, 9) Qᵀ with Q a rotation by 0.3 in the (0, 2) plane.
+    fn largest_frequency_of_a_planted_pencil() {
+        // K = M^½ Q diag(1, 4, 9) Qᵀ M^½ with M = diag(4, 1, 9) and Q a rotation by 0.3 in the
+        // (0, 2) plane: M⁻¹ K is similar to Q diag(1, 4, 9) Qᵀ, so ω_max = √9 = 3; K is given
+        // unsymmetric (its symmetric part counts) and M not SPD gives 0.
         let (c, s) = (0.3f64.cos(), 0.3f64.sin());
         let d = [1.0, 4.0, 9.0];
         let q = [c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c];
-        let mut a = vec![0.0; 9];
+        let root = [2.0, 1.0, 3.0];
+        let mut m = vec![0.0; 9];
+        let mut k = vec![0.0; 9];
         for i in 0..3 {
+            m[i + 3 * i] = root[i] * root[i];
             for j in 0..3 {
-                a[i + 3 * j] = (0..3).map(|k| q[i + 3 * k] * d[k] * q[j + 3 * k]).sum();
+                let a: f64 = (0..3).map(|p| q[i + 3 * p] * d[p] * q[j + 3 * p]).sum();
+                k[i + 3 * j] = root[i] * a * root[j]
+                    + if i < j {
+                        0.25
+                    } else if i > j {
+                        -0.25
+                    } else {
+                        0.0
+                    };
             }
         }
-        let mut e = symmetric_eigenvalues(&mut a, 3);
-        e.sort_by(f64::total_cmp);
-        for (x, y) in e.iter().zip(d) {
-            assert!((x - y).abs() < 1e-12, "{e:?}");
-        }
+        assert!((largest_frequency(&m, &k, 3) - 3.0).abs() < 1e-12);
+        let k_neg: Vec<f64> = k.iter().map(|x| -x).collect();
+        assert_eq!(largest_frequency(&m, &k_neg, 3), 0.0);
+        m[4] = -1.0;
+        assert_eq!(largest_frequency(&m, &k, 3), 0.0);
+        assert_eq!(largest_frequency(&[], &[], 0), 0.0);
     }
 }
