@@ -1,5 +1,6 @@
 //! The cost of contact detection: `collide` for a disk on a half-plane, a box on a half-plane,
-//! two boxes and a disk on a polyline of 100 segments, and the broad phase over 10³ and 10⁴
+//! two boxes, a disk on a polyline of 100 segments, a box and a capsule on a cam profile of 96
+//! points (resting on it, and sunk into it past their middle), and the broad phase over 10³ and 10⁴
 //! disks of radius 5 mm, at random and in a column, beside parry2d-f64's refitted hierarchy on
 //! the same boxes.
 //!
@@ -70,6 +71,17 @@ fn narrow(c: &mut Criterion) {
     let road = Shape::Polyline { points };
     let trough = std::f64::consts::PI / 10.0;
     bench_pair(c, "collide/disk-polyline-100", &disk, Pose::new(trough, 0.081, 0.0), &road, origin);
+    // A three-lobed cam r(ψ) = 0.3 + 0.06 cos 3ψ of 96 samples, a lobe's tip (0.36) at ψ = 0,
+    // with a box and a capsule on the tip, 1 mm into it.
+    let cam = Shape::profile_polar(|psi| 0.3 + 0.06 * (3.0 * psi).cos(), 96).expect("valid cam");
+    bench_pair(c, "collide/box-profile-96", &square, Pose::new(0.459, 0.0, 0.0), &cam, origin);
+    let capsule = Shape::Capsule { a: [0.0, -0.1], b: [0.0, 0.1], radius: 0.05 };
+    let on_tip = Pose::new(0.409, 0.0, 0.0);
+    bench_pair(c, "collide/capsule-profile-96", &capsule, on_tip, &cam, origin);
+    // The box 0.12 into the tip (past its middle), the capsule 0.11 (its ends inside).
+    bench_pair(c, "collide/box-in-profile-96", &square, Pose::new(0.34, 0.0, 0.0), &cam, origin);
+    let in_tip = Pose::new(0.3, 0.0, 0.0);
+    bench_pair(c, "collide/capsule-in-profile-96", &capsule, in_tip, &cam, origin);
 }
 
 /// n disks of radius 5 mm at random in a square of side √n / 100 m (10⁴ in 1 m²), margin 1 mm:

@@ -66,12 +66,19 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
 ///   capsule also at the far end of the chord lying on its face there, so that a face rests on
 ///   a chain as on a polygon; a disk in a concave corner touches both segments. A polyline is
 ///   touched from both sides; a profile is a solid, so a disk whose centre has entered it gets
-///   one point on the nearest segment with gap −(d + r). Capsules and polygons are not tested
-///   for being inside a profile: each segment is met by the face of the pair that separates
-///   most, the capsule's or polygon's own included, so a capsule whose axis has crossed a
-///   segment by d gets that segment's point with the normal reversed and gap d − r (into the
-///   solid), and a polygon more than half across a segment gets no point from it; keep them
-///   shallower than that (a capsule by less than its radius).
+///   one point on the nearest segment with gap −(d + r), and a capsule or polygon with a core
+///   vertex inside it (a capsule's end centre, a polygon's corner) is pushed out as a convex
+///   solid's face pushes it: from each segment it crosses, by the segment's face or a face of
+///   the shape within 60° of facing it (the reference of the pair), with the normal
+///   out of the solid and the gap −(depth) of the vertices behind the segment, as against a
+///   half-plane on the segment's line or the same outline declared as a polygon; segments
+///   behind the core give no point; a core wholly inside leaves by the segment its deepest
+///   vertex is least deep behind (for a polygonal profile, one of the profile's own directions,
+///   which may be a little deeper than the least of the shape's). Points, ids and bounds are
+///   those above. Shallow contacts (the shape's own face separating less than the solid's),
+///   faces resting on a chain and concave corners are met segment by segment as before. A
+///   capsule whose axis a convex corner of a profile crosses between its two ends, both
+///   outside, is still met by the segments alone: its ends on the corner's segments.
 ///
 /// Poses are not checked: a non-finite coordinate gives non-finite gaps, which no margin
 /// admits, so no point.

@@ -324,6 +324,22 @@ fn vertex_on_face(
 /// normal at which the reference face's ends are taken on the incident face (60°).
 const FACING: f64 = 0.5;
 
+/// What the contact of a core A with a profile's segment B does when the face of A that
+/// separates them most is a back face of A: one whose outward normal has a positive component
+/// along B's. The solid lies behind B, so such a face separates A from the segment but not from
+/// the solid, and the point it gives pushes A into the solid through B.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Backs {
+    /// The face counts as any other: A meets B as a thin segment.
+    Count,
+    /// A has entered the solid through B: only the faces of A within 60° of facing B count
+    /// besides B's, so that the reference is B's face or a face of A turned towards the solid
+    /// and the points push A out through B.
+    Skip,
+    /// No point from B: its reference would be the back face, which pushes A in.
+    Drop,
+}
+
 /// The contact points of two cores of at least two vertices each (segments, polygons) whose
 /// gaps are at most `margin`, passed to `emit`: the vertex-on-edge points of the pair of faces
 /// that separates them most (two for a face on a face), the closest pair when they are apart,
@@ -334,16 +350,60 @@ pub(crate) fn polygon_contacts(
     margin: f64,
     emit: &mut impl FnMut(CorePoint),
 ) {
+    contacts(a, b, margin, None, emit);
+}
+
+/// [`polygon_contacts`] of a core A with B, a segment of a profile (one-sided, the solid behind
+/// its outward face): when the face of A that separates them most is a back face ([`Backs`]),
+/// `backs` is asked, with that face's separation, what to do. With [`Backs::Skip`] the pair of
+/// closest features, which would still hold A in, gives way to A's deepest vertex against the
+/// line of B. Returns whether the cores overlap by every face of A and B's face (all
+/// separations at most 0).
+pub(crate) fn solid_segment_contacts(
+    a: &Core<'_>,
+    b: &Core<'_>,
+    margin: f64,
+    backs: &mut dyn FnMut(f64) -> Backs,
+    emit: &mut impl FnMut(CorePoint),
+) -> bool {
+    contacts(a, b, margin, Some(backs), emit)
+}
+
+/// [`polygon_contacts`], with B a profile's segment when `backs` is given
+/// ([`solid_segment_contacts`]); returns whether the cores overlap by every face.
+fn contacts(
+    a: &Core<'_>,
+    b: &Core<'_>,
+    margin: f64,
+    backs: Option<&mut dyn FnMut(f64) -> Backs>,
+    emit: &mut impl FnMut(CorePoint),
+) -> bool {
     let (a, b) = (&a.with_normals(), &b.with_normals());
     let radii = a.radius + b.radius;
-    let (sep_a, face_a) = max_separation(a, b);
+    let (mut sep_a, mut face_a) = max_separation(a, b);
     let (sep_b, face_b) = max_separation(b, a);
-    if sep_a.max(sep_b) - radii > margin {
-        return;
-    }
+    let overlap = sep_a.max(sep_b) <= 0.0;
     // A keeps the reference face unless B's separates clearly more, so that two parallel faces
     // (equal separations) do not trade roles from one call to the next.
-    let scale = 1e-12 * (1.0 + sep_a.abs().max(sep_b.abs()));
+    let tie = |sep_a: f64| 1e-12 * (1.0 + sep_a.abs().max(sep_b.abs()));
+    let mut inside = false;
+    if let Some(backs) = backs {
+        let out = b.face(0).2;
+        if !(sep_b > sep_a + tie(sep_a)) && a.face(face_a).2.dot(&out) > 0.0 {
+            match backs(sep_a) {
+                Backs::Count => {}
+                Backs::Drop => return overlap,
+                Backs::Skip => {
+                    (sep_a, face_a) = max_separation_towards(a, b, out);
+                    inside = true;
+                }
+            }
+        }
+    }
+    if sep_a.max(sep_b) - radii > margin {
+        return overlap;
+    }
+    let scale = tie(sep_a);
     let (reference, ref_face, incident, ref_is_a) =
         if sep_b > sep_a + scale { (b, face_b, a, false) } else { (a, face_a, b, true) };
     let normal = reference.face(ref_face).2;
@@ -392,12 +452,49 @@ pub(crate) fn polygon_contacts(
         }
     }
     // Cores that overlap with no vertex inside the other's face: the deepest pair of closest
-    // features still holds them apart.
-    if found == 0
-        && let Some(p) = closest_features(a, b, margin)
-    {
-        emit(p);
+    // features still holds them apart; for A inside a solid, A's deepest vertex against the
+    // line of B pushes it out.
+    if found == 0 {
+        let deepest =
+            if inside { deepest_against(b, a, margin) } else { closest_features(a, b, margin) };
+        if let Some(p) = deepest {
+            emit(p);
+        }
     }
+    overlap
+}
+
+/// [`max_separation`] of `c` from `other` over the faces of `c` within 60° of facing the
+/// direction `out` (their normals' component along `out` at most −[`FACING`]): those that can
+/// push `c` out of a solid through a face of outward normal `out`. A face standing square to
+/// it would push `c` along the face, as if the solid ended at the face's ends, where a short
+/// segment of a sampled outline ends but the solid does not.
+fn max_separation_towards(c: &Core<'_>, other: &Core<'_>, out: V) -> (f64, usize) {
+    let mut best = (f64::NEG_INFINITY, 0);
+    for i in 0..c.faces() {
+        let (a, _, n) = c.face(i);
+        if n.dot(&out) > -FACING {
+            continue;
+        }
+        let mut s = f64::INFINITY;
+        for j in 0..other.len() {
+            s = s.min(n.dot(&(other.vertex(j) - a)));
+        }
+        if s > best.0 {
+            best = (s, i);
+        }
+    }
+    best
+}
+
+/// The deepest vertex of `a` (which is A) against the line of face 0 of `b`, wherever along
+/// the line it projects, if its gap is at most `margin`.
+pub(crate) fn deepest_against(b: &Core<'_>, a: &Core<'_>, margin: f64) -> Option<CorePoint> {
+    let (p, _, n) = b.face(0);
+    let deepest = (0..a.len())
+        .min_by(|&i, &j| n.dot(&(a.vertex(i) - p)).total_cmp(&n.dot(&(a.vertex(j) - p))))?;
+    let anywhere = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+    vertex_on_face(b, 0, a, deepest, false, anywhere, margin)
 }
 
 /// The vertex that names a point: A's if the point is at a vertex of A, else B's.

@@ -3,14 +3,31 @@
 //!
 //! Written here because parry2d-f64 has no contact for a chain that keeps each local minimum of
 //! the distance as its own point: its polyline is a composite shape whose per-segment contacts
-//! would repeat a shared vertex, and a disk against a non-convex profile needs the inside test
+//! would repeat a shared vertex, and a shape against a non-convex profile needs the inside test
 //! of a solid, which parry's polyline (a curve) lacks. Each segment is a convex core and goes
 //! through the convex pair's method; what is added here is the naming of the points, the
 //! removal of the repeats at shared vertices and of the vertex points that are not local
-//! minima of the distance.
+//! minima of the distance, and the solid behind a profile's segments.
+//!
+//! A segment alone is thin: a capsule whose axis has crossed it, or a polygon more than half across
+//! it, is separated from it most by a face of its own on the far side, which pushes it further in
+//! or, past the segment's ends, gives no point. So a capsule or polygon that has entered a profile
+//! is pushed out as a face of a convex solid pushes it (a half-plane's, a polygon's by separating
+//! axes): where that far face would separate it most from a segment behind whose line one of its
+//! core vertices lies inside the solid (the parity of a ray's crossings), the reference is the
+//! segment's face or a face of the shape within 60° of facing it if the core crosses the segment,
+//! and the segment gives no point if the core lies wholly behind it; a core wholly inside, crossing
+//! no segment, leaves by the segment whose line its deepest vertex is least deep behind. Elsewhere
+//! (shallow contacts, faces resting on a chain, concave corners, a core outside behind a thin part
+//! of the solid) nothing changes, and the test costs two comparisons per segment in the shape's
+//! band of heights (the parity of one vertex) and a product where a face turned away from the solid
+//! separates most.
 
 use super::collide::manifold_point;
-use super::convex::{Core, CorePoint, Feature, closest_to_point, point_pair, polygon_contacts};
+use super::convex::{
+    Backs, Core, CorePoint, Feature, closest_to_point, deepest_against, point_pair,
+    polygon_contacts, solid_segment_contacts,
+};
 use super::shape::{Placement, V};
 use super::{Aabb, ManifoldPoint};
 
@@ -63,49 +80,216 @@ pub(crate) fn convex_chain(
         return;
     }
 
+    // A capsule or polygon against a profile: whether its core has entered the solid. The
+    // parity of core vertex 0 is counted along the loop, over the segments in its band of
+    // heights; the others are counted only when a segment asks ([`entered`]).
+    let solid = closed && n_x > 1;
+    let c0 = x.vertex(0);
+    let mut odd = false;
+    let mut crossed = false;
+    let mut parity = Parity::default();
     let mut p1 = point(0);
     for k in 0..m {
         let p0 = p1;
         p1 = point(k + 1);
+        // Segments off the convex shape's box (grown by the margin) are passed over. Vertex 0
+        // lies in that box, so those above or below it or to its left cannot cross the ray
+        // from vertex 0 towards +x: only the few in its band of heights count for the parity.
         let grow = margin + 1e-12;
-        if p0.x.max(p1.x) < x_box.min[0] - grow
-            || p0.x.min(p1.x) > x_box.max[0] + grow
-            || p0.y.max(p1.y) < x_box.min[1] - grow
+        if p0.y.max(p1.y) < x_box.min[1] - grow
             || p0.y.min(p1.y) > x_box.max[1] + grow
+            || p0.x.max(p1.x) < x_box.min[0] - grow
         {
+            continue;
+        }
+        if solid && (p0.y > c0.y) != (p1.y > c0.y) && crosses(c0, p0, p1) {
+            odd = !odd;
+        }
+        if p0.x.min(p1.x) > x_box.max[0] + grow {
             continue;
         }
         let ends = [points[k], points[(k + 1) % p]];
         let seg = Core::new(&ends, *frame, 0.0, closed);
-        let mut emit = |cp: CorePoint| {
-            let id = match cp.on_b {
-                Feature::Edge(_) => match cp.on_a {
-                    Feature::Vertex(i) => k * n_x + i,
-                    Feature::Edge(_) => unreachable!("a point has a vertex"),
-                },
-                Feature::Vertex(local) => {
-                    let v = k + local;
-                    if !kept(x, &cp, v, k + 1 - local, &point, p, closed) {
-                        return;
-                    }
-                    vertex_id(v)
-                }
-            };
-            let id32 = id as u32;
-            if out[start..].iter().all(|q| q.feature != id32) {
-                out.push(manifold_point(&cp, id, flip));
-            }
-        };
+        let mut emit = |cp: CorePoint| emit_point(x, &cp, k, &point, p, closed, start, flip, out);
         if n_x == 1 {
             if let Some(cp) =
                 super::convex::point_contact(x.vertex(0), x.radius, &seg, true, margin)
             {
                 emit(cp);
             }
+        } else if closed {
+            let mut backs = |sep: f64| entered(x, p0, p1, sep, &mut parity, frame, points);
+            // The core crosses the segment if no face separates them and a vertex lies on or
+            // in front of its line.
+            if solid_segment_contacts(x, &seg, margin, &mut backs, &mut emit) && !crossed {
+                let line = Across::of(p0, p1);
+                crossed = (0..n_x).any(|i| line.height(x.vertex(i)) >= 0.0);
+            }
         } else {
             polygon_contacts(x, &seg, margin, &mut emit);
         }
     }
+    if solid && odd && !crossed {
+        // The whole core inside the solid, crossing none of its segments: what the loop found
+        // within the margin held it in. It is pushed out through the segment it would leave
+        // by the shortest way, as a face of a convex solid would push it.
+        out.truncate(start);
+        let k = way_out(x, &point, m);
+        let ends = [points[k], points[(k + 1) % p]];
+        let seg = Core::new(&ends, *frame, 0.0, true);
+        let mut emit = |cp: CorePoint| emit_point(x, &cp, k, &point, p, closed, start, flip, out);
+        solid_segment_contacts(x, &seg, margin, &mut |_| Backs::Skip, &mut emit);
+        if out.len() == start
+            && let Some(cp) = deepest_against(&seg, x, margin)
+        {
+            emit_point(x, &cp, k, &point, p, closed, start, flip, out);
+        }
+    }
+}
+
+/// Appends the point `cp` of the convex core `x` (which is A) with segment k of the chain of
+/// p points, named: vertex i of `x` on the segment k·n + i, chain point v m·n + v if [`kept`]
+/// and not already among the points from `start` on; A and B swapped when `flip`.
+fn emit_point(
+    x: &Core<'_>,
+    cp: &CorePoint,
+    k: usize,
+    point: &impl Fn(usize) -> V,
+    p: usize,
+    closed: bool,
+    start: usize,
+    flip: bool,
+    out: &mut Vec<ManifoldPoint>,
+) {
+    let n_x = x.len();
+    let m = if closed { p } else { p - 1 };
+    let id = match cp.on_b {
+        Feature::Edge(_) => match cp.on_a {
+            Feature::Vertex(i) => k * n_x + i,
+            Feature::Edge(_) => unreachable!("a point has a vertex"),
+        },
+        Feature::Vertex(local) => {
+            let v = k + local;
+            if !kept(x, cp, v, k + 1 - local, point, p, closed) {
+                return;
+            }
+            m * n_x + v % p
+        }
+    };
+    let id32 = id as u32;
+    if out[start..].iter().all(|q| q.feature != id32) {
+        out.push(manifold_point(cp, id, flip));
+    }
+}
+
+/// The line of a segment from p0 to p1 of a counter-clockwise chain, with its outward normal.
+struct Across {
+    p0: V,
+    e: V,
+    normal: V,
+}
+
+impl Across {
+    fn of(p0: V, p1: V) -> Self {
+        let e = p1 - p0;
+        Self { p0, e, normal: V::new(e.y, -e.x) / e.norm() }
+    }
+
+    /// The height of `v` above the line, positive on the outward side.
+    fn height(&self, v: V) -> f64 {
+        self.normal.dot(&(v - self.p0))
+    }
+
+    /// Where `v` projects along the segment: 0 at p0, 1 at p1.
+    fn along(&self, v: V) -> f64 {
+        (v - self.p0).dot(&self.e) / self.e.norm_squared()
+    }
+}
+
+/// Whether the core vertices of a convex shape lie inside a profile, each counted once on
+/// demand; vertices from the 64th on are counted on every demand.
+#[derive(Default)]
+struct Parity {
+    known: u64,
+    inside: u64,
+}
+
+impl Parity {
+    fn inside(&mut self, i: usize, c: V, frame: &Placement, points: &[[f64; 2]]) -> bool {
+        if i >= 64 {
+            return inside(c, frame, points);
+        }
+        let bit = 1u64 << i;
+        if self.known & bit == 0 {
+            self.known |= bit;
+            if inside(c, frame, points) {
+                self.inside |= bit;
+            }
+        }
+        self.inside & bit != 0
+    }
+}
+
+/// What the contact of the convex core `x` with the profile's segment from p0 to p1 does when a
+/// back face of `x` separates them most by `sep` ([`Backs`]). If a core vertex behind the segment's
+/// line lies inside the solid, `x` has entered the solid: if the core crosses the segment (no face
+/// of `x` separates it, and some vertex lies on or in front of its line), the reference is the
+/// segment's face or a face of `x` facing it ([`Backs::Skip`]), so that the points push `x` out
+/// through the segment; if not, the segment lies behind the core, and its point would push the core
+/// further in, so it gives none. Otherwise (the core outside, behind a segment of a thin part of
+/// the solid, or resting on a sharp corner) the face counts as any other. The vertex need not
+/// project onto the segment: a box sunk into a finely sampled cam crosses segments much shorter
+/// than itself.
+fn entered(
+    x: &Core<'_>,
+    p0: V,
+    p1: V,
+    sep: f64,
+    parity: &mut Parity,
+    frame: &Placement,
+    points: &[[f64; 2]],
+) -> Backs {
+    let line = Across::of(p0, p1);
+    let entered = (0..x.len()).any(|i| {
+        let v = x.vertex(i);
+        line.height(v) < 0.0 && parity.inside(i, v, frame, points)
+    });
+    if !entered {
+        Backs::Count
+    } else if sep <= 0.0 && (0..x.len()).any(|i| line.height(x.vertex(i)) >= 0.0) {
+        Backs::Skip
+    } else {
+        Backs::Drop
+    }
+}
+
+/// The segment of the profile (m segments through `point`) through which the convex core `x`,
+/// lying wholly inside the solid, leaves it by the shortest way: of the segments whose line has
+/// the whole core behind it and onto which the core projects, the one its deepest vertex is
+/// least deep behind; if there is none, the segment nearest to a core vertex.
+fn way_out(x: &Core<'_>, point: &impl Fn(usize) -> V, m: usize) -> usize {
+    let mut best: Option<(f64, usize)> = None;
+    let mut nearest = (f64::INFINITY, 0);
+    for k in 0..m {
+        let line = Across::of(point(k), point(k + 1));
+        let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut first, mut last) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..x.len() {
+            let v = x.vertex(i);
+            let (h, t) = (line.height(v), line.along(v));
+            (low, high) = (low.min(h), high.max(h));
+            (first, last) = (first.min(t), last.max(t));
+            let q = line.p0 + t.clamp(0.0, 1.0) * line.e;
+            let d = (v - q).norm();
+            if d < nearest.0 {
+                nearest = (d, k);
+            }
+        }
+        if high < 0.0 && last >= 0.0 && first <= 1.0 && best.is_none_or(|b| -low < b.0) {
+            best = Some((-low, k));
+        }
+    }
+    best.map_or(nearest.1, |b| b.1)
 }
 
 /// Whether chain point v, in contact `cp` with the convex core `x` (which is A) through the
@@ -179,12 +363,19 @@ fn inside(c: V, frame: &Placement, points: &[[f64; 2]]) -> bool {
     let mut a = frame.point(points[p - 1]);
     for q in points {
         let b = frame.point(*q);
-        if (a.y > c.y) != (b.y > c.y) && c.x < a.x + (c.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+        if (a.y > c.y) != (b.y > c.y) && crosses(c, a, b) {
             odd = !odd;
         }
         a = b;
     }
     odd
+}
+
+/// Whether the ray from `c` towards +x crosses the segment from a to b, whose ends lie on
+/// either side of the ray's line.
+#[inline]
+fn crosses(c: V, a: V, b: V) -> bool {
+    c.x < a.x + (c.y - a.y) / (b.y - a.y) * (b.x - a.x)
 }
 
 /// A half-plane (boundary through `origin`, unit outward normal `n`) against the chain through
