@@ -3,8 +3,9 @@
 //!
 //! Written here because parry2d-f64 has no contact for a chain that keeps each local minimum of
 //! the distance as its own point: its polyline is a composite shape whose per-segment contacts
-//! would repeat a shared vertex, and a shape against a non-convex profile needs the inside test
-//! of a solid, which parry's polyline (a curve) lacks. Each segment is a convex core and goes
+//! would repeat a shared vertex, and a shape against a non-convex profile needs the inside of a
+//! solid, which parry has only as a point query (`point_in_poly2d`, or a polyline's projection
+//! assuming a solid interior) on vertices it owns. Each segment is a convex core and goes
 //! through the convex pair's method; what is added here is the naming of the points, the
 //! removal of the repeats at shared vertices and of the vertex points that are not local
 //! minima of the distance, and the solid behind a profile's segments.
