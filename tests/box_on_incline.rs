@@ -32,7 +32,7 @@ fn setup() -> (BoxOnIncline, Record) {
 fn jacobians_match_the_gaps() {
     let (m, _) = setup();
     let options = SampleOptions { count: 16, q_radius: 1.0, ..SampleOptions::default() };
-    let samples = sample_states(&Q0, 0.0, &options).unwrap();
+    let samples = sample_states(&Q0, 0.0, options).unwrap();
     let report = check_jacobians(&m, &samples, FdOptions::default()).unwrap();
     assert!(report.passed(1e-8), "{:?}", report.worst());
 }

@@ -18,7 +18,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     //    around the start, with θ spread over ±1 rad.
     let q0 = [0.0, 0.2, 0.3];
     let options = SampleOptions { count: 16, q_radius: 1.0, ..SampleOptions::default() };
-    let samples = sample_states(&q0, 0.0, &options)?;
+    let samples = sample_states(&q0, 0.0, options)?;
     let report = check_jacobians(&mechanism, &samples, FdOptions::default())?;
     let worst = report.worst().ok_or("no contact checked")?;
     println!("Jacobians: worst scaled error {:.1e} ({:?})", worst.scaled, worst.component);

@@ -479,7 +479,7 @@ impl Default for SampleOptions {
 pub fn sample_states(
     q0: &[f64],
     t0: f64,
-    options: &SampleOptions,
+    options: SampleOptions,
 ) -> Result<Vec<(Vec<f64>, f64)>, KinematicsError> {
     if options.count == 0 {
         return Err(KinematicsError::InvalidOption { name: "count", value: 0.0 });
@@ -552,7 +552,7 @@ mod tests {
         sample_states(
             &[0.3, -1.2],
             0.7,
-            &SampleOptions { count: 5, q_radius: 0.5, t_radius: 0.3, seed: 7 },
+            SampleOptions { count: 5, q_radius: 0.5, t_radius: 0.3, seed: 7 },
         )
         .unwrap()
     }
@@ -757,9 +757,9 @@ mod tests {
             Err(KinematicsError::InvalidOption { .. })
         ));
         assert!(
-            sample_states(&[0.0], 0.0, &SampleOptions { count: 0, ..Default::default() }).is_err()
+            sample_states(&[0.0], 0.0, SampleOptions { count: 0, ..Default::default() }).is_err()
         );
-        assert!(sample_states(&[f64::INFINITY], 0.0, &SampleOptions::default()).is_err());
+        assert!(sample_states(&[f64::INFINITY], 0.0, SampleOptions::default()).is_err());
     }
 
     #[test]
@@ -771,13 +771,13 @@ mod tests {
         let a = sample_states(
             &[1.0, 2.0],
             0.5,
-            &SampleOptions { count: 4, q_radius: 0.2, t_radius: 0.1, seed: 3 },
+            SampleOptions { count: 4, q_radius: 0.2, t_radius: 0.1, seed: 3 },
         )
         .unwrap();
         let b = sample_states(
             &[1.0, 2.0],
             0.5,
-            &SampleOptions { count: 4, q_radius: 0.2, t_radius: 0.1, seed: 3 },
+            SampleOptions { count: 4, q_radius: 0.2, t_radius: 0.1, seed: 3 },
         )
         .unwrap();
         assert_eq!(a, b);

@@ -85,7 +85,7 @@
 //! let ball = Ball { radius: 0.1 };
 //! let geometry = ball.geometry(&[1.0])?;
 //! assert!((geometry.g_n - 0.9).abs() < 1e-15 && geometry.w_n[0] == 1.0);
-//! let samples = sample_states(&[1.0], 0.0, &SampleOptions::default())?;
+//! let samples = sample_states(&[1.0], 0.0, SampleOptions::default())?;
 //! let report = assert_consistent(&ball, &samples, 1e-6)?;
 //! assert!(report.worst().unwrap().scaled < 1e-9);
 //! // γ_N = w_Nᵀ u + ŵ_N for a ball falling at 2 m/s.

@@ -78,7 +78,7 @@ fn slider_crank_corners_match_the_specification() {
     let samples = sample_states(
         &[0.0, 0.0, 0.0],
         0.0,
-        &SampleOptions { count: 20, q_radius: 3.0, t_radius: 0.0, seed: 73 },
+        SampleOptions { count: 20, q_radius: 3.0, t_radius: 0.0, seed: 73 },
     )
     .unwrap();
     for (q, _) in &samples {
@@ -171,7 +171,7 @@ fn woodpecker_rows_pass_and_the_misprinted_row_is_flagged() {
     let samples = sample_states(
         &[0.0, -0.1036, -0.2788],
         0.0,
-        &SampleOptions { q_radius: 0.05, ..Default::default() },
+        SampleOptions { q_radius: 0.05, ..Default::default() },
     )
     .unwrap();
     // Contact 2 is closed at t = 0 with g_N2 = −8.8e-7 m.
@@ -213,7 +213,7 @@ fn painleve_rod_matches_the_specification() {
     let s = 1.0;
     let phi0 = 2f64.atan();
     for (q, _) in
-        sample_states(&[0.3, s * phi0.sin(), phi0], 0.0, &SampleOptions::default()).unwrap()
+        sample_states(&[0.3, s * phi0.sin(), phi0], 0.0, SampleOptions::default()).unwrap()
     {
         let q = SVector::<f64, 3>::from_column_slice(&q);
         let g = painleve(&q, s).unwrap();
@@ -272,7 +272,7 @@ fn cam_contact_is_rheonomic_with_the_lift_speed() {
     let samples = sample_states(
         &[0.01],
         0.025,
-        &SampleOptions { count: 10, q_radius: 0.005, t_radius: 0.02, seed: 2 },
+        SampleOptions { count: 10, q_radius: 0.005, t_radius: 0.02, seed: 2 },
     )
     .unwrap();
     let report =

@@ -199,7 +199,7 @@ fn all_pairs_on_moving_bodies_match_finite_differences() {
     let samples = sample_states(
         &q0,
         0.3,
-        &SampleOptions { count: 12, q_radius: 0.5, t_radius: 0.5, seed: 11 },
+        SampleOptions { count: 12, q_radius: 0.5, t_radius: 0.5, seed: 11 },
     )
     .unwrap();
     let report = check_jacobians(&pairs, &samples, FdOptions::default()).unwrap();
@@ -230,7 +230,7 @@ fn chained_pose_with_time_dependence_matches_finite_differences() {
     let samples = sample_states(
         &[1.3, 0.4],
         0.2,
-        &SampleOptions { count: 10, q_radius: 0.5, t_radius: 0.5, seed: 5 },
+        SampleOptions { count: 10, q_radius: 0.5, t_radius: 0.5, seed: 5 },
     )
     .unwrap();
     let report = check_jacobians(&pairs, &samples, FdOptions::default()).unwrap();
@@ -259,7 +259,7 @@ fn sign_error_in_a_pair_row_is_flagged() {
         })],
     };
     let samples =
-        sample_states(&[0.2, 1.1, 0.4, -0.3, 0.2, -0.6], 0.0, &SampleOptions::default()).unwrap();
+        sample_states(&[0.2, 1.1, 0.4, -0.3, 0.2, -0.6], 0.0, SampleOptions::default()).unwrap();
     let report = check_jacobians(&wrong, &samples, FdOptions::default()).unwrap();
     let worst = report.worst().unwrap();
     assert_eq!(worst.component, moreau_kinematics::Component::WT { coordinate: 2 });

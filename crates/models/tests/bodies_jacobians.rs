@@ -125,7 +125,7 @@ fn bodies() -> MultibodyBuilder {
 fn samples(mb: &Multibody) -> Vec<(Vec<f64>, f64)> {
     let (q0, _) = mb.initial_state();
     let options = SampleOptions { count: 12, q_radius: 0.3, t_radius: 0.8, seed: 17 };
-    sample_states(&q0, 0.7, &options).unwrap()
+    sample_states(&q0, 0.7, options).unwrap()
 }
 
 fn check(mb: &Multibody, what: &str) {

@@ -11,7 +11,7 @@ use nalgebra::DMatrix;
 fn samples(model: &AnyModel, t0: f64, q_radius: f64, t_radius: f64) -> Vec<(Vec<f64>, f64)> {
     let (q0, _) = model.initial_state();
     let opts = SampleOptions { count: 12, q_radius, t_radius, seed: 0x00C0_FFEE };
-    sample_states(&q0, t0, &opts).unwrap()
+    sample_states(&q0, t0, opts).unwrap()
 }
 
 fn all_models() -> Vec<AnyModel> {

@@ -130,7 +130,7 @@
 /// let law = ContactLaw::new(0.5, 0.0, 0.3)?;
 /// let options = StepperOptions::new(1e-3).with_gap_tolerance(1e-12);
 /// assert_eq!((law.mu(), options.dt, options.solver), (0.3, 1e-3, SolverChoice::Auto));
-/// let samples = sample_states(&[0.0, 0.2, 0.1], 0.0, &SampleOptions::default())?;
+/// let samples = sample_states(&[0.0, 0.2, 0.1], 0.0, SampleOptions::default())?;
 /// assert_eq!(samples.len(), SampleOptions::default().count);
 /// # Ok(())
 /// # }

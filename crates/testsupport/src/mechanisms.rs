@@ -367,15 +367,15 @@ mod tests {
         let options = |count| SampleOptions { count, q_radius: 0.3, t_radius: 0.2, seed: 5 };
         let mut ball = Ball::new(0.5);
         (ball.amplitude, ball.omega) = (0.05, 20.0);
-        assert_consistent(&ball, &sample_states(&[0.3], 0.1, &options(8)).unwrap(), 1e-7).unwrap();
+        assert_consistent(&ball, &sample_states(&[0.3], 0.1, options(8)).unwrap(), 1e-7).unwrap();
         let block = Block::new(0.4, 0.3);
-        assert_consistent(&block, &sample_states(&[0.2, 0.1], 0.0, &options(8)).unwrap(), 1e-7)
+        assert_consistent(&block, &sample_states(&[0.2, 0.1], 0.0, options(8)).unwrap(), 1e-7)
             .unwrap();
         let rod = Rod::new(0.5, 0.3);
-        let states = sample_states(&[0.1, 0.2, 0.7], 0.0, &options(8)).unwrap();
+        let states = sample_states(&[0.1, 0.2, 0.7], 0.0, options(8)).unwrap();
         assert_consistent(&rod, &states, 1e-7).unwrap();
         let chain = Chain::new(vec![1.0, 2.0, 3.0], 0.5, 1.0);
-        let states = sample_states(&[0.0, 1.0, 2.0], 0.0, &options(8)).unwrap();
+        let states = sample_states(&[0.0, 1.0, 2.0], 0.0, options(8)).unwrap();
         assert_consistent(&chain, &states, 1e-7).unwrap();
     }
 
