@@ -211,7 +211,7 @@ fn the_settling_scenes_name_their_inexact_residual_and_keep_it_through_set_and_t
     assert_eq!(column.inexact_residual, 1e-3);
     assert_eq!(column.stepper_options().inexact_residual, 1e-3);
     assert_eq!(scene("pyramid.toml").stepper_options().inexact_residual, 1e-4);
-    assert_eq!(scene("granular-flow.toml").inexact_residual, 0.0);
+    assert_eq!(scene("granular-flow.toml").inexact_residual, 1e-4);
     let mut s = scene("disk-column.toml");
     s.set("inexact_residual", "2e-4").unwrap();
     assert_eq!(s.stepper_options().inexact_residual, 2e-4);
