@@ -246,9 +246,19 @@ pub(crate) fn point_pair(
 /// The face of `c` whose separation from the vertices of `other` is greatest, and that
 /// separation: the signed distance, along the face's normal, of `other`'s deepest vertex.
 fn max_separation(c: &Core<'_>, other: &Core<'_>) -> (f64, usize) {
+    max_separation_among(c, other, |_| true)
+}
+
+/// [`max_separation`] over the faces of `c` whose outward normal `n` passes `keep(n)`
+/// (−∞ when none does).
+#[inline(always)]
+fn max_separation_among(c: &Core<'_>, other: &Core<'_>, keep: impl Fn(V) -> bool) -> (f64, usize) {
     let mut best = (f64::NEG_INFINITY, 0);
     for i in 0..c.faces() {
         let (a, _, n) = c.face(i);
+        if !keep(n) {
+            continue;
+        }
         let mut s = f64::INFINITY;
         for j in 0..other.len() {
             s = s.min(n.dot(&(other.vertex(j) - a)));
@@ -470,21 +480,7 @@ fn contacts(
 /// it would push `c` along the face, as if the solid ended at the face's ends, where a short
 /// segment of a sampled outline ends but the solid does not.
 fn max_separation_towards(c: &Core<'_>, other: &Core<'_>, out: V) -> (f64, usize) {
-    let mut best = (f64::NEG_INFINITY, 0);
-    for i in 0..c.faces() {
-        let (a, _, n) = c.face(i);
-        if n.dot(&out) > -FACING {
-            continue;
-        }
-        let mut s = f64::INFINITY;
-        for j in 0..other.len() {
-            s = s.min(n.dot(&(other.vertex(j) - a)));
-        }
-        if s > best.0 {
-            best = (s, i);
-        }
-    }
-    best
+    max_separation_among(c, other, |n| n.dot(&out) <= -FACING)
 }
 
 /// The deepest vertex of `a` (which is A) against the line of face 0 of `b`, wherever along
