@@ -190,18 +190,23 @@ fn an_interrupted_sweep_resumes_without_rerunning_its_members() -> Result<()> {
     Ok(())
 }
 
-#[test]
-fn a_shard_of_an_enormous_grid_runs_only_its_members() -> Result<()> {
-    // Six axes of 1000 values: 10^18 members, never listed; shard 1/(5·10^17) holds two.
+/// Six axes of 1000 equal values each over the ball's keys: 10^18 members.
+fn enormous_grid() -> Result<Vec<Axis>> {
     let many = |key: &str, v: &str| Axis::parse(&format!("{key}={}", vec![v; 1000].join(",")));
-    let axes = vec![
+    Ok(vec![
         many("eps_n", "0.5")?,
         many("init.y0", "1")?,
         many("m", "1")?,
         many("g", "9.81")?,
         many("t_end", "0.01")?,
         many("dt", "0.001")?,
-    ];
+    ])
+}
+
+#[test]
+fn a_shard_of_an_enormous_grid_runs_only_its_members() -> Result<()> {
+    // Six axes of 1000 values: 10^18 members, never listed; shard 1/(5·10^17) holds two.
+    let axes = enormous_grid()?;
     let mut o = SweepOptions::new("ball", axes);
     o.shard = Some(Shard { k: 1, n: 500_000_000_000_000_000 });
     let dir = tempfile::tempdir()?;
@@ -266,15 +271,7 @@ fn missing_members(e: &anyhow::Error) -> Option<String> {
 /// members counted from the rows held rather than enumerated (10^18 of them here).
 #[test]
 fn an_incomplete_merge_of_an_enormous_grid_is_refused_at_once() -> Result<()> {
-    let many = |key: &str, v: &str| Axis::parse(&format!("{key}={}", vec![v; 1000].join(",")));
-    let axes = vec![
-        many("eps_n", "0.5")?,
-        many("init.y0", "1")?,
-        many("m", "1")?,
-        many("g", "9.81")?,
-        many("t_end", "0.01")?,
-        many("dt", "0.001")?,
-    ];
+    let axes = enormous_grid()?;
     let dir = tempfile::tempdir()?;
     let mut parts = Vec::new();
     for k in 1..=2 {
