@@ -200,25 +200,27 @@ fn member_row(
     let start = Instant::now();
     let empty = |row: &mut Vec<String>| row.extend(columns.iter().map(|_| String::new()));
     let same_columns = scene.build().map(|m| keys::columns_of(&m) == columns);
-    let run = match same_columns {
-        Ok(false) => Err(anyhow::anyhow!(
-            "the member's contacts or bodies differ from the base scene's, so its key numbers \
-             would not match the columns"
-        )),
-        _ => run_scene(scene, max_steps),
-    };
-    match run {
-        Ok(sim) => {
-            let spec = RunSpec { name: format!("member {i}"), kind, sets: grid.member(i) };
-            let info = run_info(&spec.name, scene, &sim);
-            let result = RunResult { spec, scene: scene.clone(), sim, info };
-            row.extend(keys::row(&result).into_iter().map(cell));
-            row.push(result.sim.steps.to_string());
-            row.push(result.sim.lcp_solves.to_string());
-            row.push(result.sim.inexact_steps.to_string());
-            row.push(seconds(result.sim.wall_seconds));
-            row.extend(["ok".to_owned(), String::new()]);
+    let numbers = || -> Result<Vec<String>> {
+        if let Ok(false) = same_columns {
+            anyhow::bail!(
+                "the member's contacts or bodies differ from the base scene's, so its key \
+                 numbers would not match the columns"
+            );
         }
+        let sim = run_scene(scene, max_steps)?;
+        let spec = RunSpec { name: format!("member {i}"), kind, sets: grid.member(i) };
+        let info = run_info(&spec.name, scene, &sim);
+        let result = RunResult { spec, scene: scene.clone(), sim, info };
+        let mut cells: Vec<String> = keys::row(&result).into_iter().map(cell).collect();
+        cells.push(result.sim.steps.to_string());
+        cells.push(result.sim.lcp_solves.to_string());
+        cells.push(result.sim.inexact_steps.to_string());
+        cells.push(seconds(result.sim.wall_seconds));
+        cells.extend(["ok".to_owned(), String::new()]);
+        Ok(cells)
+    };
+    match unwound(numbers) {
+        Ok(cells) => row.extend(cells),
         Err(e) => {
             let status = match e.downcast_ref::<CliError>() {
                 Some(CliError::Diverged { .. }) => "diverged",
@@ -233,6 +235,22 @@ fn member_row(
         }
     }
     row
+}
+
+/// The result of `run`, or, if it panics, an error that carries the panic's message: the
+/// member's row then records the failure and the sweep goes on with the other members.
+fn unwound<T>(run: impl FnOnce() -> Result<T>) -> Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(run)).unwrap_or_else(|payload| {
+        let message = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no message".into());
+        Err(anyhow::anyhow!(
+            "the member's run stopped on an internal error (a panic: {message}); its other \
+             numbers are not known"
+        ))
+    })
 }
 
 /// Why the existing `partial` of a sweep `identity` run without `--resume` is not written
@@ -279,8 +297,8 @@ fn partial_reason(partial: &Path, identity: &PartHeader) -> String {
 /// sorted by member to `<out>.tmp`, which is renamed over `out` once written in full (a sweep
 /// killed or stopped by a full disk then leaves the former `out` as it was), and
 /// `<out>.partial` is removed; a resumed `<out>.partial` is rewritten in the same way. A
-/// member whose run diverges or fails keeps its row, with its status and error and empty
-/// numbers. The members are enumerated lazily, never listed.
+/// member whose run diverges or fails (a panic of its run included) keeps its row, with its
+/// status and error and empty numbers, and the other members run on. The members are enumerated lazily, never listed.
 ///
 /// # Errors
 /// [`CliError::SweepTooLarge`] for a run of more than [`MAX_MEMBERS`] members; unknown
@@ -478,4 +496,22 @@ pub fn run_with_warnings(
     parts::write_part(target, &identity, &columns, &rows)?;
     std::fs::remove_file(&partial).with_context(|| format!("removing {}", partial.display()))?;
     Ok(SweepSummary::of_rows(&columns, &rows, ran.into_inner().unwrap_or_else(|p| p.into_inner())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A run that panics becomes an error carrying the panic's message, whether the payload
+    /// is a literal or a formatted string; a run that returns is passed through.
+    #[test]
+    fn a_panicking_run_becomes_an_error_with_its_message() {
+        let literal = unwound::<()>(|| panic!("index out of bounds")).unwrap_err();
+        assert!(format!("{literal:#}").contains("a panic: index out of bounds"), "{literal:#}");
+        let formatted = unwound::<()>(|| panic!("row {} of {}", 7, 3)).unwrap_err();
+        assert!(format!("{formatted:#}").contains("a panic: row 7 of 3"), "{formatted:#}");
+        assert_eq!(unwound(|| Ok(42)).unwrap(), 42);
+        let failed = unwound::<()>(|| anyhow::bail!("diverged")).unwrap_err();
+        assert_eq!(format!("{failed:#}"), "diverged");
+    }
 }
