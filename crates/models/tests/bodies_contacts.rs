@@ -1,6 +1,6 @@
 //! Declared shapes in contact, against closed forms: a box on an incline (stick or slide), a
-//! disk on an incline (roll or slip), a pendulum striking a wall, and a row of disks struck at
-//! one end.
+//! disk on an incline (roll or slip), a pendulum striking a wall, a row of disks struck at one
+//! end, and a disk swinging in a bowl (rolling or sliding).
 
 use moreau_kinematics::Shape;
 use moreau_models::bodies::{BodySpec, ContactSpec, JointSpec, Multibody, MultibodyBuilder};
@@ -289,5 +289,70 @@ fn a_block_on_a_belt_stays_flat_through_stick_slip_without_the_projection() {
         let (tilt, lowest) = block_on_a_belt(dt);
         assert!(tilt < 1e-12, "Δt = {dt}: tilted by {tilt:e} rad");
         assert!((lowest - 0.025).abs() < 1e-12, "Δt = {dt}: sank to {lowest}");
+    }
+}
+
+/// A uniform disk (radius r = 0.1 m, 1 kg) let go 0.1 rad up a bowl of radius R = 1 m, the
+/// bowl a polyline of 151 points sampled on the circle over 30° (chords of 3.5 mm): the
+/// centre swings on a circle of radius R − r. Rolling (μ = 1), the disk's kinetic energy
+/// (m + I/r²) v²/2 makes the small swing's period 2π √(3 (R − r) / (2 g)); frictionless
+/// (μ = 0) the disk slides without turning, at 2π √((R − r) / g). Both carry the amplitude's
+/// factor 1 + φ₀²/16 (6e-4 at φ₀ = 0.1 rad), and the period from two crossings of the bottom
+/// is within 2e-4 of them (5e-5 rolling, 3e-5 sliding, the chords' corners taking a little
+/// energy at each passage), where the rolling sphere's 2π √(7 (R − r) / (5 g)) is 3.4 % off.
+#[test]
+fn a_disk_in_a_bowl_swings_at_the_rolling_or_the_sliding_period() {
+    let (big, r, phi0, dt) = (1.0f64, 0.1f64, 0.1f64, 1e-3);
+    let arc: Vec<[f64; 2]> = (0..151)
+        .map(|k| {
+            let a = (-105.0 + 30.0 * k as f64 / 150.0f64).to_radians();
+            [big * a.cos(), big + big * a.sin()]
+        })
+        .collect();
+    let amplitude = 1.0 + phi0 * phi0 / 16.0;
+    let rolling = 2.0 * std::f64::consts::PI * (1.5 * (big - r) / G).sqrt() * amplitude;
+    let sliding = 2.0 * std::f64::consts::PI * ((big - r) / G).sqrt() * amplitude;
+    for (mu, period) in [(1.0, rolling), (0.0, sliding)] {
+        let mut b = MultibodyBuilder::new([0.0, -G]);
+        b.add_body(
+            BodySpec::fixed("bowl", [0.0, 0.0], 0.0)
+                .with_shape(Shape::Polyline { points: arc.clone() }),
+        );
+        let centre = [(big - r) * phi0.sin(), big - (big - r) * phi0.cos()];
+        b.add_body(
+            BodySpec::dynamic("disk", 1.0, 0.5 * r * r, centre, 0.0)
+                .with_shape(Shape::Disk { center: [0.0, 0.0], radius: r }),
+        );
+        b.add_contact(law("roll", "bowl", "disk", 0.0, mu));
+        let mb = b.build().unwrap();
+        let (q0, u0) = mb.initial_state();
+        let mut stepper = Stepper::new(mb, &q0, &u0, 0.0, options(dt)).unwrap();
+        // The times at which the centre crosses x = 0, by linear interpolation.
+        let mut crossings = Vec::new();
+        let mut spin = 0.0f64;
+        while crossings.len() < 2 {
+            assert!(stepper.t() < 3.0, "μ = {mu}: crossings {crossings:?} by t = 3 s");
+            let (t0, x0) = (stepper.t(), stepper.q()[0]);
+            stepper.step().unwrap();
+            let (t1, x1) = (stepper.t(), stepper.q()[0]);
+            if (x0 > 0.0) != (x1 > 0.0) {
+                crossings.push(t0 + (t1 - t0) * x0 / (x0 - x1));
+            }
+            let u = stepper.u();
+            if mu > 0.0 {
+                // Rolling: the centre's speed is ω r.
+                let v = (u[0] * u[0] + u[1] * u[1]).sqrt();
+                assert!((v - u[2].abs() * r).abs() < 1e-3 * (v + 1e-3), "v = {v}, ω = {}", u[2]);
+            }
+            spin = spin.max(u[2].abs());
+        }
+        let swing = 2.0 * (crossings[1] - crossings[0]);
+        assert!(
+            (swing - period).abs() < 2e-4 * period,
+            "μ = {mu}: period {swing} s against {period} s"
+        );
+        if mu == 0.0 {
+            assert!(spin < 1e-12, "sliding disk turned at {spin} rad/s");
+        }
     }
 }
