@@ -9,8 +9,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow};
+use moreau_kinematics::ContactKinematics;
 use moreau_models::{AnyModel, Drawing, ModelKind, Role};
-use moreau_stepper::Record;
+use moreau_stepper::{ContactState, Mechanism, Record};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
@@ -42,39 +43,114 @@ pub fn paint(role: Role) -> Paint {
     }
 }
 
-/// A model's drawing as frame shapes; contact markers are drawn last, on top.
+/// A model's drawing as frame shapes, in layers: the filled circles of bodies (disks, balls)
+/// first, then the lines and polygons in their order, then the other circles (pins,
+/// bearings, pivots), and the contact markers last, on top. A disk's radius, which shows its
+/// rotation, is a line over its disk.
 pub fn shapes(drawing: &Drawing) -> Vec<Shape> {
-    let mut out = Vec::new();
-    let mut top = Vec::new();
+    let body_disk = |role: Role| {
+        paint(role).fill.is_some() && !matches!(role, Role::Joint | Role::ContactPoint)
+    };
+    let mut layers: [Vec<Shape>; 4] = Default::default();
+    for c in drawing.circles.iter().filter(|c| body_disk(c.role)) {
+        layers[0].push(Shape::Circle { center: c.center, radius: c.radius, paint: paint(c.role) });
+    }
     for l in &drawing.polylines {
         let s = Shape::Poly { points: l.points.clone(), closed: l.closed, paint: paint(l.role) };
-        if l.role == Role::ContactPoint { top.push(s) } else { out.push(s) }
+        layers[if l.role == Role::ContactPoint { 3 } else { 1 }].push(s);
     }
-    for c in &drawing.circles {
+    for c in drawing.circles.iter().filter(|c| !body_disk(c.role)) {
         let s = Shape::Circle { center: c.center, radius: c.radius, paint: paint(c.role) };
-        if c.role == Role::ContactPoint { top.push(s) } else { out.push(s) }
+        layers[if c.role == Role::ContactPoint { 3 } else { 2 }].push(s);
     }
-    out.extend(top);
-    out
+    layers.into_iter().flatten().collect()
+}
+
+/// The contacts closed in row `row` of a run of `model`, one flag per listed contact: in a
+/// row after the first, each contact active at the midpoint of the row's last step or not
+/// open at its end (`record.active`, `record.state`); in row 0, which no step has reached,
+/// each contact whose gap at the initial state is at most [`closing_tolerance`].
+pub fn closed_in_row(model: &AnyModel, record: &Record, row: usize) -> Vec<bool> {
+    let n = model.num_contacts();
+    if row == 0 {
+        let (q, t) = (&record.q[0], record.t[0]);
+        let tol = closing_tolerance(model, q, t);
+        return (0..n).map(|i| model.normal_gap(i, q, t) <= tol).collect();
+    }
+    let (active, states) = (record.active.get(row), record.state.get(row));
+    (0..n)
+        .map(|i| {
+            let a = active.and_then(|a| a.get(i)).copied().unwrap_or(false);
+            let s = states.and_then(|s| s.get(i)).copied().unwrap_or(ContactState::Open);
+            a || s != ContactState::Open
+        })
+        .collect()
+}
+
+/// The gap at or below which a contact counts as closed at a state: a declared mechanism's
+/// gap tolerance (`Multibody::gap_tolerance`, which its steps take too), 1e-9 of the
+/// drawing's size for a report model.
+pub fn closing_tolerance(model: &AnyModel, q: &[f64], t: f64) -> f64 {
+    match model {
+        AnyModel::Declared(m) => m.gap_tolerance(),
+        _ => 1e-9 * model.draw(q, t).bounds().map_or(1.0, |b| b.width().max(b.height())),
+    }
+}
+
+/// Where the contacts of a declared mechanism whose contacts are detected at each step are
+/// closed at (q, t): the midpoint of the two surface points of every contact the detection
+/// finds with a gap at most the mechanism's gap tolerance, in the order of their identities.
+/// `None` for a mechanism whose contacts are listed (the record holds those).
+pub fn detected_contacts(model: &AnyModel, q: &[f64], t: f64) -> Option<Vec<[f64; 2]>> {
+    let AnyModel::Declared(m) = model else { return None };
+    let structure = Mechanism::body_structure(m)?;
+    let margin = m.gap_tolerance();
+    let mut found = Vec::new();
+    structure.detect(q, t, margin, &mut found);
+    Some(
+        found
+            .iter()
+            .filter(|c| c.point.g_n <= margin)
+            .filter_map(|c| m.locate_contact(c.id, q, t, margin))
+            .map(|l| {
+                let (a, b) = (l.geometry.point_a, l.geometry.point_b);
+                [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
+            })
+            .collect(),
+    )
 }
 
 /// The frame of row `row` of a run of `model`: the model's drawing at (q, t) of the row, with
 /// `caption` under it and the strip's window.
 ///
 /// The report's models mark their closed contacts in their own drawings; a declared
-/// mechanism's drawing shows its bodies and joints only, so the contacts active in the row
-/// are marked here, at the midpoint of their two surface points.
+/// mechanism's drawing shows its bodies and joints only, so its contacts closed in the row
+/// ([`closed_in_row`]) are marked here, at the midpoint of their two surface points, and,
+/// when its contacts are detected at each step, those the detection finds closed at the row's
+/// state ([`detected_contacts`]).
 pub fn frame(model: &AnyModel, record: &Record, row: usize, caption: Vec<String>) -> Frame {
     let (q, t) = (&record.q[row], record.t[row]);
     let mut drawing = model.draw(q, t);
-    if model.kind() == ModelKind::Declared
-        && let Some(active) = record.active.get(row)
-        && active.iter().any(|&a| a)
-    {
+    if model.kind() == ModelKind::Declared {
+        // 1.2 % of the drawing's size, and at most a quarter of its smallest disk, so that the
+        // markers of a pile of small disks do not hide them.
         let size = drawing.bounds().map_or(1.0, |b| b.width().max(b.height()));
-        let points = model.contact_points(q, t);
-        for (p, _) in points.iter().zip(active).filter(|(_, a)| **a) {
-            drawing.circle(Role::ContactPoint, *p, 0.012 * size);
+        let smallest = drawing
+            .circles
+            .iter()
+            .filter(|c| c.role == Role::Ball && c.radius > 0.0)
+            .map(|c| c.radius)
+            .fold(f64::INFINITY, f64::min);
+        let radius = (0.012 * size).min(0.25 * smallest);
+        let mut points: Vec<[f64; 2]> = model
+            .contact_points(q, t)
+            .into_iter()
+            .zip(closed_in_row(model, record, row))
+            .filter_map(|(p, closed)| closed.then_some(p))
+            .collect();
+        points.extend(detected_contacts(model, q, t).unwrap_or_default());
+        for p in points {
+            drawing.circle(Role::ContactPoint, p, radius);
         }
     }
     Frame { t, shapes: shapes(&drawing), caption, window: None }
@@ -165,8 +241,11 @@ pub struct Strip {
     pub window: Option<[f64; 4]>,
 }
 
-const TITLE: u32 = 40;
-const LINE: u32 = 18;
+/// Height of the title's band (pixels).
+pub const TITLE: u32 = 40;
+
+/// Height of a caption line (pixels).
+pub const LINE: u32 = 18;
 
 /// Bounding box [x0, y0, x1, y1] of the shapes of all frames, padded by 5 %.
 pub fn bounds<'a>(frames: impl IntoIterator<Item = &'a Frame>) -> [f64; 4] {
@@ -281,13 +360,77 @@ fn rgb(c: (u8, u8, u8)) -> RGBColor {
     RGBColor(c.0, c.1, c.2)
 }
 
+/// Size of the captions' font (pixels).
+pub const CAPTION: u32 = 14;
+
+/// Size of the title's font (pixels).
+pub const TITLE_FONT: u32 = 22;
+
+/// Width in pixels of `text` in the sans-serif font of `size` pixels (bold or not), as the
+/// strip draws it.
+pub fn text_width(text: &str, size: u32, bold: bool) -> u32 {
+    register_fonts();
+    let font = ("sans-serif", size).into_font();
+    let font = if bold { font.style(FontStyle::Bold) } else { font };
+    // Without the font, a generous estimate of 0.65 em a character.
+    font.box_size(text)
+        .map_or_else(|_| (0.65 * size as f64 * text.chars().count() as f64) as u32, |(w, _)| w)
+}
+
+/// `line` cut into lines at most `width` pixels wide in the captions' font: at the `·` that
+/// separate its items first, then at spaces; a word wider than `width` keeps a line alone.
+pub fn wrap(line: &str, width: u32) -> Vec<String> {
+    let fits = |s: &str| text_width(s, CAPTION, false) <= width;
+    if fits(line) {
+        return vec![line.to_owned()];
+    }
+    let mut out: Vec<String> = Vec::new();
+    let join = |pieces: Vec<&str>, sep: &str, out: &mut Vec<String>| {
+        let mut current = String::new();
+        for piece in pieces {
+            let candidate = if current.is_empty() {
+                piece.to_owned()
+            } else {
+                format!("{current}{sep}{piece}")
+            };
+            if current.is_empty() || fits(&candidate) {
+                current = candidate;
+            } else {
+                out.push(std::mem::replace(&mut current, piece.to_owned()));
+            }
+        }
+        if !current.is_empty() {
+            out.push(current);
+        }
+    };
+    let mut items = Vec::new();
+    join(line.split(" · ").collect(), " · ", &mut items);
+    for item in items {
+        if fits(&item) {
+            out.push(item);
+        } else {
+            join(item.split(' ').collect(), " ", &mut out);
+        }
+    }
+    out
+}
+
 impl Strip {
     fn window(&self) -> [f64; 4] {
         self.window.unwrap_or_else(|| bounds(&self.frames))
     }
 
+    /// Each frame's caption, its lines cut to the cell's width.
+    fn captions(&self) -> Vec<Vec<String>> {
+        let width = self.cell_width.saturating_sub(8).max(1);
+        self.frames
+            .iter()
+            .map(|f| f.caption.iter().flat_map(|l| wrap(l, width)).collect())
+            .collect()
+    }
+
     fn caption_lines(&self) -> u32 {
-        self.frames.iter().map(|f| f.caption.len()).max().unwrap_or(0) as u32
+        self.captions().iter().map(Vec::len).max().unwrap_or(0) as u32
     }
 
     fn rows(&self) -> usize {
@@ -298,10 +441,17 @@ impl Strip {
         (self.cell_width, self.cell_height + LINE * self.caption_lines() + 10)
     }
 
-    fn size(&self) -> (u32, u32) {
+    /// Columns of cells actually drawn.
+    fn cols(&self) -> u32 {
+        self.columns.max(1).min(self.frames.len().max(1)) as u32
+    }
+
+    /// The picture's size in pixels: the cells, widened to the title's width when it is
+    /// wider, and the title above them.
+    pub fn size(&self) -> (u32, u32) {
         let (cw, ch) = self.cell();
-        let cols = self.columns.max(1).min(self.frames.len().max(1)) as u32;
-        (cols * cw, self.rows() as u32 * ch + TITLE)
+        let title = text_width(&self.title, TITLE_FONT, true) + 24;
+        ((self.cols() * cw).max(title), self.rows() as u32 * ch + TITLE)
     }
 
     /// Writes `<stem>.svg` and `<stem>.png` (the strip) and `<stem>_anim.svg` (the animation
@@ -351,12 +501,14 @@ impl Strip {
         root.fill(&WHITE).map_err(e)?;
         let (title, body) = root.split_vertically(TITLE);
         title
-            .titled(&self.title, ("sans-serif", 22).into_font().style(FontStyle::Bold))
+            .titled(&self.title, ("sans-serif", TITLE_FONT).into_font().style(FontStyle::Bold))
             .map_err(e)?;
-        let cols = self.columns.max(1).min(self.frames.len().max(1));
-        let cells = body.split_evenly((self.rows(), cols));
+        // The cells, centred under a title wider than they are.
+        let pad = (self.size().0 - self.cols() * self.cell_width) / 2;
+        let body = body.margin(0, 0, pad, pad);
+        let cells = body.split_evenly((self.rows(), self.cols() as usize));
         let window = self.window();
-        for (frame, cell) in self.frames.iter().zip(&cells) {
+        for ((frame, cell), caption) in self.frames.iter().zip(&cells).zip(self.captions()) {
             let (drawing, text) = cell.split_vertically(self.cell_height);
             drawing
                 .draw(&Rectangle::new(
@@ -369,13 +521,13 @@ impl Strip {
             for shape in frame.shapes.iter().flat_map(|s| clip_shape(s, w)) {
                 draw_shape(&drawing, &view, &shape).map_err(e)?;
             }
-            let style = TextStyle::from(("sans-serif", 14).into_font()).pos(
+            let style = TextStyle::from(("sans-serif", CAPTION).into_font()).pos(
                 plotters::style::text_anchor::Pos::new(
                     plotters::style::text_anchor::HPos::Center,
                     plotters::style::text_anchor::VPos::Top,
                 ),
             );
-            for (i, line) in frame.caption.iter().enumerate() {
+            for (i, line) in caption.iter().enumerate() {
                 text.draw_text(
                     line,
                     &style,

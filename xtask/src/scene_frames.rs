@@ -8,9 +8,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail, ensure};
 use clap::Args;
-use moreau_stepper::ContactState;
+use moreau_models::AnyModel;
+use moreau_stepper::{ContactState, Record};
 
-use crate::frames::{Frame, Strip, frame, motion, motion_rows};
+use crate::frames::{Frame, Strip, closed_in_row, detected_contacts, frame, motion, motion_rows};
 use crate::network;
 use crate::runs::RunResult;
 use crate::simulate::{self, SimulateOptions};
@@ -24,6 +25,98 @@ pub const ANIMATION_FRAMES: usize = 60;
 /// Most frames of a strip (17 rows of six): a larger strip would be an image of gigabytes.
 pub const MAX_FRAMES: usize = 100;
 
+/// Why `frames` refuses the strip's instants.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum FramesError {
+    /// `--times` was given no instant.
+    NoTimes,
+    /// `--count 0`.
+    ZeroCount,
+    /// More evenly spaced frames than the record has rows to draw them from.
+    CountAboveRows {
+        /// Frames asked for.
+        count: usize,
+        /// Rows of the record.
+        rows: usize,
+    },
+    /// More frames than a strip holds.
+    TooManyFrames {
+        /// Frames asked for.
+        frames: usize,
+        /// The option that asked for them: `--times` or `--count`.
+        option: &'static str,
+    },
+    /// An instant that is not finite or lies outside the run's rows.
+    OutsideRun {
+        /// The instant (s).
+        t: f64,
+        /// Time of the run's first row (s).
+        first: f64,
+        /// Time of the run's last row (s).
+        last: f64,
+        /// The scene's end time (s); above `last` when a stop rule ended the run earlier.
+        t_end: f64,
+    },
+    /// An instant not later than the one before it.
+    NotIncreasing {
+        /// The earlier instant in the list (s).
+        before: f64,
+        /// The instant that follows it (s).
+        t: f64,
+    },
+    /// Two instants drawn from the same row of the record, which would give two equal frames.
+    SameRow {
+        /// The first instant (s).
+        before: f64,
+        /// The second (s).
+        t: f64,
+        /// Time of the row both fall on (s).
+        row_t: f64,
+        /// The spacing of the record's rows (s): `record_every` Δt.
+        spacing: f64,
+    },
+}
+
+impl std::fmt::Display for FramesError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Self::NoTimes => write!(f, "--times: no instant given"),
+            Self::ZeroCount => write!(f, "--count must be at least 1"),
+            Self::CountAboveRows { count, rows } => write!(
+                f,
+                "--count {count}: the record has {rows} rows, too few for {count} distinct \
+                 evenly spaced frames; lower the count or record_every"
+            ),
+            Self::TooManyFrames { frames, option } => {
+                write!(
+                    f,
+                    "{frames} frames asked for ({option}): a strip holds at most {MAX_FRAMES}"
+                )
+            }
+            Self::OutsideRun { t, first, last, t_end } => {
+                write!(f, "--times: t = {t} s lies outside the run ({first} to {last} s)")?;
+                if last < t_end {
+                    write!(f, ", which its stop rule ended before t_end = {t_end} s")?;
+                }
+                Ok(())
+            }
+            Self::NotIncreasing { before, t } => write!(
+                f,
+                "--times: t = {t} s follows t = {before} s; give the instants in increasing \
+                 order, each once"
+            ),
+            Self::SameRow { before, t, row_t, spacing } => write!(
+                f,
+                "--times: t = {before} s and t = {t} s are both drawn from the row at t = {row_t} s \
+                 (the record keeps a row every {spacing} s)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for FramesError {}
+
 /// Arguments of `frames`.
 #[derive(Args, Clone, Debug)]
 pub struct FramesArgs {
@@ -36,8 +129,9 @@ pub struct FramesArgs {
     /// Override a scene key: --set key=value (repeatable; each entry once).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
-    /// Instants of the strip's frames (s), comma-separated, within the run (at most 100).
-    #[arg(long, value_delimiter = ',', conflicts_with = "count")]
+    /// Instants of the strip's frames (s), comma-separated, increasing, within the run (at most
+    /// 100), each drawn from its own row of the record.
+    #[arg(long, value_delimiter = ',', conflicts_with = "count", allow_hyphen_values = true)]
     pub times: Option<Vec<f64>>,
     /// Number of the strip's frames, evenly spaced from t = 0 to the end of the run
     /// (default 6, at most 100).
@@ -78,15 +172,24 @@ fn stem(args: &FramesArgs) -> String {
 }
 
 /// Runs the scene and writes `<stem>.svg`, `<stem>.png` (the strip) and `<stem>_anim.svg`
-/// (the animation) into the output folder; returns their paths.
+/// (the animation) into the output folder, after removing those of an earlier run; returns
+/// their paths.
 ///
 /// # Errors
 /// The errors of the run (as `simulate`: no model, a model that disagrees with the scene file,
-/// unknown keys, a refused step plan, divergence); a time outside the run or not finite, a
-/// count of zero, more than [`MAX_FRAMES`] frames; an unwritable output (refused before the
-/// run).
+/// unknown keys, a refused step plan, divergence); the instants' [`FramesError`]s (see
+/// [`rows`]); an unwritable output (refused before the run).
 pub fn run(args: &FramesArgs) -> Result<Vec<PathBuf>> {
     crate::reproduce::writable(&args.out).context("--out")?;
+    // Pictures of an earlier run of the scene are removed first, so that a run that fails
+    // leaves none to be taken for its own.
+    let stem = stem(args);
+    for name in [format!("{stem}.svg"), format!("{stem}.png"), format!("{stem}_anim.svg")] {
+        let path = args.out.join(name);
+        if path.is_file() {
+            std::fs::remove_file(&path).with_context(|| format!("removing {}", path.display()))?;
+        }
+    }
     let options = SimulateOptions {
         model: args.model.clone(),
         scene: args.scene.clone(),
@@ -95,7 +198,6 @@ pub fn run(args: &FramesArgs) -> Result<Vec<PathBuf>> {
     };
     let result = simulate::run(&options)?;
     let rows = rows(&result, args.times.as_deref(), args.count)?;
-    let stem = stem(args);
     let mut strip = strip(&result, &stem, &rows);
     let r = result.record();
     let end = r.t.last().copied().unwrap_or(0.0);
@@ -184,60 +286,80 @@ pub fn networks(result: &RunResult, rows: &[usize]) -> Result<Vec<Frame>> {
 /// over the run ([`DEFAULT_COUNT`] when neither is given).
 ///
 /// # Errors
-/// A time that is not finite or lies outside the run; a count of zero; more than
-/// [`MAX_FRAMES`] frames.
+/// A [`FramesError`]: no time; a time that is not finite or lies outside the run; times not
+/// in increasing order or two on the same row; a count of zero or too large for the record's
+/// rows; more than [`MAX_FRAMES`] frames.
 pub fn rows(result: &RunResult, times: Option<&[f64]>, count: Option<usize>) -> Result<Vec<usize>> {
     let frames = times.map_or(count.unwrap_or(DEFAULT_COUNT), <[f64]>::len);
-    ensure!(
-        frames <= MAX_FRAMES,
-        "{frames} frames asked for ({}): a strip holds at most {MAX_FRAMES}",
-        if times.is_some() { "--times" } else { "--count" }
-    );
+    let option = if times.is_some() { "--times" } else { "--count" };
+    if frames > MAX_FRAMES {
+        return Err(FramesError::TooManyFrames { frames, option }.into());
+    }
     let t = &result.record().t;
     let (first, last) = match (t.first(), t.last()) {
         (Some(&a), Some(&b)) => (a, b),
         _ => bail!("the run has no rows"),
     };
-    let times: Vec<f64> = match times {
+    let t_end = result.scene.t_end;
+    // The row at or after s, or the one before it when that is nearer.
+    let nearest = |s: f64| {
+        let k = t.partition_point(|&tk| tk < s).min(t.len() - 1);
+        if k > 0 && (s - t[k - 1]).abs() < (t[k] - s).abs() { k - 1 } else { k }
+    };
+    match times {
+        Some([]) => Err(FramesError::NoTimes.into()),
         Some(times) => {
-            for &s in times {
-                ensure!(
-                    s.is_finite() && s >= first && s <= last + 1e-9,
-                    "--times: t = {s} s lies outside the run (0 to {last} s)"
-                );
+            let slack = 1e-9 * (last - first).abs().max(result.scene.dt);
+            let mut rows: Vec<usize> = Vec::with_capacity(times.len());
+            for (j, &s) in times.iter().enumerate() {
+                if !(s.is_finite() && s >= first - slack && s <= last + slack) {
+                    return Err(FramesError::OutsideRun { t: s, first, last, t_end }.into());
+                }
+                let k = nearest(s);
+                if j > 0 {
+                    let before = times[j - 1];
+                    if s <= before {
+                        return Err(FramesError::NotIncreasing { before, t: s }.into());
+                    }
+                    if rows[j - 1] == k {
+                        let spacing = result.scene.dt * result.scene.record_every.max(1) as f64;
+                        let row_t = t[k];
+                        return Err(FramesError::SameRow { before, t: s, row_t, spacing }.into());
+                    }
+                }
+                rows.push(k);
             }
-            times.to_vec()
+            Ok(rows)
         }
         None => {
             let n = count.unwrap_or(DEFAULT_COUNT);
-            ensure!(n > 0, "--count must be at least 1");
+            if n == 0 {
+                return Err(FramesError::ZeroCount.into());
+            }
             let step = if n == 1 { 0.0 } else { (last - first) / (n - 1) as f64 };
-            (0..n).map(|j| first + step * j as f64).collect()
+            let rows: Vec<usize> = (0..n).map(|j| nearest(first + step * j as f64)).collect();
+            if rows.windows(2).any(|w| w[0] == w[1]) {
+                return Err(FramesError::CountAboveRows { count: n, rows: t.len() }.into());
+            }
+            Ok(rows)
         }
-    };
-    Ok(times
-        .iter()
-        .map(|&s| {
-            // The first row at or after s, or the one before it when that is nearer.
-            let k = t.partition_point(|&tk| tk < s).min(t.len() - 1);
-            if k > 0 && (s - t[k - 1]).abs() < (t[k] - s).abs() { k - 1 } else { k }
-        })
-        .collect())
+    }
 }
 
 /// A caption line of the contacts closed in a row, at most three named: `stick` or `slip`
 /// for a contact still closed at the row's end, `impact` for one that closed within the row and
-/// opened again (an impact with rebound).
-fn contacts_line(names: &[String], active: &[bool], states: &[ContactState]) -> String {
+/// opened again (an impact with rebound), `closed` in row 0, before any step.
+fn contacts_line(names: &[String], closed: &[bool], states: &[ContactState], row: usize) -> String {
     let closed: Vec<String> = names
         .iter()
-        .zip(active)
-        .zip(states)
-        .filter(|((_, a), s)| **a || **s != ContactState::Open)
-        .map(|((n, _), s)| {
-            let what = match s {
-                ContactState::Stick => "stick",
-                ContactState::Slip => "slip",
+        .zip(closed)
+        .enumerate()
+        .filter(|(_, (_, c))| **c)
+        .map(|(i, (n, _))| {
+            let what = match states.get(i) {
+                _ if row == 0 => "closed",
+                Some(ContactState::Stick) => "stick",
+                Some(ContactState::Slip) => "slip",
                 _ => "impact",
             };
             format!("{n} {what}")
@@ -250,17 +372,30 @@ fn contacts_line(names: &[String], active: &[bool], states: &[ContactState]) -> 
     }
 }
 
+/// The caption line of the contacts closed in row `row`: those of the record's contact list
+/// ([`contacts_line`]), or, for a mechanism whose contacts are detected at each step, how many
+/// the detection finds closed at the row's state.
+fn row_contacts_line(model: &AnyModel, r: &Record, row: usize) -> String {
+    match detected_contacts(model, &r.q[row], r.t[row]) {
+        Some(points) if points.is_empty() => "contacts open".to_owned(),
+        Some(points) if points.len() == 1 => "1 contact closed".to_owned(),
+        Some(points) => format!("{} contacts closed", points.len()),
+        None => {
+            let states = r.state.get(row).unwrap_or(&[]);
+            let closed = closed_in_row(model, r, row);
+            contacts_line(&model.contact_names(), &closed, states, row)
+        }
+    }
+}
+
 /// The strip of a run at `rows`, titled after `name`: each frame captioned with its time and
 /// the contacts closed in its row.
 pub fn strip(result: &RunResult, name: &str, rows: &[usize]) -> Strip {
     let (model, r) = (result.model(), result.record());
-    let names = model.contact_names();
     let frames: Vec<Frame> = rows
         .iter()
         .map(|&k| {
-            let (active, states) = (r.active.get(k).unwrap_or(&[]), r.state.get(k).unwrap_or(&[]));
-            let line = contacts_line(&names, active, states);
-            let caption = vec![format!("t = {:.4} s", r.t[k]), line];
+            let caption = vec![format!("t = {:.4} s", r.t[k]), row_contacts_line(model, r, k)];
             frame(model, r, k, caption)
         })
         .collect();
