@@ -462,6 +462,18 @@ fn a_declared_mechanism_is_guarded_alike_in_any_units() -> Result<()> {
         let touching = springs_in_units("fixed", 5.0, s, m, 1e-12)?;
         let w = guard::gap_warnings(&touching);
         ensure!(w.len() == 1 && w[0].contains("probe") && w[0].contains("touching"), "{w:?}");
+        // The same with a detected contact set: the contacts that detection finds at the start,
+        // counted and named by their bodies.
+        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-6)?);
+        ensure!(w.is_empty(), "{s} {m}: {w:?}");
+        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-12)?);
+        let named = w.len() == 1 && w[0].starts_with("1 detected contact start touching");
+        ensure!(named && w[0].contains("`probe`"), "{s} {m}: {w:?}");
+        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, -1e-3)?);
+        let named = w.len() == 1 && w[0].starts_with("1 detected contact start penetrating");
+        ensure!(named && w[0].contains("`probe`"), "{s} {m}: {w:?}");
+        let g = format!("g_N = {:.6e}", -1e-3 * s);
+        ensure!(w[0].contains(&g), "{s} {m}: {w:?} without {g}");
     }
     Ok(())
 }
