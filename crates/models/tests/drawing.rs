@@ -1,5 +1,5 @@
-//! Drawings: every model draws its parts in metres, and contact markers sit where the gaps
-//! close.
+//! Drawings: every model draws its parts in metres, contact markers sit where the gaps close,
+//! and a declared mechanism draws alike in any length unit.
 
 use moreau_kinematics::ContactKinematics;
 use moreau_models::*;
@@ -108,4 +108,57 @@ fn bounds_union_and_ball_drawing() {
     let u = b.union(&on_floor.bounds().unwrap());
     // The contact marker (radius R/10) reaches below the floor.
     assert_eq!((u.min[1], u.max[1]), (-0.1 * 0.1, 0.6));
+}
+
+/// A pendulum on a revolute joint and a block on a prismatic one, declared in metres and in
+/// millimetres: the second drawing is the first scaled by 1,000, its pins and joint axes
+/// included (they are sized after the mechanism, not in metres: a pin of 1 cm drawn on a
+/// 4 cm cam hid its follower, and would vanish on a mechanism of kilometres).
+#[test]
+fn a_declared_mechanism_draws_alike_in_any_length_unit() {
+    let declared = |s: f64| {
+        let text = format!(
+            "dt = 0.001\nt_end = 0.01\ngravity = [0.0, {g:e}]\n\
+             [[bodies]]\nname = \"bob\"\ntype = \"dynamic\"\nmass = 1.0\ninertia = {i:e}\n\
+             position = [{x:e}, {y:e}]\n\
+             shapes = [{{ type = \"disk\", center = [0.0, 0.0], radius = {r:e} }}]\n\
+             [[bodies]]\nname = \"block\"\ntype = \"dynamic\"\nmass = 1.0\ninertia = {i:e}\n\
+             position = [{bx:e}, 0.0]\n\
+             shapes = [{{ type = \"polygon\", vertices = [[{m:e}, {m:e}], [{r:e}, {m:e}], \
+             [{r:e}, {r:e}], [{m:e}, {r:e}]] }}]\n\
+             [[joints]]\ntype = \"revolute\"\nname = \"hinge\"\nbody_a = \"ground\"\n\
+             anchor_a = [0.0, 0.0]\nbody_b = \"bob\"\nanchor_b = [{ax:e}, {ay:e}]\n\
+             [[joints]]\ntype = \"prismatic\"\nname = \"rail\"\nbody_a = \"ground\"\n\
+             anchor_a = [{bx:e}, 0.0]\nbody_b = \"block\"\nanchor_b = [0.0, 0.0]\n\
+             axis = [1.0, 0.0]\n",
+            g = -9.81 * s,
+            i = 1e-3 * s * s,
+            x = 0.6 * s,
+            y = -0.8 * s,
+            r = 0.05 * s,
+            m = -0.05 * s,
+            bx = 1.5 * s,
+            ax = -0.6 * s,
+            ay = 0.8 * s,
+        );
+        let model = Scene::from_toml_str(&text).expect("scene").build().expect("model");
+        let (q, _) = model.initial_state();
+        model.draw(&q, 0.0)
+    };
+    let (metres, millimetres) = (declared(1.0), declared(1e3));
+    assert_eq!(metres.circles.len(), millimetres.circles.len());
+    assert!(metres.circles.iter().any(|c| c.role == Role::Joint), "{metres:?}");
+    let close = |a: f64, b: f64| (a * 1e3 - b).abs() <= 1e-9 * (1.0 + b.abs());
+    for (a, b) in metres.circles.iter().zip(&millimetres.circles) {
+        assert_eq!(a.role, b.role);
+        assert!(close(a.radius, b.radius), "{a:?} against {b:?}");
+        assert!(close(a.center[0], b.center[0]) && close(a.center[1], b.center[1]), "{a:?}");
+    }
+    assert_eq!(metres.polylines.len(), millimetres.polylines.len());
+    for (a, b) in metres.polylines.iter().zip(&millimetres.polylines) {
+        assert_eq!((a.role, a.points.len()), (b.role, b.points.len()));
+        for (p, q) in a.points.iter().zip(&b.points) {
+            assert!(close(p[0], q[0]) && close(p[1], q[1]), "{a:?} against {b:?}");
+        }
+    }
 }

@@ -7,13 +7,20 @@ use super::joints::{JointKind, block_corner};
 use super::multibody::Multibody;
 use crate::draw::{Drawing, Role};
 
-/// Radius of the circles that mark pins (m), relative to the drawing's size.
+/// Radius of the circles that mark pins, relative to the mechanism's size
+/// ([`Multibody::size`]).
 const PIN: f64 = 0.01;
 
+/// Half the length of the line drawn along a prismatic or point-on-line joint's axis, relative
+/// to the mechanism's size.
+const GUIDE: f64 = 0.1;
+
 impl Multibody {
-    /// A drawing of the mechanism at (q, t), in metres.
+    /// A drawing of the mechanism at (q, t), in the length unit of its declaration; the
+    /// marks of pins and joint axes are sized after the mechanism ([`Multibody::size`]).
     pub fn draw(&self, q: &[f64], t: f64) -> Drawing {
         let mut d = Drawing::new();
+        let (pin, guide) = (PIN * self.size, GUIDE * self.size);
         let frames: Vec<_> = (0..self.bodies.len()).map(|i| self.frame(i, q, t)).collect();
         let role = |i: usize| match self.bodies[i].kind {
             Kind::Dynamic { .. } => Role::Rod,
@@ -41,21 +48,27 @@ impl Multibody {
             let (fa, fb) = (&frames[j.a], &frames[j.b]);
             match j.kind {
                 JointKind::Revolute { ra, .. } | JointKind::Weld { ra, .. } => {
-                    d.circle(Role::Joint, fa.point(ra), PIN);
+                    d.circle(Role::Joint, fa.point(ra), pin);
                 }
                 JointKind::Prismatic { ra, rb, normal_a, .. } => {
                     let axis = fa.rotate([normal_a[1], -normal_a[0]]);
                     let c = fa.point(ra);
-                    d.line(Role::Guide, vec![add(c, scale(axis, -0.1)), add(c, scale(axis, 0.1))]);
-                    d.circle(Role::Joint, fb.point(rb), PIN);
+                    d.line(
+                        Role::Guide,
+                        vec![add(c, scale(axis, -guide)), add(c, scale(axis, guide))],
+                    );
+                    d.circle(Role::Joint, fb.point(rb), pin);
                 }
                 JointKind::PointOnLine { ra, rb, normal_b } => {
                     let axis = fb.rotate([normal_b[1], -normal_b[0]]);
                     let c = fb.point(rb);
-                    d.line(Role::Guide, vec![add(c, scale(axis, -0.1)), add(c, scale(axis, 0.1))]);
-                    d.circle(Role::Joint, fa.point(ra), PIN);
+                    d.line(
+                        Role::Guide,
+                        vec![add(c, scale(axis, -guide)), add(c, scale(axis, guide))],
+                    );
+                    d.circle(Role::Joint, fa.point(ra), pin);
                 }
-                JointKind::Motor { .. } => d.circle(Role::Joint, fb.p, 2.0 * PIN),
+                JointKind::Motor { .. } => d.circle(Role::Joint, fb.p, 2.0 * pin),
                 JointKind::RevoluteClearance { ra, rb, pin_radius, bearing_radius } => {
                     d.circle(Role::Guide, fb.point(rb), bearing_radius);
                     d.circle(Role::Joint, fa.point(ra), pin_radius);
