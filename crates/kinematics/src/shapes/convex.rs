@@ -73,7 +73,7 @@ impl<'a> Core<'a> {
 
     /// The same core with the unit normals of its faces at hand, for the methods that visit
     /// each face many times (a half-plane or a point needs none of them).
-    fn with_normals(&self) -> Self {
+    pub fn with_normals(&self) -> Self {
         let n = self.len();
         let mut core = *self;
         if (2..=CACHED).contains(&n) {
@@ -102,7 +102,7 @@ impl<'a> Core<'a> {
 
     /// The number of faces that can be touched: a polygon's edges, a segment's two sides or
     /// its outward side alone.
-    fn faces(&self) -> usize {
+    pub fn faces(&self) -> usize {
         match self.len() {
             1 => 0,
             2 if self.one_sided => 1,
@@ -113,7 +113,7 @@ impl<'a> Core<'a> {
 
     /// The ends (start, end) of face i, and its unit outward normal.
     #[inline]
-    fn face(&self, i: usize) -> (V, V, V) {
+    pub fn face(&self, i: usize) -> (V, V, V) {
         let n = self.len();
         let (p, q) = if n == 2 && i == 1 {
             (self.vertex(1), self.vertex(0))
@@ -335,9 +335,10 @@ fn vertex_on_face(
 const FACING: f64 = 0.5;
 
 /// What the contact of a core A with a profile's segment B does when the face of A that
-/// separates them most is a back face of A: one whose outward normal has a positive component
-/// along B's. The solid lies behind B, so such a face separates A from the segment but not from
-/// the solid, and the point it gives pushes A into the solid through B.
+/// separates them most is a back face of A (one whose outward normal has a positive component
+/// along B's: the solid lies behind B, so such a face separates A from the segment but not from
+/// the solid, and the point it gives pushes A into the solid through B), or when A and B overlap
+/// (no face separates them), where the caller may take the reference from the solid around B.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Backs {
     /// The face counts as any other: A meets B as a thin segment.
@@ -346,7 +347,8 @@ pub(crate) enum Backs {
     /// besides B's, so that the reference is B's face or a face of A turned towards the solid
     /// and the points push A out through B.
     Skip,
-    /// No point from B: its reference would be the back face, which pushes A in.
+    /// No point from B: its reference would be the back face, which pushes A in, or the caller
+    /// takes the points of the overlap from the solid around B.
     Drop,
 }
 
@@ -364,45 +366,46 @@ pub(crate) fn polygon_contacts(
 }
 
 /// [`polygon_contacts`] of a core A with B, a segment of a profile (one-sided, the solid behind
-/// its outward face): when the face of A that separates them most is a back face ([`Backs`]),
-/// `backs` is asked, with that face's separation, what to do. With [`Backs::Skip`] the pair of
-/// closest features, which would still hold A in, gives way to A's deepest vertex against the
-/// line of B. Returns whether the cores overlap by every face of A and B's face (all
-/// separations at most 0).
+/// its outward face): when the face of A that separates them most is a back face, or when they
+/// overlap (every separation of the cores at most the sum of the radii), `backs` is asked, told
+/// the cores' greatest separation and whether that face is a back face, what to do ([`Backs`]).
+/// With [`Backs::Skip`] the pair of closest features, which would still hold A in, gives way to
+/// A's deepest vertex against the line of B.
 pub(crate) fn solid_segment_contacts(
     a: &Core<'_>,
     b: &Core<'_>,
     margin: f64,
-    backs: &mut dyn FnMut(f64) -> Backs,
+    backs: &mut dyn FnMut(f64, bool) -> Backs,
     emit: &mut impl FnMut(CorePoint),
-) -> bool {
-    contacts(a, b, margin, Some(backs), emit)
+) {
+    contacts(a, b, margin, Some(backs), emit);
 }
 
 /// [`polygon_contacts`], with B a profile's segment when `backs` is given
-/// ([`solid_segment_contacts`]); returns whether the cores overlap by every face.
+/// ([`solid_segment_contacts`]).
 fn contacts(
     a: &Core<'_>,
     b: &Core<'_>,
     margin: f64,
-    backs: Option<&mut dyn FnMut(f64) -> Backs>,
+    backs: Option<&mut dyn FnMut(f64, bool) -> Backs>,
     emit: &mut impl FnMut(CorePoint),
-) -> bool {
+) {
     let (a, b) = (&a.with_normals(), &b.with_normals());
     let radii = a.radius + b.radius;
     let (mut sep_a, mut face_a) = max_separation(a, b);
     let (sep_b, face_b) = max_separation(b, a);
-    let overlap = sep_a.max(sep_b) <= 0.0;
     // A keeps the reference face unless B's separates clearly more, so that two parallel faces
     // (equal separations) do not trade roles from one call to the next.
     let tie = |sep_a: f64| 1e-12 * (1.0 + sep_a.abs().max(sep_b.abs()));
     let mut inside = false;
     if let Some(backs) = backs {
         let out = b.face(0).2;
-        if !(sep_b > sep_a + tie(sep_a)) && a.face(face_a).2.dot(&out) > 0.0 {
-            match backs(sep_a) {
+        let back = !(sep_b > sep_a + tie(sep_a)) && a.face(face_a).2.dot(&out) > 0.0;
+        let sep = sep_a.max(sep_b);
+        if back || sep - radii <= 0.0 {
+            match backs(sep, back) {
                 Backs::Count => {}
-                Backs::Drop => return overlap,
+                Backs::Drop => return,
                 Backs::Skip => {
                     (sep_a, face_a) = max_separation_towards(a, b, out);
                     inside = true;
@@ -411,19 +414,51 @@ fn contacts(
         }
     }
     if sep_a.max(sep_b) - radii > margin {
-        return overlap;
+        return;
     }
     let scale = tie(sep_a);
-    let (reference, ref_face, incident, ref_is_a) =
-        if sep_b > sep_a + scale { (b, face_b, a, false) } else { (a, face_a, b, true) };
+    let (ref_is_a, ref_face) = if sep_b > sep_a + scale { (false, face_b) } else { (true, face_a) };
+    // Cores apart: their closest pair always counts, whether or not it is a vertex on one of
+    // the two faces below (two corners facing each other are not).
+    let closest = if sep_a.max(sep_b) > 0.0 { closest_features(a, b, margin) } else { None };
+    face_points(a, b, ref_is_a, ref_face, closest, inside, margin, emit);
+}
+
+/// The points of cores A and B that overlap, with face `face` of A (if `face` is given) or
+/// face 0 of B, a profile's segment, as the reference face: those of [`polygon_contacts`] for
+/// that reference, and if there are none, A's deepest vertex against the line of B (B's face)
+/// or the deepest pair of closest features (A's).
+pub(crate) fn reference_contacts(
+    a: &Core<'_>,
+    b: &Core<'_>,
+    face: Option<usize>,
+    margin: f64,
+    emit: &mut impl FnMut(CorePoint),
+) {
+    let (a, b) = (&a.with_normals(), &b.with_normals());
+    face_points(a, b, face.is_some(), face.unwrap_or(0), None, face.is_none(), margin, emit);
+}
+
+/// The vertex-on-edge points of the reference face `ref_face` (of A if `ref_is_a`, else of B)
+/// and the face of the other core most opposed to it, after the closest pair `closest` if
+/// given; if none, the deepest pair of closest features, or for A inside a solid (`inside`)
+/// A's deepest vertex against the line of B.
+fn face_points(
+    a: &Core<'_>,
+    b: &Core<'_>,
+    ref_is_a: bool,
+    ref_face: usize,
+    closest: Option<CorePoint>,
+    inside: bool,
+    margin: f64,
+    emit: &mut impl FnMut(CorePoint),
+) {
+    let (reference, incident) = if ref_is_a { (a, b) } else { (b, a) };
     let normal = reference.face(ref_face).2;
     let inc_face = incident_face(incident, normal);
     let (i0, i1) = incident.face_vertices(inc_face);
     let (r0, r1) = reference.face_vertices(ref_face);
-    // Cores apart: their closest pair always counts, whether or not it is a vertex on one of
-    // the two faces below (two corners facing each other are not). Points of the same vertex
-    // below would repeat it.
-    let closest = if sep_a.max(sep_b) > 0.0 { closest_features(a, b, margin) } else { None };
+    // Points of the same vertex as the closest pair would repeat it.
     let mut found = 0;
     if let Some(p) = closest {
         emit(p);
@@ -471,7 +506,6 @@ fn contacts(
             emit(p);
         }
     }
-    overlap
 }
 
 /// [`max_separation`] of `c` from `other` over the faces of `c` within 60° of facing the

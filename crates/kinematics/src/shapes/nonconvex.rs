@@ -27,7 +27,7 @@
 use super::collide::manifold_point;
 use super::convex::{
     Backs, Core, CorePoint, Feature, closest_to_point, deepest_against, point_pair,
-    polygon_contacts, solid_segment_contacts,
+    polygon_contacts, reference_contacts, solid_segment_contacts,
 };
 use super::shape::{Placement, V};
 use super::{Aabb, ManifoldPoint};
@@ -89,6 +89,10 @@ pub(crate) fn convex_chain(
     let mut odd = false;
     let mut crossed = false;
     let mut parity = Parity::default();
+    // The last few ways out taken, so that the segments of one overlap that lead to the same
+    // way out give its points once.
+    let mut taken = [(usize::MAX, None); 4];
+    let mut next_taken = 0;
     let mut p1 = point(0);
     for k in 0..m {
         let p0 = p1;
@@ -119,12 +123,41 @@ pub(crate) fn convex_chain(
                 emit(cp);
             }
         } else if closed {
-            let mut backs = |sep: f64| entered(x, p0, p1, sep, &mut parity, frame, points);
-            // The core crosses the segment if no face separates them and a vertex lies on or
-            // in front of its line.
-            if solid_segment_contacts(x, &seg, margin, &mut backs, &mut emit) && !crossed {
-                let line = Across::of(p0, p1);
-                crossed = (0..n_x).any(|i| line.height(x.vertex(i)) >= 0.0);
+            // Across the segment (the core crossing it: no face separating them and a vertex
+            // on or in front of its line; or a core that has entered the solid reaching it by
+            // its radius), the shape meets the solid around it: the reference is found from
+            // there ([`way_out_near`]) in place of the segment's own.
+            let line = Across::of(p0, p1);
+            let mut across = false;
+            let mut backs = |sep: f64, back: bool| {
+                let reach = |h: f64| (0..n_x).any(|i| line.height(x.vertex(i)) >= h);
+                across = sep <= 0.0 && reach(0.0)
+                    || sep <= x.radius
+                        && reach(-x.radius)
+                        && entered(x, &line, &mut parity, frame, points) == Backs::Drop;
+                if across {
+                    Backs::Drop
+                } else if back {
+                    entered(x, &line, &mut parity, frame, points)
+                } else {
+                    Backs::Count
+                }
+            };
+            solid_segment_contacts(x, &seg, margin, &mut backs, &mut emit);
+            if across {
+                // The core crosses the segment if a vertex lies on or in front of its line.
+                crossed = crossed || (0..n_x).any(|i| line.height(x.vertex(i)) >= 0.0);
+                let way = way_out_near(x, k, &point, m);
+                if !taken.contains(&way) {
+                    taken[next_taken % taken.len()] = way;
+                    next_taken += 1;
+                    let (j, face) = way;
+                    let ends = [points[j], points[(j + 1) % p]];
+                    let seg = Core::new(&ends, *frame, 0.0, true);
+                    let mut emit =
+                        |cp: CorePoint| emit_point(x, &cp, j, &point, p, closed, start, flip, out);
+                    reference_contacts(x, &seg, face, margin, &mut emit);
+                }
             }
         } else {
             polygon_contacts(x, &seg, margin, &mut emit);
@@ -139,7 +172,13 @@ pub(crate) fn convex_chain(
         let ends = [points[k], points[(k + 1) % p]];
         let seg = Core::new(&ends, *frame, 0.0, true);
         let mut emit = |cp: CorePoint| emit_point(x, &cp, k, &point, p, closed, start, flip, out);
-        solid_segment_contacts(x, &seg, margin, &mut |_| Backs::Skip, &mut emit);
+        solid_segment_contacts(
+            x,
+            &seg,
+            margin,
+            &mut |_: f64, back: bool| if back { Backs::Skip } else { Backs::Count },
+            &mut emit,
+        );
         if out.len() == start
             && let Some(cp) = deepest_against(&seg, x, margin)
         {
@@ -231,37 +270,108 @@ impl Parity {
     }
 }
 
-/// What the contact of the convex core `x` with the profile's segment from p0 to p1 does when a
-/// back face of `x` separates them most by `sep` ([`Backs`]). If a core vertex behind the segment's
-/// line lies inside the solid, `x` has entered the solid: if the core crosses the segment (no face
-/// of `x` separates it, and some vertex lies on or in front of its line), the reference is the
-/// segment's face or a face of `x` facing it ([`Backs::Skip`]), so that the points push `x` out
-/// through the segment; if not, the segment lies behind the core, and its point would push the core
-/// further in, so it gives none. Otherwise (the core outside, behind a segment of a thin part of
-/// the solid, or resting on a sharp corner) the face counts as any other. The vertex need not
-/// project onto the segment: a box sunk into a finely sampled cam crosses segments much shorter
-/// than itself.
+/// What the contact of the convex core `x` with the profile's segment on `line` does when a
+/// back face of `x` separates them most and the core does not cross the segment ([`Backs`]). If
+/// a core vertex behind the segment's line lies inside the solid, `x` has entered the solid, and
+/// the segment lies behind the core: its point would push the core further in, so it gives none
+/// (the segment may still be the way out from a segment the core crosses, [`way_out_near`]).
+/// Otherwise (the core outside, behind a segment of a thin part of the solid, or resting on a
+/// sharp corner) the face counts as any other.
 fn entered(
     x: &Core<'_>,
-    p0: V,
-    p1: V,
-    sep: f64,
+    line: &Across,
     parity: &mut Parity,
     frame: &Placement,
     points: &[[f64; 2]],
 ) -> Backs {
-    let line = Across::of(p0, p1);
     let entered = (0..x.len()).any(|i| {
         let v = x.vertex(i);
         line.height(v) < 0.0 && parity.inside(i, v, frame, points)
     });
-    if !entered {
-        Backs::Count
-    } else if sep <= 0.0 && (0..x.len()).any(|i| line.height(x.vertex(i)) >= 0.0) {
-        Backs::Skip
-    } else {
-        Backs::Drop
+    if entered { Backs::Drop } else { Backs::Count }
+}
+
+/// The 2-d cross product.
+#[inline]
+fn cross(a: V, b: V) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+/// The segment and reference face through which the convex core `x`, overlapping segment `k`
+/// of the profile (m segments through `point`), leaves the solid: the least deep of the
+/// separating axes of the locally convex part of the solid around the segment, as for a
+/// convex polygon. Those axes are the segment's half-plane (the depth of the core's deepest
+/// vertex behind its line), the half-plane of each neighbour met at a convex corner, and each
+/// face of `x` whose reversed normal lies between the normals of the two segments at a convex
+/// end (the face's separation from that corner). A face of `x` is the reference on the segment
+/// of the two at its corner more opposed to it; a neighbour's half-plane less deep than the
+/// others makes the neighbour the segment, and its own axes are compared in turn, so that the
+/// way out climbs to the least deep half-plane near the overlap, whether or not the core
+/// crosses that segment. Returns the segment and the face of `x` (`None`: the segment's face).
+fn way_out_near(
+    x: &Core<'_>,
+    k: usize,
+    point: &impl Fn(usize) -> V,
+    m: usize,
+) -> (usize, Option<usize>) {
+    let x = x.with_normals();
+    let deepest = |line: &Across| {
+        (0..x.len()).map(|i| line.height(x.vertex(i))).fold(f64::INFINITY, f64::min)
+    };
+    let tie = |s: f64| 1e-12 * (1.0 + s.abs());
+    let mut k = k;
+    let mut line = Across::of(point(k), point(k + 1));
+    let mut own = deepest(&line);
+    for _ in 0..m {
+        // (separation, face of x, the segment it meets) of the faces of x at a convex end, and
+        // (depth, segment, line) of the neighbours there.
+        let mut face: Option<(f64, usize, usize)> = None;
+        let mut next: Option<(f64, usize, Across)> = None;
+        for end in 0..2 {
+            let (w, j, other) = if end == 0 {
+                let j = (k + m - 1) % m;
+                (line.p0, j, Across::of(point(j), line.p0))
+            } else {
+                let j = (k + 1) % m;
+                let w = point(k + 1);
+                (w, j, Across::of(w, point(j + 1)))
+            };
+            let (n_in, n_out) =
+                if end == 0 { (other.normal, line.normal) } else { (line.normal, other.normal) };
+            if cross(n_in, n_out) <= 0.0 {
+                // A concave or straight corner: the solid goes on behind the segment's line.
+                continue;
+            }
+            for f in 0..x.faces() {
+                let (a, _, n) = x.face(f);
+                if cross(n_in, -n) >= 0.0 && cross(-n, n_out) >= 0.0 {
+                    let s = n.dot(&(w - a));
+                    if face.is_none_or(|b| s > b.0) {
+                        // The point lies on the segment more opposed to the face.
+                        let on = if other.normal.dot(&n) < line.normal.dot(&n) { j } else { k };
+                        face = Some((s, f, on));
+                    }
+                }
+            }
+            let h = deepest(&other);
+            if next.as_ref().is_none_or(|b| h > b.0) {
+                next = Some((h, j, other));
+            }
+        }
+        // A face of x keeps the reference unless the segment's separates clearly more, as
+        // between two cores; a neighbour takes the way out only if clearly less deep.
+        let (best, way) = match face {
+            Some((s, f, on)) if s >= own - tie(own) => (s, (on, Some(f))),
+            _ => (own, (k, None)),
+        };
+        match next {
+            Some((h, j, other)) if h > best + tie(best) => {
+                (k, line, own) = (j, other, h);
+            }
+            _ => return way,
+        }
     }
+    (k, None)
 }
 
 /// The segment of the profile (m segments through `point`) through which the convex core `x`,
