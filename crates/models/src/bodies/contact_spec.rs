@@ -134,8 +134,8 @@ impl AutoContacts {
 /// * `fixed`: a list of slots built once, one per pair of shapes that may touch and feature of
 ///   that pair (see [`ContactSpec`] and [`AutoContacts`]), each closed or open at each step.
 ///   Every slot has a name and a column in the records. The number of automatic slots grows as
-///   the square of the number of bodies, which suits mechanisms, and the only mode that joints
-///   support.
+///   the square of the number of bodies, which suits mechanisms, and the only mode that the
+///   clearance joints support.
 /// * `detected`: no slots; at each step a broad phase over all shapes and the narrow phase
 ///   find the contacts within the stepper's margin, the same pairs the fixed list would hold
 ///   (collision groups and masks, explicit contacts with their laws), each with an identity
