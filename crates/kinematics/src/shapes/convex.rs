@@ -72,11 +72,12 @@ impl<'a> Core<'a> {
     }
 
     /// The same core with the unit normals of its faces at hand, for the methods that visit
-    /// each face many times (a half-plane or a point needs none of them).
+    /// each face many times (a half-plane or a point needs none of them); a core that has them
+    /// keeps them.
     pub fn with_normals(&self) -> Self {
         let n = self.len();
         let mut core = *self;
-        if (2..=CACHED).contains(&n) {
+        if !self.has_normals && (2..=CACHED).contains(&n) {
             // A segment's second face is its first reversed.
             let faces = if n == 2 { 1 } else { n };
             for i in 0..faces {
@@ -85,6 +86,16 @@ impl<'a> Core<'a> {
             core.has_normals = true;
         }
         core
+    }
+
+    /// This core if its face normals are at hand (or it needs none), else a copy with them
+    /// ([`Self::with_normals`]): no copy for a core that has them.
+    fn normals_at_hand(&self) -> std::borrow::Cow<'_, Self> {
+        if self.has_normals || !(2..=CACHED).contains(&self.len()) {
+            std::borrow::Cow::Borrowed(self)
+        } else {
+            std::borrow::Cow::Owned(self.with_normals())
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -390,7 +401,7 @@ fn contacts(
     backs: Option<&mut dyn FnMut(f64, bool) -> Backs>,
     emit: &mut impl FnMut(CorePoint),
 ) {
-    let (a, b) = (&a.with_normals(), &b.with_normals());
+    let (a, b) = (&*a.normals_at_hand(), &*b.normals_at_hand());
     let radii = a.radius + b.radius;
     let (mut sep_a, mut face_a) = max_separation(a, b);
     let (sep_b, face_b) = max_separation(b, a);
@@ -435,7 +446,7 @@ pub(crate) fn reference_contacts(
     margin: f64,
     emit: &mut impl FnMut(CorePoint),
 ) {
-    let (a, b) = (&a.with_normals(), &b.with_normals());
+    let (a, b) = (&*a.normals_at_hand(), &*b.normals_at_hand());
     face_points(a, b, face.is_some(), face.unwrap_or(0), None, face.is_none(), margin, emit);
 }
 

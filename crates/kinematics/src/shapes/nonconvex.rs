@@ -50,6 +50,8 @@ pub(crate) fn convex_chain(
     let p = points.len();
     let m = if closed { p } else { p - 1 };
     let n_x = x.len();
+    // A polygon's or capsule's face normals, found once for all the segments it meets.
+    let x = &if n_x > 1 { x.with_normals() } else { *x };
     let start = out.len();
     let point = |v: usize| frame.point(points[v % p]);
     let vertex_id = |v: usize| m * n_x + v % p;
@@ -314,7 +316,6 @@ fn way_out_near(
     point: &impl Fn(usize) -> V,
     m: usize,
 ) -> (usize, Option<usize>) {
-    let x = x.with_normals();
     let deepest = |line: &Across| {
         (0..x.len()).map(|i| line.height(x.vertex(i))).fold(f64::INFINITY, f64::min)
     };
