@@ -182,8 +182,9 @@ fn member_scene(base: &Scene, grid: &Grid, i: u64, max_steps: u64) -> Result<Sce
 }
 
 /// Runs one member and returns its row (without the check); `columns` are the key-number
-/// columns of the base scene, which a declared member must keep (a member that changes the
-/// contact list or the bodies fails rather than shifting its numbers under other names). A
+/// columns of the base scene. A declared member whose bodies or contacts differ from the base
+/// scene's (a `fill.<name>.count` swept, say) fills the columns it shares with it by name
+/// ([`aligned`]) and leaves the others empty, so that no number moves under another name. A
 /// member that stops on a step problem writes it to `<out>.member-<i>.failed.dat`
 /// ([`failed::with_failed_problem`]), and its error says so.
 fn member_row(
@@ -199,19 +200,14 @@ fn member_row(
     row.extend(grid.member(i).into_iter().map(|(_, v)| v));
     let start = Instant::now();
     let empty = |row: &mut Vec<String>| row.extend(columns.iter().map(|_| String::new()));
-    let same_columns = scene.build().map(|m| keys::columns_of(&m) == columns);
     let numbers = || -> Result<Vec<String>> {
-        if let Ok(false) = same_columns {
-            anyhow::bail!(
-                "the member's contacts or bodies differ from the base scene's, so its key \
-                 numbers would not match the columns"
-            );
-        }
         let sim = run_scene(scene, max_steps)?;
         let spec = RunSpec { name: format!("member {i}"), kind, sets: grid.member(i) };
         let info = run_info(&spec.name, scene, &sim);
         let result = RunResult { spec, scene: scene.clone(), sim, info };
-        let mut cells: Vec<String> = keys::row(&result).into_iter().map(cell).collect();
+        let own = keys::columns_of(result.model());
+        let values = aligned(columns, &own, keys::row(&result));
+        let mut cells: Vec<String> = values.into_iter().map(cell).collect();
         cells.push(result.sim.steps.to_string());
         cells.push(result.sim.lcp_solves.to_string());
         cells.push(result.sim.inexact_steps.to_string());
@@ -235,6 +231,18 @@ fn member_row(
         }
     }
     row
+}
+
+/// A member's key numbers `values`, under its own columns `own`, placed under the base scene's
+/// `columns`: as they are when the columns are the same, else by name, a column the member
+/// does not have left empty and a member's column the base scene does not have left out.
+fn aligned(columns: &[String], own: &[String], values: Vec<Option<f64>>) -> Vec<Option<f64>> {
+    if own == columns {
+        return values;
+    }
+    let by_name: std::collections::HashMap<&str, Option<f64>> =
+        own.iter().map(String::as_str).zip(values).collect();
+    columns.iter().map(|c| by_name.get(c.as_str()).copied().flatten()).collect()
 }
 
 /// The result of `run`, or, if it panics, an error that carries the panic's message: the
@@ -345,6 +353,8 @@ pub fn run_with_warnings(
     if !grid.is_empty() {
         member_scene(&base, &grid, 0, max_steps)?;
     }
+    let base_model = base.build()?;
+    let key_columns = keys::columns_of(&base_model);
     // Every member, in parallel by chunks, the first refusal and the warnings in member order.
     let mut warned = BTreeSet::new();
     let checking = Progress::on_terminal(members as usize, &format!("checking sweep {kind}"));
@@ -358,7 +368,16 @@ pub fn run_with_warnings(
             .par_iter()
             .map(|&i| {
                 let scene = member_scene(&base, &grid, i, max_steps)?;
-                let warnings = guard::gap_warnings(&scene.build()?);
+                let model = scene.build()?;
+                let mut warnings = guard::gap_warnings(&model);
+                if keys::columns_of(&model) != key_columns {
+                    warnings.push(
+                        "its bodies or contacts differ from the base scene's: its row gives the \
+                         key numbers it shares with the base scene, by name, and leaves the \
+                         others empty"
+                            .to_owned(),
+                    );
+                }
                 checking.tick("");
                 Ok(warnings)
             })
@@ -379,8 +398,6 @@ pub fn run_with_warnings(
         shard,
         version: env!("CARGO_PKG_VERSION").to_owned(),
     };
-    let base_model = base.build()?;
-    let key_columns = keys::columns_of(&base_model);
     let columns = header(&base_model, grid.axes());
     let _lock = OutputLock::acquire(&out_file)?;
     let target = out_file.target();

@@ -264,3 +264,43 @@ fn a_sweep_shows_its_progress_on_a_terminal_only() -> Result<()> {
     }
     Ok(())
 }
+
+/// A sweep over the number of grains of a declared column (20 and 100, the file's own): the
+/// rows keep the base scene's columns, the member of 20 grains fills those of its grains with
+/// the end of its own run (the same numbers as `simulate` of that scene) and leaves those of
+/// grains 20 to 99 empty; the member of 100 fills all. Both end `ok`, where a member whose
+/// bodies differed from the base scene's failed.
+#[test]
+fn a_sweep_over_the_number_of_bodies_fills_the_columns_it_shares_by_name() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/scale/disk-column.toml");
+    let out = dir.path().join("count.csv");
+    let axes = vec![Axis::parse("fill.grain.count=20,100")?, Axis::parse("t_end=0.02")?];
+    let summary = run(&SweepOptions::scene(&scene, axes), &out)?;
+    ensure!((summary.rows, summary.failed, summary.diverged) == (2, 0, 0), "{summary:?}");
+    let part = moreau_cli::parts::read_part(&out, false)?;
+    let col = |name: &str| part.columns.iter().position(|c| c == name).context(name.to_owned());
+    let cell =
+        |row: usize, name: &str| -> Result<String> { Ok(part.rows[row].1[col(name)?].clone()) };
+    for row in 0..2 {
+        ensure!(cell(row, "status")? == "ok", "member {row}: {}", cell(row, "error")?);
+    }
+    let alone = moreau_cli::simulate::run(&SimulateOptions {
+        scene: Some(scene.clone()),
+        sets: vec!["fill.grain.count=20".into(), "t_end=0.02".into()],
+        ..SimulateOptions::default()
+    })?;
+    let record = alone.record();
+    let names = alone.model().coordinate_names();
+    let last = record.q.last().context("a row")?;
+    for (name, q) in names.iter().zip(last) {
+        let value: f64 = cell(0, &format!("{name}.end"))?.parse()?;
+        ensure!(value == *q, "{name}: {value} in the sweep, {q} alone");
+    }
+    ensure!(names.len() == 60, "{} coordinates", names.len());
+    for g in [20, 57, 99] {
+        ensure!(cell(0, &format!("grain{g}.y.end"))?.is_empty());
+        ensure!(!cell(1, &format!("grain{g}.y.end"))?.is_empty());
+    }
+    Ok(())
+}
