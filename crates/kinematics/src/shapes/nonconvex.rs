@@ -95,6 +95,7 @@ pub(crate) fn convex_chain(
     // way out give its points once.
     let mut taken = [(usize::MAX, None); 4];
     let mut next_taken = 0;
+    let mut climbed: Option<Climb> = None;
     let mut p1 = point(0);
     for k in 0..m {
         let p0 = p1;
@@ -149,7 +150,7 @@ pub(crate) fn convex_chain(
             if across {
                 // The core crosses the segment if a vertex lies on or in front of its line.
                 crossed = crossed || (0..n_x).any(|i| line.height(x.vertex(i)) >= 0.0);
-                let way = way_out_near(x, k, &point, m);
+                let way = way_out_near(x, k, &point, m, &mut climbed);
                 if !taken.contains(&way) {
                     taken[next_taken % taken.len()] = way;
                     next_taken += 1;
@@ -310,20 +311,34 @@ fn cross(a: V, b: V) -> f64 {
 /// others makes the neighbour the segment, and its own axes are compared in turn, so that the
 /// way out climbs to the least deep half-plane near the overlap, whether or not the core
 /// crosses that segment. Returns the segment and the face of `x` (`None`: the segment's face).
+/// `climbed` is the last climb, whose segments all lead to its way out: a climb that reaches it
+/// takes its way out, and it is extended by, or replaced with, each new climb.
 fn way_out_near(
     x: &Core<'_>,
     k: usize,
     point: &impl Fn(usize) -> V,
     m: usize,
+    climbed: &mut Option<Climb>,
 ) -> (usize, Option<usize>) {
     let deepest = |line: &Across| {
         (0..x.len()).map(|i| line.height(x.vertex(i))).fold(f64::INFINITY, f64::min)
     };
     let tie = |s: f64| 1e-12 * (1.0 + s.abs());
+    let start = k;
+    let (mut forward, mut steps) = (true, 0);
     let mut k = k;
     let mut line = Across::of(point(k), point(k + 1));
     let mut own = deepest(&line);
     for _ in 0..m {
+        if let Some(c) = *climbed
+            && let Some(rest) = c.from(k, m)
+        {
+            if steps > 0 {
+                let steps = if forward == c.forward { steps + rest } else { steps };
+                *climbed = Some(Climb { start, forward, steps, way: c.way });
+            }
+            return c.way;
+        }
         // (separation, face of x, the segment it meets) of the faces of x at a convex end, and
         // (depth, segment, line) of the neighbours there.
         let mut face: Option<(f64, usize, usize)> = None;
@@ -367,12 +382,36 @@ fn way_out_near(
         };
         match next {
             Some((h, j, other)) if h > best + tie(best) => {
+                // A climb keeps its direction: the segment it left is deeper than this one.
+                forward = j == (k + 1) % m;
+                steps += 1;
                 (k, line, own) = (j, other, h);
             }
-            _ => return way,
+            _ => {
+                *climbed = Some(Climb { start, forward, steps, way });
+                return way;
+            }
         }
     }
     (k, None)
+}
+
+/// A climb of [`way_out_near`]: from segment `start`, `steps` segments forward (in the order of
+/// the chain) or backward, to the way out `way`.
+#[derive(Clone, Copy)]
+struct Climb {
+    start: usize,
+    forward: bool,
+    steps: usize,
+    way: (usize, Option<usize>),
+}
+
+impl Climb {
+    /// If segment k (of m) lies on the climb, the number of steps left from it.
+    fn from(&self, k: usize, m: usize) -> Option<usize> {
+        let offset = if self.forward { (k + m - self.start) % m } else { (self.start + m - k) % m };
+        (offset <= self.steps).then(|| self.steps - offset)
+    }
 }
 
 /// The segment of the profile (m segments through `point`) through which the convex core `x`,
