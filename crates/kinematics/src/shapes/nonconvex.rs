@@ -130,15 +130,17 @@ pub(crate) fn convex_chain(
             // on or in front of its line; or a core that has entered the solid reaching it by
             // its radius), the shape meets the solid around it: the reference is found from
             // there ([`way_out_near`]) in place of the segment's own.
-            let line = Across::of(p0, p1);
-            let mut across = false;
+            let mut across: Option<(Across, bool)> = None;
             let mut backs = |sep: f64, back: bool| {
+                let line = Across::of(p0, p1);
                 let reach = |h: f64| (0..n_x).any(|i| line.height(x.vertex(i)) >= h);
-                across = sep <= 0.0 && reach(0.0)
+                let front = sep <= 0.0 && reach(0.0);
+                if front
                     || sep <= x.radius
                         && reach(-x.radius)
-                        && entered(x, &line, &mut parity, frame, points) == Backs::Drop;
-                if across {
+                        && entered(x, &line, &mut parity, frame, points) == Backs::Drop
+                {
+                    across = Some((line, front));
                     Backs::Drop
                 } else if back {
                     entered(x, &line, &mut parity, frame, points)
@@ -147,10 +149,10 @@ pub(crate) fn convex_chain(
                 }
             };
             solid_segment_contacts(x, &seg, margin, &mut backs, &mut emit);
-            if across {
+            if let Some((line, front)) = across {
                 // The core crosses the segment if a vertex lies on or in front of its line.
-                crossed = crossed || (0..n_x).any(|i| line.height(x.vertex(i)) >= 0.0);
-                let way = way_out_near(x, k, &point, m, &mut climbed);
+                crossed = crossed || front || (0..n_x).any(|i| line.height(x.vertex(i)) >= 0.0);
+                let way = way_out_near(x, k, line, &point, m, &mut climbed);
                 if !taken.contains(&way) {
                     taken[next_taken % taken.len()] = way;
                     next_taken += 1;
@@ -301,7 +303,7 @@ fn cross(a: V, b: V) -> f64 {
 }
 
 /// The segment and reference face through which the convex core `x`, overlapping segment `k`
-/// of the profile (m segments through `point`), leaves the solid: the least deep of the
+/// (on `line`) of the profile (m segments through `point`), leaves the solid: the least deep of the
 /// separating axes of the locally convex part of the solid around the segment, as for a
 /// convex polygon. Those axes are the segment's half-plane (the depth of the core's deepest
 /// vertex behind its line), the half-plane of each neighbour met at a convex corner, and each
@@ -316,6 +318,7 @@ fn cross(a: V, b: V) -> f64 {
 fn way_out_near(
     x: &Core<'_>,
     k: usize,
+    line: Across,
     point: &impl Fn(usize) -> V,
     m: usize,
     climbed: &mut Option<Climb>,
@@ -327,7 +330,7 @@ fn way_out_near(
     let start = k;
     let (mut forward, mut steps) = (true, 0);
     let mut k = k;
-    let mut line = Across::of(point(k), point(k + 1));
+    let mut line = line;
     let mut own = deepest(&line);
     for _ in 0..m {
         if let Some(c) = *climbed
