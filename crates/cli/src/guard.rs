@@ -165,34 +165,39 @@ pub fn plan_steps(scene: &Scene, max_steps: u64) -> Result<u64, CliError> {
 }
 
 /// Warnings about the initial gaps: contacts that penetrate or touch within
-/// [`GAP_TOLERANCE`] times the model's length unit ([`Scales`]), named with their gaps and
-/// their index in the contact list (from 0, as `contacts.<index>` keys and the contacts
-/// file's `id` count them); with a detected contact set, the contacts that detection finds at
-/// the start, counted, with the deepest and the first touching named by their bodies.
+/// [`GAP_TOLERANCE`] times the model's length unit ([`Scales`]), named with their gaps as the
+/// record names them: a report model's contact by its number from 1 (the columns `PN<i>`,
+/// `PT<i>`, `A<i>` and the scene files' comments), a declared mechanism's by its name (the
+/// columns `<name>.PN`, `<name>.PT`, `<name>.active`); with a detected contact
+/// set, the contacts that detection finds at the start, counted, with the deepest and the
+/// first touching named by their bodies.
 pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
     let (q0, _) = model.initial_state();
     let names = model.contact_names();
     let tolerance = GAP_TOLERANCE * Scales::length(model);
-    let unit = match model {
-        AnyModel::Declared(_) => {
-            format!(" (1e-9 of the mechanism's size, {:.3e})", tolerance * 1e9)
-        }
-        _ => " m".to_owned(),
+    let declared = matches!(model, AnyModel::Declared(_));
+    let unit = if declared {
+        format!(" (1e-9 of the mechanism's size, {:.3e})", tolerance * 1e9)
+    } else {
+        " m".to_owned()
+    };
+    let contact = |i: usize, name: &str| {
+        if declared { format!("contact `{name}`") } else { format!("contact {} ({name})", i + 1) }
     };
     let mut out = Vec::new();
     for (i, name) in names.iter().enumerate() {
         let g = model.normal_gap(i, &q0, 0.0);
         if g < -tolerance {
             out.push(format!(
-                "contact {} ({name}) starts penetrating: g_N = {g:.6e} (the scheme acts on \
-                 velocities and leaves a penetration in place)",
-                i
+                "{} starts penetrating: g_N = {g:.6e} (the scheme acts on velocities and leaves \
+                 a penetration in place)",
+                contact(i, name)
             ));
         } else if g.abs() <= tolerance {
             out.push(format!(
-                "contact {} ({name}) starts touching: g_N = {g:.3e} is within ±{tolerance:.3e}\
-                 {unit}, so round-off decides whether it is active in the first step",
-                i
+                "{} starts touching: g_N = {g:.3e} is within ±{tolerance:.3e}{unit}, so \
+                 round-off decides whether it is active in the first step",
+                contact(i, name)
             ));
         }
     }
@@ -221,13 +226,13 @@ fn detected_gap_warnings(
         Some(c) => format!("between `{}` and `{}`", names[c.bodies[0]], names[c.bodies[1]]),
         None => format!("of identity {id}"),
     };
-    let plural = |n: usize| if n == 1 { "contact" } else { "contacts" };
+    let plural = |n: usize| if n == 1 { "contact starts" } else { "contacts start" };
     let mut out = Vec::new();
     let penetrating: Vec<_> = found.iter().filter(|c| c.point.g_n < -tolerance).collect();
     if let Some(deepest) = penetrating.iter().min_by(|a, b| a.point.g_n.total_cmp(&b.point.g_n)) {
         let n = penetrating.len();
         out.push(format!(
-            "{n} detected {} start penetrating, the deepest {}: g_N = {:.6e} (the scheme acts \
+            "{n} detected {} penetrating, the deepest {}: g_N = {:.6e} (the scheme acts \
              on velocities and leaves a penetration in place)",
             plural(n),
             between(deepest.id),
@@ -238,12 +243,13 @@ fn detected_gap_warnings(
     if let Some(first) = touching.first() {
         let n = touching.len();
         out.push(format!(
-            "{n} detected {} start touching, the first {}: g_N = {:.3e} is within \
-             ±{tolerance:.3e}{unit}, so round-off decides whether they are active in the first \
+            "{n} detected {} touching, the first {}: g_N = {:.3e} is within \
+             ±{tolerance:.3e}{unit}, so round-off decides whether {} active in the first \
              step",
             plural(n),
             between(first.id),
-            first.point.g_n
+            first.point.g_n,
+            if n == 1 { "it is" } else { "they are" }
         ));
     }
     out

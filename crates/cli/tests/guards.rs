@@ -314,8 +314,17 @@ fn initial_gaps_near_zero_or_negative_are_warned_about() -> Result<()> {
     }
     let w = warnings("-1")?;
     ensure!(w.len() == 1 && w[0].contains("penetrating") && w[0].contains("-1.1"), "{w:?}");
-    // Contacts are numbered from 0, as the contacts file's `id` and `contacts.<index>` count.
-    ensure!(w[0].starts_with("contact 0 ("), "{w:?}");
+    // A report model's contacts are numbered from 1, as its columns `PN1`, `PT1`, `A1`.
+    ensure!(w[0].starts_with("contact 1 (floor)"), "{w:?}");
+    // The woodpecker's sleeve at y = 0 puts its lower edge 8.8e-7 m into the pole: PN2.
+    let s = scene(&SimulateOptions {
+        model: Some("woodpecker".into()),
+        sets: vec!["init.y=0".into()],
+        ..SimulateOptions::default()
+    })?;
+    let w = guard::gap_warnings(&s.build()?);
+    let lower = "contact 2 (lower sleeve edge) starts penetrating: g_N = -8.800000e-7";
+    ensure!(w.len() == 1 && w[0].starts_with(lower), "{w:?}");
     // 1e-6 m above the floor is a gap, not a touch.
     ensure!(warnings("0.100001")?.is_empty());
     let mut seen = Vec::new();
@@ -461,16 +470,18 @@ fn a_declared_mechanism_is_guarded_alike_in_any_units() -> Result<()> {
         ensure!(w.is_empty(), "{s} {m}: {w:?}");
         let touching = springs_in_units("fixed", 5.0, s, m, 1e-12)?;
         let w = guard::gap_warnings(&touching);
-        ensure!(w.len() == 1 && w[0].contains("probe") && w[0].contains("touching"), "{w:?}");
+        // A declared contact is named as its columns are (`floor.0-probe.0.PN`).
+        let name = w.first().and_then(|w| w.split_once(" starts touching")).map(|p| p.0);
+        ensure!(w.len() == 1 && name == Some("contact `floor.0-probe.0`"), "{w:?}");
         // The same with a detected contact set: the contacts that detection finds at the start,
         // counted and named by their bodies.
         let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-6)?);
         ensure!(w.is_empty(), "{s} {m}: {w:?}");
         let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-12)?);
-        let named = w.len() == 1 && w[0].starts_with("1 detected contact start touching");
+        let named = w.len() == 1 && w[0].starts_with("1 detected contact starts touching");
         ensure!(named && w[0].contains("`probe`"), "{s} {m}: {w:?}");
         let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, -1e-3)?);
-        let named = w.len() == 1 && w[0].starts_with("1 detected contact start penetrating");
+        let named = w.len() == 1 && w[0].starts_with("1 detected contact starts penetrating");
         ensure!(named && w[0].contains("`probe`"), "{s} {m}: {w:?}");
         let g = format!("g_N = {:.6e}", -1e-3 * s);
         ensure!(w[0].contains(&g), "{s} {m}: {w:?} without {g}");
