@@ -77,6 +77,7 @@ pub struct SweepArgs {
 #[derive(Args, Clone, Debug)]
 pub struct MergeArgs {
     /// Output CSV file.
+    #[arg(long)]
     pub out: PathBuf,
     /// The parts.
     #[arg(required = true)]
@@ -203,8 +204,8 @@ impl SweepArgs {
             );
         } else {
             println!(
-                "wrote {} members to {} ({} run now, {} diverged, {} failed)",
-                s.rows,
+                "wrote {} to {} ({} run now, {} diverged, {} failed)",
+                members(s.rows),
                 self.out.display(),
                 s.ran,
                 s.diverged,
@@ -213,6 +214,11 @@ impl SweepArgs {
         }
         Ok(s.members_ok(self.out)?)
     }
+}
+
+/// `n` members, in words: `1 member`, `2 members`.
+fn members(n: u64) -> String {
+    if n == 1 { "1 member".to_owned() } else { format!("{n} members") }
 }
 
 impl MergeArgs {
@@ -224,8 +230,8 @@ impl MergeArgs {
     pub fn run(self) -> Result<()> {
         let s = parts::merge_summary(&self.out, &self.parts)?;
         println!(
-            "merged {} members into {} ({} diverged, {} failed)",
-            s.rows,
+            "merged {} into {} ({} diverged, {} failed)",
+            members(s.rows),
             self.out.display(),
             s.diverged,
             s.failed

@@ -265,7 +265,7 @@ fn hostile_sweeps_and_merges() {
             continue;
         }
         let out = dir.path().join(format!("m{n}.csv"));
-        let mut args = vec!["merge".to_owned(), out.display().to_string()];
+        let mut args = vec!["merge".to_owned(), "--out".to_owned(), out.display().to_string()];
         args.extend(chosen);
         let good = picks.iter().all(|&p| p == 1) || picks.iter().all(|&p| p == 2);
         assert_eq!(outcome(&args, &moreau(&args)), good, "{args:?}");

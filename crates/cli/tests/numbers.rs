@@ -85,7 +85,7 @@ fn tiny_numbers_are_written_with_an_exponent_and_read_back() -> Result<()> {
     ensure!(again.rows[..2] == read.rows[..2], "{:?}", again.rows);
     ensure!(again.rows[2].1[energy] == "2e-300");
     let merged = d.join("merged.csv");
-    moreau(&[OsStr::new("merge"), merged.as_os_str(), part.as_os_str()])?;
+    moreau(&[OsStr::new("merge"), OsStr::new("--out"), merged.as_os_str(), part.as_os_str()])?;
     ensure!(std::fs::read_to_string(&merged)? == text);
     // The solution of an LCP whose z is 1e-30.
     let problem = d.join("p.dat");

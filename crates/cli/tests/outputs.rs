@@ -304,7 +304,7 @@ fn a_write_stopped_by_a_full_disk_or_a_kill_leaves_the_former_files() -> Result<
     let out = d.join("out.csv");
     let former = "a former output\n".repeat(500);
     std::fs::write(&out, &former)?;
-    let merge_args = ["merge".as_ref(), out.as_os_str(), part.as_os_str()];
+    let merge_args = ["merge".as_ref(), "--out".as_ref(), out.as_os_str(), part.as_os_str()];
     // A merge whose write fails ends in an error naming the file, and leaves the output.
     let o = moreau_limited(&merge_args, false)?;
     let stderr = String::from_utf8_lossy(&o.stderr);

@@ -241,7 +241,7 @@ fn a_merge_with_a_diverged_member_writes_every_row_and_fails_as_the_sweep() -> R
         let out = format!("part{k}.csv");
         moreau(&[&sweep_args[..], &["--shard", &shard, "--out", &out]].concat())?;
     }
-    let merged = moreau(&["merge", "merged.csv", "part1.csv", "part2.csv"])?;
+    let merged = moreau(&["merge", "--out", "merged.csv", "part1.csv", "part2.csv"])?;
     let (stdout, stderr) =
         (String::from_utf8_lossy(&merged.stdout), String::from_utf8_lossy(&merged.stderr));
     ensure!(merged.status.code() == whole.status.code(), "{:?}: {stderr}", merged.status);
