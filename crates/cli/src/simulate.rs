@@ -113,7 +113,9 @@ pub fn base_scene(model: Option<&str>, scene: Option<&Path>) -> Result<Scene> {
 /// # Errors
 /// [`CliError::RepeatedKey`] naming both keys and the entry; [`moreau_models::ModelError::UnknownKey`] for a
 /// key the scene does not have, with the keys of the level where it leaves the scene's and
-/// the nearest of them; a bad value (naming the override).
+/// the nearest of them; a bad value (naming the override); a scene the overrides leave
+/// invalid, naming the override after which it became so. Overrides that are valid only
+/// together are taken: the scene is validated once all are applied.
 pub fn apply_sets(scene: &mut Scene, sets: &[(String, String)]) -> Result<()> {
     apply_labelled(scene, sets.iter().map(|(k, v)| (k.as_str(), k.as_str(), v.as_str())))
 }
@@ -131,13 +133,16 @@ fn apply_labelled<'a>(
         };
         earlier == later || under(earlier, later) || (under(later, earlier) && earlier != "solver")
     };
+    // The option as the user typed it: `--dt NaN`, or `--set dt=NaN`.
+    let typed = |label: &str, key: &str, value: &str| {
+        if label == key { format!("--set {key}={value}") } else { format!("{label} {value}") }
+    };
     let mut seen: Vec<(&str, Vec<String>)> = Vec::new();
+    let mut typed_all = Vec::new();
+    let mut edit = scene.clone().edit();
     for (label, key, value) in sets {
-        // The option as the user typed it: `--dt NaN`, or `--set dt=NaN`.
-        let typed = || {
-            if label == key { format!("--set {key}={value}") } else { format!("{label} {value}") }
-        };
-        let targets = scene.targets(key).with_context(typed)?;
+        let typed = || typed(label, key, value);
+        let targets = edit.scene().targets(key).with_context(typed)?;
         for (first, earlier) in &seen {
             let repeated =
                 targets.iter().find_map(|t| earlier.iter().find(|e| overlap(e, t)).map(|e| (t, e)));
@@ -152,9 +157,21 @@ fn apply_labelled<'a>(
                 .into());
             }
         }
-        scene.set(key, value).with_context(typed)?;
+        edit.set(key, value).with_context(typed)?;
         seen.push((label, targets));
+        typed_all.push(typed());
     }
+    // Overrides that are only valid together (a body moved with the anchor that holds it)
+    // are taken together; a scene they leave invalid is refused at the override after which
+    // it became so.
+    let since = edit.invalid_since();
+    *scene = edit.finish().map_err(|e| {
+        let e = anyhow::Error::from(e);
+        match since {
+            Some(i) => e.context(typed_all[i].clone()),
+            None => e,
+        }
+    })?;
     Ok(())
 }
 

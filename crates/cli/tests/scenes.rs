@@ -480,3 +480,47 @@ fn the_record_ends_with_the_energies_whose_sum_is_kept() -> Result<()> {
     ensure!(before > 0.19 * 9.81, "dissipated {before} J");
     Ok(())
 }
+
+#[test]
+fn overrides_valid_only_together_are_taken_together() -> Result<()> {
+    // The bob released 0.3 rad to the left rather than 0.5: its position and the hinge's
+    // anchor on it move together; either alone leaves the joint open by 0.2 m.
+    let theta0: f64 = -0.3;
+    let position = format!("bodies.bob.position=[{}, {}]", theta0.sin(), -theta0.cos());
+    let anchor = format!("joints.hinge.anchor_b=[{}, {}]", -theta0.sin(), theta0.cos());
+    let with = |sets: &[&str]| SimulateOptions {
+        scene: Some(pendulum()),
+        sets: sets.iter().map(|s| (*s).to_owned()).collect(),
+        tf: Some(0.6),
+        ..SimulateOptions::default()
+    };
+    for alone in [&position, &anchor] {
+        let e = scene(&with(&[alone])).expect_err("the joint is open");
+        ensure!(format!("{e:#}").contains("correct the position or the joint's anchors"), "{e:#}");
+        ensure!(e.to_string() == format!("--set {alone}"), "{e}");
+    }
+    // In either order; a later override that breaks the scene is the one named.
+    for sets in [[&position, &anchor], [&anchor, &position]] {
+        let sets = sets.map(String::as_str);
+        ensure!(scene(&with(&sets))?.to_toml_string().contains("anchor_b = [0.29552020666133955"));
+        let e = scene(&with(&[sets[0], sets[1], "dt=-1"])).expect_err("dt < 0");
+        ensure!(e.to_string() == "--set dt=-1", "{e:#}");
+    }
+    let dir = tempfile::tempdir()?;
+    let out = dir.path().join("released.csv");
+    moreau_cli::simulate::run_to_csv(&with(&[&position, &anchor]), &out, &mut |_| {})?;
+    let (h, rows) = read_csv(&out)?;
+    let rows: Vec<Vec<f64>> = rows
+        .iter()
+        .map(|row| row.iter().map(|x| x.parse::<f64>().map_err(Into::into)).collect())
+        .collect::<Result<_>>()?;
+    let (x, vx, p_n) = (column(&h, "bob.x")?, column(&h, "bob.vx")?, column(&h, "hit.PN")?);
+    ensure!((rows[0][x] - theta0.sin()).abs() < 1e-15, "released at x = {}", rows[0][x]);
+    // Energy to the wall, where the rod hangs vertically: m g L (1 − cos θ0) = ½ (m L² + I) ω²
+    // with m = 1 kg, L = 1 m, I = 0.00125 kg m².
+    let v = (2.0 * 9.81 * (1.0 - theta0.cos()) / 1.00125).sqrt();
+    let first = rows.iter().position(|row| row[p_n] > 0.0).context("no impact")?;
+    let fastest = rows[..first].iter().map(|row| row[vx]).fold(0.0, f64::max);
+    ensure!((fastest - v).abs() < 1e-3 * v, "speed at the wall {fastest}, closed form {v}");
+    Ok(())
+}

@@ -130,7 +130,7 @@ pub use error::{ModelError, unknown_key_text};
 pub use painleve::{PainleveInit, PainleveParams, PainleveRod};
 pub use params::LawParams;
 pub use registry::{AnyModel, ModelKind, ModelParams, Names};
-pub use scene::{Scene, Simulation, StopRule};
+pub use scene::{Scene, SceneEdit, Simulation, StopRule};
 pub use slider_crank::{SliderCrank, SliderCrankInit, SliderCrankParams};
 pub use slider_crank_ideal::{SliderCrankIdeal, SliderCrankIdealInit, SliderCrankIdealParams};
 pub use woodpecker::{Woodpecker, WoodpeckerInit, WoodpeckerParams};

@@ -10,6 +10,8 @@ mod file;
 mod set;
 mod tree;
 
+pub use set::SceneEdit;
+
 use std::ops::ControlFlow;
 use std::path::Path;
 use std::time::Instant;

@@ -174,23 +174,50 @@ impl Scene {
     /// `upper.mu`; `v0` sets `init.v0`. `solver` takes a solver name (`auto`, `lemke`, `pgs`,
     /// `enum`). The value is parsed as the type the key already has (a number and a table
     /// stand for each other, as a load is either), and the whole scene is read and validated
-    /// again; on any error the scene is left unchanged.
+    /// again; on any error the scene is left unchanged. Changes that are only valid together
+    /// (a body moved with the joint anchor that holds it) are made by [`Self::edit`].
     ///
     /// # Errors
     /// [`ModelError::UnknownKey`] listing the accepted keys; [`ModelError::BadValue`] naming the
     /// key when the value does not parse or is out of range.
     pub fn set(&mut self, key: &str, value: &str) -> Result<(), ModelError> {
-        let bad = |reason: String| ModelError::BadValue {
-            key: key.to_owned(),
-            value: value.to_owned(),
-            reason,
-        };
+        let mut edit = self.clone().edit();
+        edit.set(key, value)?;
+        *self = edit.finish()?;
+        Ok(())
+    }
+
+    /// Starts a sequence of [`SceneEdit::set`]s that is validated as a whole when it ends,
+    /// so that changes which are only valid together can be made one key at a time.
+    ///
+    /// ```
+    /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+    /// use moreau_models::Scene;
+    ///
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/bodies/pendulum-wall.toml");
+    /// let scene = Scene::from_toml_str(&std::fs::read_to_string(path)?)?;
+    /// // The bob hangs a metre below the hinge; it moves with the joint's anchor on it.
+    /// let mut edit = scene.edit();
+    /// edit.set("bodies.bob.position", "[0.0, -1.0]")?;
+    /// edit.set("joints.hinge.anchor_b", "[0.0, 1.0]")?;
+    /// let scene = edit.finish()?;
+    /// assert!(scene.to_toml_string().contains("anchor_b = [0.0, 1.0]"));
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn edit(self) -> SceneEdit {
+        SceneEdit { scene: self, count: 0, invalid: None }
+    }
+
+    /// The scene with `key` set to `value`, read again but not validated.
+    fn assigned(&self, key: &str, value: &str) -> Result<Scene, ModelError> {
+        let bad = |reason: String| bad_value(key, value, reason);
         if key == "solver" {
-            self.solver = value.trim().parse().map_err(|e: UnknownSolver| bad(e.to_string()))?;
-            return Ok(());
+            let solver = value.trim().parse().map_err(|e: UnknownSolver| bad(e.to_string()))?;
+            return Ok(Scene { solver, ..self.clone() });
         }
         let targets = self.targets(key)?;
-        let mut doc = toml::Value::try_from(&*self).map_err(|e| bad(e.to_string()))?;
+        let mut doc = toml::Value::try_from(self).map_err(|e| bad(e.to_string()))?;
         for path in &targets {
             match leaf_mut(&mut doc, path) {
                 Some(slot) => *slot = parse_like(slot, value).map_err(bad)?,
@@ -203,19 +230,83 @@ impl Scene {
                 }
             }
         }
-        let scene: Scene = doc.try_into().map_err(|e: toml::de::Error| bad(reason_of(&e)))?;
+        doc.try_into().map_err(|e: toml::de::Error| bad(reason_of(&e)))
+    }
+}
+
+/// Changes to a scene made one key at a time, as [`Scene::set`] makes them, but validated
+/// as a whole by [`Self::finish`]: a body moved together with the joint anchor that holds
+/// it, a shape resized together with the body's inertia. Each change is read at once (an
+/// unknown key or a value that does not parse is refused by [`Self::set`]); the scene in
+/// between may be invalid.
+#[derive(Debug)]
+pub struct SceneEdit {
+    /// The scene as changed so far.
+    scene: Scene,
+    /// The changes made so far.
+    count: usize,
+    /// The change after which the scene became invalid, counted from 0, and why, when the
+    /// scene has not become valid again since.
+    invalid: Option<(usize, ModelError)>,
+}
+
+impl SceneEdit {
+    /// The scene as changed so far, not yet validated: the keys a next change may name are
+    /// its [`Scene::keys`] and its [`Scene::targets`].
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// Sets one value as [`Scene::set`] does, leaving the validation of the whole to
+    /// [`Self::finish`].
+    ///
+    /// # Errors
+    /// [`ModelError::UnknownKey`] listing the accepted keys; [`ModelError::BadValue`] naming the
+    /// key when the value does not parse or the scene does not read with it. The edit is left
+    /// as it was.
+    pub fn set(&mut self, key: &str, value: &str) -> Result<(), ModelError> {
+        let scene = self.scene.assigned(key, value)?;
         // A refusal that already names a key and its value is given as it is; one of the key
         // itself gives only its reason.
-        scene.validate().map_err(|e| match e {
+        let refusal = scene.validate().err().map(|e| match e {
             ModelError::BadValue { .. } => e,
             ModelError::InvalidParameter { ref field, ref reason, .. } if field == key => {
-                bad(reason.clone())
+                bad_value(key, value, reason.clone())
             }
-            other => bad(other.to_string()),
-        })?;
-        *self = scene;
+            other => bad_value(key, value, other.to_string()),
+        });
+        self.invalid = match (self.invalid.take(), refusal) {
+            (_, None) => None,
+            (Some(earlier), Some(_)) => Some(earlier),
+            (None, Some(e)) => Some((self.count, e)),
+        };
+        self.scene = scene;
+        self.count += 1;
         Ok(())
     }
+
+    /// The change after which the scene became invalid and stayed so, counted from 0 in
+    /// the order of [`Self::set`]; `None` while the scene as changed so far is valid.
+    pub fn invalid_since(&self) -> Option<usize> {
+        self.invalid.as_ref().map(|(at, _)| *at)
+    }
+
+    /// The changed scene, when it is valid.
+    ///
+    /// # Errors
+    /// When it is not, the refusal of the scene as the change [`Self::invalid_since`] names
+    /// left it.
+    pub fn finish(self) -> Result<Scene, ModelError> {
+        match self.invalid {
+            None => Ok(self.scene),
+            Some((_, refusal)) => Err(refusal),
+        }
+    }
+}
+
+/// The refusal of `value` for `key`, for `reason`.
+fn bad_value(key: &str, value: &str, reason: String) -> ModelError {
+    ModelError::BadValue { key: key.to_owned(), value: value.to_owned(), reason }
 }
 
 /// The reason a changed scene does not read, without the line `in `bodies.motion`` that the
