@@ -126,7 +126,8 @@ pub struct FramesArgs {
     /// Scene file (TOML): a report model's or a declared mechanism's.
     #[arg(long)]
     pub scene: Option<PathBuf>,
-    /// Override a scene key: --set key=value (repeatable; each entry once).
+    /// Override a scene key: --set key=value (repeatable; each entry once; in order, the
+    /// scene validated once all are applied).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
     /// Instants of the strip's frames (s), comma-separated, increasing, within the run (at most

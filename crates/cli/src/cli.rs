@@ -19,7 +19,8 @@ pub struct SimulateArgs {
     /// declared mechanism's.
     #[arg(long)]
     pub scene: Option<PathBuf>,
-    /// Override a scene key: --set key=value (repeatable; each entry once).
+    /// Override a scene key: --set key=value (repeatable; each entry once; in order, the
+    /// scene validated once all are applied).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
     /// Time step Δt (s).
