@@ -14,6 +14,7 @@ use super::forces::Force;
 use super::joints::{Joint, JointKind};
 use super::motion::check_motion;
 use super::multibody::{Multibody, Slot};
+use super::shape_check::check_shape;
 use super::spec::{BodySpec, BodyType, ForceSpec, JointSpec, SystemSpec};
 use crate::ModelError;
 use crate::params::{LawParams, finite, non_negative, positive, relation};
@@ -86,9 +87,7 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
     };
     let moving = spec.velocity != [0.0; 2] || spec.omega != 0.0;
     for (k, shape) in spec.shapes.iter().enumerate() {
-        shape
-            .validate()
-            .map_err(|e| bad(format!("{path}.shapes.{k}"), shape.name(), e.to_string()))?;
+        check_shape(&format!("{path}.shapes.{k}"), shape)?;
     }
     let kind = match spec.kind {
         BodyType::Dynamic => {

@@ -6,6 +6,7 @@ use moreau_kinematics::{Shape, SplitMix64};
 use serde::{Deserialize, Serialize};
 
 use super::build::bad;
+use super::shape_check::check_shape;
 use super::spec::BodySpec;
 use crate::ModelError;
 use crate::params::{finite, non_negative, positive, relation};
@@ -241,7 +242,7 @@ impl FillSpec {
                 "must be >= scale.0",
             ));
         }
-        self.shape.validate().map_err(|e| bad(field("shape"), self.shape.name(), e.to_string()))?;
+        check_shape(&field("shape"), &self.shape)?;
         let area = self.shape.area();
         if !(area.is_finite() && area > 0.0) {
             return Err(bad(

@@ -83,6 +83,7 @@ mod joint_spec;
 mod joints;
 mod motion;
 mod multibody;
+mod shape_check;
 mod spec;
 
 pub use assemble::MAX_ASSEMBLY_MOVE;
