@@ -107,10 +107,12 @@ impl Auto {
     /// A solver with the given options.
     ///
     /// # Errors
-    /// [`LcpError::InvalidOption`] for out-of-range options.
+    /// [`LcpError::InvalidOption`] for out-of-range options; a field of the nested options is
+    /// named by its path (`lemke.tolerance`, `enumeration.max_n`).
     pub fn new(options: AutoOptions) -> Result<Auto, LcpError> {
-        let lemke = Lemke::new(options.lemke.clone())?;
-        let enumeration = Enumeration::new(options.enumeration.clone())?;
+        let lemke = Lemke::new(options.lemke.clone()).map_err(|e| nested("lemke", e))?;
+        let enumeration =
+            Enumeration::new(options.enumeration.clone()).map_err(|e| nested("enumeration", e))?;
         if options.enumeration_max_n > options.enumeration.max_n {
             return Err(LcpError::InvalidOption {
                 name: "enumeration_max_n",
@@ -153,6 +155,24 @@ impl Auto {
             }
         }
     }
+}
+
+/// `error` of the options in field `parent`, its option named by its path from
+/// [`AutoOptions`] (`lemke.tolerance`): the nested solvers name only their own fields.
+fn nested(parent: &'static str, error: LcpError) -> LcpError {
+    let LcpError::InvalidOption { name, reason } = error else { return error };
+    let path = match (parent, name) {
+        ("lemke", "max_pivots") => "lemke.max_pivots",
+        ("lemke", "tolerance") => "lemke.tolerance",
+        ("lemke", "pivot_tolerance") => "lemke.pivot_tolerance",
+        ("lemke", "tie_tolerance") => "lemke.tie_tolerance",
+        ("lemke", "covering") => "lemke.covering",
+        ("enumeration", "max_n") => "enumeration.max_n",
+        ("enumeration", "tolerance") => "enumeration.tolerance",
+        ("enumeration", "max_n_degenerate") => "enumeration.max_n_degenerate",
+        _ => return LcpError::InvalidOption { name, reason: format!("{reason} (in {parent})") },
+    };
+    LcpError::InvalidOption { name: path, reason }
 }
 
 /// splitmix64 mapped to [0, 1).

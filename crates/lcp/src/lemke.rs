@@ -32,6 +32,21 @@ const TABLEAU_ACCURATE: f64 = 1e-12;
 const WRONG_BASIS: f64 = 1e-3;
 
 /// The covering vector d > 0 of Lemke's augmented problem `w = q + M z + d z_0`.
+///
+/// The enum is `#[non_exhaustive]`, as the solvers' options are, so that other covering
+/// vectors can be added without breaking callers; a `match` outside this crate needs a
+/// wildcard arm:
+///
+/// ```compile_fail,E0004
+/// fn name(covering: &moreau_lcp::Covering) -> &'static str {
+///     match covering {
+///         moreau_lcp::Covering::Ones => "ones",
+///         moreau_lcp::Covering::RowScaled => "row scaled",
+///         moreau_lcp::Covering::Custom(_) => "custom",
+///     }
+/// }
+/// ```
+#[non_exhaustive]
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub enum Covering {
     /// d = (1, ..., 1), the classic choice.

@@ -381,7 +381,10 @@ fn options_are_validated() {
         assert!(refused(lemke.map(|_| ())), "lemke, tolerance {tolerance}");
         assert!(refused(enumeration.map(|_| ())), "enumeration, tolerance {tolerance}");
         assert!(refused(pgs.map(|_| ())), "pgs, tolerance {tolerance}");
-        assert!(refused(auto.map(|_| ())), "auto, tolerance {tolerance}");
+        // Auto names the nested option by its path.
+        let auto_refused =
+            matches!(auto, Err(LcpError::InvalidOption { name: "lemke.tolerance", .. }));
+        assert!(auto_refused, "auto, tolerance {tolerance}");
     }
     // Just below 1 is taken, and the infeasible problem is still not solved.
     let mut loose = Lemke::new(LemkeOptions::default().with_tolerance(0.999)).unwrap();

@@ -46,7 +46,7 @@
 //! |---|---|
 //! | [`Nsgs`] | any size: block Gauss-Seidel with the exact local solution per contact, ω, warm start, no allocation on repeated solves |
 //! | [`LcpRoute`] | small problems (up to about 100 contacts): the exact LCP reformulation solved by pivoting, the certified answer |
-//! | [`Newton`] | nonsmooth Newton on Alart and Curnier's function with sparse LU and a non-monotone line search, optionally smoothed by Gauss-Seidel sweeps: fast local convergence from a good start; can cycle on dense packings whose W is singular |
+//! | [`Newton`] | nonsmooth Newton on Alart and Curnier's function with sparse LU and an Armijo line search (monotone by default, non-monotone on request), optionally smoothed by Gauss-Seidel sweeps: fast local convergence from a good start; can cycle on dense packings whose W is singular |
 //! | [`Proximal`] | the proximal point method, each sub-problem (W + η, positive definite) solved by Newton: slower, but finishes the dense packings where Newton cycles |
 //! | [`Fc2dAuto`] | the default: Gauss-Seidel, the LCP route for small problems it does not finish, exact solves of the clusters where it stalls |
 //!

@@ -75,8 +75,8 @@ pub struct NewtonOptions {
     pub backtrack: f64,
     /// Trials of the line search before the fallback. Default 20.
     pub max_backtracks: usize,
-    /// Gauss-Seidel sweeps of the fallback taken when the line search finds no decrease.
-    /// Default 10.
+    /// Gauss-Seidel sweeps of the fallback taken when the line search finds no decrease (at
+    /// least one: 0 is taken as 1). Default 10.
     pub fallback_sweeps: usize,
     /// Gauss-Seidel sweeps taken after every accepted Newton step (0 for none). Newton's
     /// step fixes the long-range part of the error that Gauss-Seidel spreads only slowly
@@ -152,8 +152,10 @@ const MAX_REGULARIZATION: f64 = 1e-2;
 /// its Jacobian is `J = A + B W` with A and B block diagonal (2x2 per contact: open,
 /// stick or slip in either direction), so J has the block sparsity of W. Each iteration
 /// solves `(J + δ I) d = -Φ` (δ a small shift that follows ‖Φ‖) by faer's sparse LU
-/// with partial pivoting, and an Armijo line search on the merit `ψ = ½ ‖Φ‖²` picks the step, non-monotone by default (a step
-/// is compared with the worst of the last few merits, Grippo et al. 1986). When the line
+/// with partial pivoting, and an Armijo line search on the merit `ψ = ½ ‖Φ‖²` picks the
+/// step: monotone by default, non-monotone with
+/// [`nonmonotone`](NewtonOptions::nonmonotone) > 1 (a step is then compared with the worst
+/// of the last few merits, Grippo et al. 1986). When the line
 /// search finds no decrease, a few sweeps of the nonsmooth Gauss-Seidel method ([`Nsgs`])
 /// are taken from the current iterate instead, and Newton resumes from their result;
 /// with `smoothing_sweeps`, such sweeps also follow every accepted step.

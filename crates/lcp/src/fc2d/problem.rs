@@ -499,8 +499,9 @@ impl Fc2d {
     /// stored when one of its entries is nonzero (diagonal blocks always).
     ///
     /// # Errors
-    /// [`LcpError::NotSquare`] or [`LcpError::DimensionMismatch`] when W is not
-    /// `2 n_c x 2 n_c` for `n_c = μ.len()`, and the errors of [`Fc2dRef::from_parts`].
+    /// [`LcpError::DimensionMismatch`] when W is not square (`columns of W`) or not
+    /// `2 n_c x 2 n_c` for `n_c = μ.len()` (`rows of W`), and the errors of
+    /// [`Fc2dRef::from_parts`].
     pub fn from_dense(w: MatRef<'_, f64>, q: &[f64], mu: &[f64]) -> Result<Fc2d, LcpError> {
         let mut problem = Fc2d::default();
         problem.set_dense(w, q, mu)?;
@@ -517,11 +518,15 @@ impl Fc2d {
         let n_c = mu.len();
         self.clear();
         if w.nrows() != w.ncols() {
-            return Err(LcpError::NotSquare { rows: w.nrows(), cols: w.ncols() });
+            return Err(LcpError::DimensionMismatch {
+                what: "columns of W",
+                expected: w.nrows(),
+                found: w.ncols(),
+            });
         }
         if w.nrows() != 2 * n_c {
             return Err(LcpError::DimensionMismatch {
-                what: "W (2 rows per contact)",
+                what: "rows of W (2 per friction coefficient μ)",
                 expected: 2 * n_c,
                 found: w.nrows(),
             });

@@ -97,6 +97,17 @@ pub struct Fc2dResidual {
 }
 
 impl Fc2dResidual {
+    /// A residual with every field `+∞` (`worst_group` 0): the value of a solution not yet
+    /// measured ([`Fc2dSolution::new`](super::Fc2dSolution::new)), which meets no tolerance.
+    /// The default, all zeros, is that of a solved problem.
+    pub const INFINITE: Fc2dResidual = Fc2dResidual {
+        natural: f64::INFINITY,
+        siconos: f64::INFINITY,
+        absolute: f64::INFINITY,
+        worst_group: 0,
+        round_off: f64::INFINITY,
+    };
+
     /// Whether r is a solution to `tolerance`: `natural <= max(tolerance, round_off)`, the
     /// test of every solver's [`Status::Solved`](crate::Status). A residual that is not
     /// finite (r, u or the natural map beyond f64's range, every field `+∞`) meets no

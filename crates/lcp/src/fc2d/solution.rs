@@ -21,9 +21,13 @@ pub struct Fc2dSolution {
     pub r: Vec<f64>,
     /// Velocities u = W r + q, recomputed from r.
     pub u: Vec<f64>,
-    /// Sweeps (Gauss-Seidel) or pivots (LCP route) used.
+    /// The work done: Gauss-Seidel sweeps ([`Nsgs`](super::Nsgs), and
+    /// [`Fc2dAuto`](super::Fc2dAuto) in total over its windows), Newton iterations
+    /// ([`Newton`](super::Newton), and the inner Newton iterations of
+    /// [`Proximal`](super::Proximal) summed over its outer ones), or pivots
+    /// ([`LcpRoute`](super::LcpRoute), plus the iterations of its Newton polish when one ran).
     pub iterations: usize,
-    /// The residual of r.
+    /// The residual of r; [`Fc2dResidual::INFINITE`] until a solver has measured r.
     pub residual: Fc2dResidual,
     /// `residual.natural` after each sweep, when the solver's options ask for it.
     pub history: Vec<f64>,
@@ -36,7 +40,8 @@ impl Default for Fc2dSolution {
 }
 
 impl Fc2dSolution {
-    /// An empty solution with status [`Status::NumericalFailure`], to be filled by
+    /// An empty solution with status [`Status::NumericalFailure`] and the residual
+    /// [`Fc2dResidual::INFINITE`] (nothing measured yet meets no tolerance), to be filled by
     /// [`Fc2dSolver::solve_into`].
     pub fn new() -> Self {
         Fc2dSolution {
@@ -46,7 +51,7 @@ impl Fc2dSolution {
             r: Vec::new(),
             u: Vec::new(),
             iterations: 0,
-            residual: Fc2dResidual::default(),
+            residual: Fc2dResidual::INFINITE,
             history: Vec::new(),
         }
     }
@@ -66,7 +71,7 @@ impl Fc2dSolution {
         self.u.clear();
         self.u.resize(rows, 0.0);
         self.iterations = 0;
-        self.residual = Fc2dResidual::default();
+        self.residual = Fc2dResidual::INFINITE;
         self.history.clear();
     }
 

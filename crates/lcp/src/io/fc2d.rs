@@ -231,7 +231,16 @@ impl Gfc2d {
         let mut t = Tokens::new(&text, false);
         let n_c = header(&mut t)?;
         let m = numerics::read_matrix(&mut t, len, |r, c| {
-            if r == c { Ok(()) } else { Err(LcpError::NotSquare { rows: r, cols: c }) }
+            // The mass matrix, not an LCP's M: the error says which.
+            if r == c {
+                Ok(())
+            } else {
+                Err(LcpError::DimensionMismatch {
+                    what: "columns of the mass matrix M",
+                    expected: r,
+                    found: c,
+                })
+            }
         })?;
         let n = m.rows;
         let h = numerics::read_matrix(&mut t, len, sized("H", n, 2 * n_c))?;
