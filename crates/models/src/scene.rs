@@ -321,7 +321,10 @@ impl Scene {
                     value: stop.coordinate.clone(),
                     reason: format!(
                         "not a coordinate of {}; accepted: {}",
-                        self.kind(),
+                        match self.kind() {
+                            ModelKind::Declared => "the declared mechanism".to_owned(),
+                            kind => format!("the model `{kind}`"),
+                        },
                         names.to_vec().join(", ")
                     ),
                 });

@@ -120,7 +120,15 @@ impl Rules {
                     return Err(bad(
                         format!("{path}.{side}"),
                         &shape.to_string(),
-                        format!("body `{}` has {n} shapes", bodies[body].name),
+                        match n {
+                            0 => format!("body `{}` has no shapes", bodies[body].name),
+                            1 => format!("body `{}` has one shape, shape 0", bodies[body].name),
+                            _ => format!(
+                                "body `{}` has {n} shapes, numbered from 0 to {}",
+                                bodies[body].name,
+                                n - 1
+                            ),
+                        },
                     ));
                 }
             }

@@ -174,8 +174,27 @@ impl<'de> Deserialize<'de> for Scene {
     }
 }
 
+/// The required keys of a scene's top level, in either form.
+const REQUIRED: [&str; 4] = ["dt", "t_end", "gravity", "bodies"];
+
+/// The refusal of a scene that lacks one of its top level's required keys (which `has` says it
+/// does not have): it names no field, since the reader points at the document's start, its
+/// first key, which is not at fault.
+fn missing_at_top(error: &toml::de::Error, has: impl Fn(&str) -> bool) -> Option<ModelError> {
+    let missing = missing_field_name(error.message())?;
+    (REQUIRED.contains(&missing.as_str()) && !has(&missing)).then(|| ModelError::Parse {
+        path: None,
+        field: None,
+        message: error.message().trim().to_owned(),
+    })
+}
+
 /// Turns the TOML reader's error into a [`ModelError::Parse`] that names the field.
 pub(super) fn parse_error(text: &str, error: &toml::de::Error) -> ModelError {
+    let top = |k: &str| toml::from_str::<toml::Table>(text).is_ok_and(|t| t.contains_key(k));
+    if let Some(refusal) = missing_at_top(error, top) {
+        return refusal;
+    }
     let located = error.span().and_then(|span| locate_key(text, span.start));
     if let Some(field) = located {
         return ModelError::Parse { path: None, field: Some(field), message: error.to_string() };
@@ -271,42 +290,119 @@ fn unknown_field_name(message: &str) -> Option<String> {
     Some(rest[..rest.find('`')?].to_owned())
 }
 
-/// The key of `item` (a table that does not read as a `T`, with the reader's `message`) at
-/// fault: the one whose removal lets the rest read, or leaves only that key missing; then, in
-/// an array of tables, the element whose removal lets it read. Empty when the message names a
-/// missing field itself, or no single key is at fault. A tagged table's `type` is read before
-/// its other keys, so its removal always leaves it missing: it is at fault only for an
-/// unknown variant.
-fn culprit<T: serde::de::DeserializeOwned>(item: &toml::Value, message: &str) -> Vec<String> {
-    let Some(table) = item.as_table() else { return Vec::new() };
-    if message.trim_start().starts_with("missing field") {
-        return Vec::new();
+/// The keys that tag a table's kind (`type = "disk"`, `kind = "rotate"`).
+const TAGS: [&str; 2] = ["type", "kind"];
+
+/// The entry at the path `path` below `value`: table keys, or array indices.
+fn entry<'a>(value: &'a toml::Value, path: &[String]) -> Option<&'a toml::Value> {
+    path.iter().try_fold(value, |node, part| match node {
+        toml::Value::Table(t) => t.get(part),
+        toml::Value::Array(a) => part.parse::<usize>().ok().and_then(|i| a.get(i)),
+        _ => None,
+    })
+}
+
+/// The entry at the path `path` below `value`, to change.
+fn entry_mut<'a>(value: &'a mut toml::Value, path: &[String]) -> Option<&'a mut toml::Value> {
+    path.iter().try_fold(value, |node, part| match node {
+        toml::Value::Table(t) => t.get_mut(part),
+        toml::Value::Array(a) => part.parse::<usize>().ok().and_then(|i| a.get_mut(i)),
+        _ => None,
+    })
+}
+
+/// The keys of a table, or the indices of an array.
+fn children(node: &toml::Value) -> Vec<String> {
+    match node {
+        toml::Value::Table(t) => t.keys().cloned().collect(),
+        toml::Value::Array(a) => (0..a.len()).map(|i| i.to_string()).collect(),
+        _ => Vec::new(),
     }
-    let reads = |t: toml::Table| T::deserialize(toml::Value::Table(t));
-    for (k, v) in table {
-        if k == "type" && !message.contains("unknown variant") {
-            continue;
+}
+
+/// The name in "missing field `name`".
+fn missing_field_name(message: &str) -> Option<String> {
+    let rest = message.trim_start().strip_prefix("missing field `")?;
+    Some(rest[..rest.find('`')?].to_owned())
+}
+
+/// The path below `item` (a table that does not read as a `T`, with the reader's `message`)
+/// of the entry at fault, down through its tables and arrays: at each level the key (or
+/// element) whose removal lets `item` read, or leaves only that key missing; an array that
+/// the removal of any of several elements mends (one too long) is itself at fault. For a missing
+/// field, the table that lacks it. Empty when no single entry is at fault. A tagged table's
+/// tag (`type`, `kind`) is read before its other keys, so its removal always leaves it
+/// missing: it is at fault only when the message is about a variant.
+fn culprit<T: serde::de::DeserializeOwned>(item: &toml::Value, message: &str) -> Vec<String> {
+    let reads = |v: toml::Value| T::deserialize(v).map(drop).map_err(|e| e.message().to_owned());
+    if let Some(missing) = missing_field_name(message) {
+        return lacking(item, &missing, message, reads);
+    }
+    let about_variant = message.contains("variant");
+    let mut path: Vec<String> = Vec::new();
+    let mends = |path: &[String], key: &str| {
+        let mut without = item.clone();
+        match entry_mut(&mut without, path) {
+            Some(toml::Value::Table(t)) => drop(t.remove(key)),
+            Some(toml::Value::Array(a)) => drop(a.remove(key.parse::<usize>().unwrap_or(0))),
+            _ => return false,
         }
-        let mut without = table.clone();
-        without.remove(k);
-        let mended = match reads(without) {
-            Ok(_) => true,
-            Err(e) => e.message().trim() == format!("missing field `{k}`"),
-        };
-        if !mended {
-            continue;
+        match reads(without) {
+            Ok(()) => true,
+            Err(e) => e.trim() == format!("missing field `{key}`"),
         }
-        let mut path = vec![k.clone()];
-        if let Some(items) = v.as_array().filter(|a| a.iter().all(toml::Value::is_table)) {
-            let bad = (0..items.len()).find(|&i| {
-                let (mut t, mut rest) = (table.clone(), items.clone());
-                rest.remove(i);
-                t.insert(k.clone(), toml::Value::Array(rest));
-                reads(t).is_ok()
-            });
-            path.extend(bad.map(|i| i.to_string()));
+    };
+    while let Some(node) = entry(item, &path) {
+        let keys = children(node);
+        let mut mending = keys
+            .iter()
+            .filter(|key| !(node.is_table() && TAGS.contains(&key.as_str()) && !about_variant))
+            .filter(|key| mends(&path, key));
+        let Some(first) = mending.next() else { break };
+        // An array mended by the removal of any of several elements (one too long) is itself
+        // at fault, not one of its elements.
+        if node.is_array() && mending.next().is_some() {
+            break;
         }
-        return path;
+        path.push(first.clone());
+    }
+    path
+}
+
+/// The path below `item` of the table that lacks the field `missing`: the first, in the order
+/// of the document, into which the field put changes the reader's `message` to another than
+/// that the table has no such field.
+fn lacking(
+    item: &toml::Value,
+    missing: &str,
+    message: &str,
+    reads: impl Fn(toml::Value) -> Result<(), String>,
+) -> Vec<String> {
+    let mut queue = vec![Vec::<String>::new()];
+    while let Some(path) = queue.pop() {
+        let Some(node) = entry(item, &path) else { continue };
+        if let Some(table) = node.as_table()
+            && !table.contains_key(missing)
+        {
+            let mut with = item.clone();
+            if let Some(toml::Value::Table(t)) = entry_mut(&mut with, &path) {
+                t.insert(missing.to_owned(), toml::Value::Integer(0));
+            }
+            let changed = match reads(with) {
+                Ok(()) => true,
+                Err(e) => {
+                    e.trim() != message.trim()
+                        && !e.trim_start().starts_with(&format!("unknown field `{missing}`"))
+                }
+            };
+            if changed {
+                return path;
+            }
+        }
+        // Depth first, in the document's order.
+        for key in children(node).into_iter().rev() {
+            queue.push([path.clone(), vec![key]].concat());
+        }
     }
     Vec::new()
 }
@@ -324,13 +420,10 @@ pub(super) fn declared_parse_error(
         table: &toml::Table,
         key: &str,
     ) -> Option<(String, String)> {
-        let items = table.get(key)?.as_array()?;
-        items.iter().enumerate().find_map(|(i, item)| {
+        let read = |item: &toml::Value, at: Vec<String>| {
             let e = T::deserialize(item.clone()).err()?;
-            let name = item.get("name").and_then(toml::Value::as_str);
-            let element = name.map_or_else(|| i.to_string(), str::to_owned);
             let message = e.message().to_owned();
-            let mut field = vec![key.to_owned(), element];
+            let mut field = at;
             field.extend(culprit::<T>(item, &message));
             if let Some(f) = unknown_field_name(&message)
                 && field.last() != Some(&f)
@@ -338,13 +431,31 @@ pub(super) fn declared_parse_error(
                 field.push(f);
             }
             Some((field.join("."), message))
-        })
+        };
+        match table.get(key)? {
+            // A table such as `[contacts_auto]` is read as one.
+            item @ toml::Value::Table(_) => read(item, vec![key.to_owned()]),
+            toml::Value::Array(items) => items.iter().enumerate().find_map(|(i, item)| {
+                let name = item.get("name").and_then(toml::Value::as_str);
+                let element = name.map_or_else(|| i.to_string(), str::to_owned);
+                read(item, vec![key.to_owned(), element])
+            }),
+            _ => None,
+        }
     }
     let found = first_error::<BodySpec>(table, "bodies")
         .or_else(|| first_error::<JointSpec>(table, "joints"))
         .or_else(|| first_error::<ForceSpec>(table, "forces"))
         .or_else(|| first_error::<ContactSpec>(table, "contacts"))
+        .or_else(|| first_error::<AutoContacts>(table, "contacts_auto"))
         .or_else(|| first_error::<FillSpec>(table, "fill"));
+    // A field missing from the top level has no table to name: the reader points at the
+    // document's start, its first key.
+    if found.is_none()
+        && let Some(top) = missing_at_top(error, |k| table.contains_key(k))
+    {
+        return top;
+    }
     match found {
         Some((field, message)) => ModelError::Parse {
             path: None,
