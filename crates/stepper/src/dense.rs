@@ -18,6 +18,11 @@ pub(crate) const SMALL_LIMIT: usize = 24;
 /// the triangular solves' divisions dominate).
 pub(crate) const INVERSE_LIMIT: usize = 8;
 
+/// The least share L_jj² / M_jj of its diagonal entry that a pivot of a mass matrix's factor
+/// keeps (a column j at an angle θ to the columns before it in the metric of M keeps sin² θ):
+/// below it M is singular to round-off, as in the joints' S = W_Bᵀ M⁻¹ W_B.
+pub(crate) const MASS_SINGULAR: f64 = 1e-12;
+
 /// Why a Cholesky factorisation failed.
 #[derive(Debug)]
 pub(crate) enum FactorError {
@@ -25,6 +30,10 @@ pub(crate) enum FactorError {
     Asymmetric { i: usize, j: usize },
     /// The pivot of column `index` is not positive.
     NotPositive { index: usize },
+    /// The pivot of column `index` kept only `ratio` of its diagonal entry, at most the
+    /// factor's least share ([`Cholesky::for_mass_matrix`]): the matrix is singular to
+    /// round-off.
+    Singular { index: usize, ratio: f64 },
 }
 
 impl std::fmt::Display for FactorError {
@@ -32,6 +41,12 @@ impl std::fmt::Display for FactorError {
         match self {
             Self::Asymmetric { i, j } => write!(f, "M[{i}][{j}] differs from M[{j}][{i}]"),
             Self::NotPositive { index } => write!(f, "non-positive pivot in column {index}"),
+            Self::Singular { index, ratio } => write!(
+                f,
+                "singular to round-off: the pivot of column {index} keeps {ratio:.1e} of its \
+                 diagonal entry (at most {MASS_SINGULAR:e}), so that column is a combination of \
+                 the columns before it"
+            ),
         }
     }
 }
@@ -45,6 +60,8 @@ pub(crate) struct Cholesky {
     /// L⁻¹ (lower triangle, column-major), scratch of the inverse.
     l_inv: Vec<f64>,
     buffer: Option<MemBuffer>,
+    /// The least share of its diagonal entry a pivot keeps (0 but for a mass matrix).
+    min_pivot_ratio: f64,
 }
 
 impl Cholesky {
@@ -59,7 +76,13 @@ impl Cholesky {
         });
         let inverse = if n <= INVERSE_LIMIT { vec![0.0; n * n] } else { Vec::new() };
         let l_inv = inverse.clone();
-        Self { n, l: vec![0.0; n * n], inverse, l_inv, buffer }
+        Self { n, l: vec![0.0; n * n], inverse, l_inv, buffer, min_pivot_ratio: 0.0 }
+    }
+
+    /// Workspace for mass matrices of order `n`, whose factorisation also refuses a matrix
+    /// that is singular to round-off ([`FactorError::Singular`], [`MASS_SINGULAR`]).
+    pub(crate) fn for_mass_matrix(n: usize) -> Self {
+        Self { min_pivot_ratio: MASS_SINGULAR, ..Self::new(n) }
     }
 
     /// Factorises the column-major matrix `m` (order n), checking symmetry first; `N` as in
@@ -89,7 +112,12 @@ impl Cholesky {
                     Default::default(),
                 )
                 .map_err(|_| FactorError::NotPositive { index: first_bad_pivot(m, n) })?;
-                Ok(())
+                let l = &self.l;
+                let ratio = |j: usize| l[j + j * n].powi(2) / m[j + j * n];
+                match (0..n).find(|&j| ratio(j) <= self.min_pivot_ratio) {
+                    Some(index) => Err(FactorError::Singular { index, ratio: ratio(index) }),
+                    None => Ok(()),
+                }
             }
         }
     }
@@ -120,7 +148,7 @@ impl Cholesky {
     /// `N` as in [`factor_small`].
     #[inline(always)]
     fn factor_and_invert<const N: usize>(&mut self) -> Result<(), FactorError> {
-        factor_small::<N>(&mut self.l, self.n)?;
+        factor_small::<N>(&mut self.l, self.n, self.min_pivot_ratio)?;
         if self.n <= INVERSE_LIMIT {
             invert_from_factor::<N>(&self.l, self.n, &mut self.l_inv, &mut self.inverse);
         }
@@ -222,18 +250,28 @@ impl Cholesky {
 
 /// In-place Cholesky of a column-major matrix of order n (lower triangle used and written).
 /// `N > 0` fixes the order at compile time (n is then ignored), so that the loops of the
-/// common small orders have constant bounds; `N = 0` takes n.
+/// common small orders have constant bounds; `N = 0` takes n. A pivot that keeps at most
+/// `min_ratio` of its diagonal entry is [`FactorError::Singular`] (with `min_ratio` = 0, only a
+/// non-positive one fails).
 #[inline(always)]
-pub(crate) fn factor_small<const N: usize>(a: &mut [f64], n: usize) -> Result<(), FactorError> {
+pub(crate) fn factor_small<const N: usize>(
+    a: &mut [f64],
+    n: usize,
+    min_ratio: f64,
+) -> Result<(), FactorError> {
     let n = if N == 0 { n } else { N };
     for j in 0..n {
-        let mut d = a[j + j * n];
+        let diagonal = a[j + j * n];
+        let mut d = diagonal;
         for k in 0..j {
             d -= a[j + k * n] * a[j + k * n];
         }
         // `!(d > 0)` also catches NaN.
         if !(d > 0.0) {
             return Err(FactorError::NotPositive { index: j });
+        }
+        if d <= min_ratio * diagonal {
+            return Err(FactorError::Singular { index: j, ratio: d / diagonal });
         }
         let d = d.sqrt();
         a[j + j * n] = d;
@@ -302,7 +340,7 @@ pub(crate) fn solve_small(l: &[f64], n: usize, x: &mut [f64]) {
 /// error message of the faer path, which does not report it).
 fn first_bad_pivot(m: &[f64], n: usize) -> usize {
     let mut a = m.to_vec();
-    match factor_small::<0>(&mut a, n) {
+    match factor_small::<0>(&mut a, n, 0.0) {
         Err(FactorError::NotPositive { index }) => index,
         _ => 0,
     }

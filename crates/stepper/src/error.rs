@@ -24,6 +24,25 @@ pub enum StepError {
         /// Time at which it was found (s).
         t: f64,
     },
+    /// An entry of a closed contact's force direction that the mechanism's
+    /// `ContactKinematics::contact` (or `contacts`, or `SharedWork::midpoint_contacts`) did not
+    /// write. Every entry of w_N and w_T must be written, zeros included: the stepper reuses
+    /// the buffers from contact to contact, and it fills them with a marker before each call
+    /// so that an entry left alone is found instead of taking another contact's value.
+    #[error(
+        "{what}[{entry}] of contact {contact} was not written by the mechanism's contact \
+         kinematics (t = {t}); every entry of w_N and w_T must be written, zeros included"
+    )]
+    Unwritten {
+        /// Which force direction (`w_N` or `w_T`).
+        what: &'static str,
+        /// The contact, as an index into the mechanism's contacts.
+        contact: usize,
+        /// The coordinate of the entry left unwritten (0 to f − 1).
+        entry: usize,
+        /// Time of the midpoint at which the contact was evaluated (s).
+        t: f64,
+    },
     /// A vector or list of the wrong length.
     #[error("{what} has length {found}, expected {expected}")]
     Dimension {

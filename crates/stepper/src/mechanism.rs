@@ -16,11 +16,19 @@ pub trait Mechanism: ContactKinematics {
     fn laws(&self) -> &[ContactLaw];
 
     /// Writes the symmetric positive definite mass matrix M(q, t), column-major `f × f`,
-    /// into `m` (length `f²`).
+    /// into `m` (length `f²`), every entry (the buffer keeps what the last call wrote).
+    ///
+    /// The stepper refuses with [`crate::StepError::MassNotSpd`] an M whose two triangles
+    /// differ beyond 1e-12 of their entries, one with a pivot of its Cholesky factor that is
+    /// not positive, and one that is singular to round-off: a pivot L_jj² that keeps at most
+    /// 1e-12 of its diagonal entry M_jj (the kinetic energy of coordinate j nearly that of a
+    /// combination of the coordinates before it: coordinates that describe one motion twice),
+    /// where M⁻¹ would amplify round-off by more than 1e12.
     fn mass_matrix(&self, q: &[f64], t: f64, m: &mut [f64]);
 
     /// Writes the smooth generalised forces h(q, u, t) (gravity, springs, gyroscopic and
-    /// centrifugal terms) into `h` (length `f`).
+    /// centrifugal terms) into `h` (length `f`). The stepper hands `h` over filled with zeros,
+    /// so that a mechanism may write its non-zero entries only (`h[1] = -m * g`).
     fn forces(&self, q: &[f64], u: &[f64], t: f64, h: &mut [f64]);
 
     /// The potential energy V(q, t) of the conservative part of `h`, if the mechanism has one (J).
@@ -105,7 +113,8 @@ pub trait Mechanism: ContactKinematics {
 /// [`crate::check_evaluate`] verifies.
 pub trait SharedWork {
     /// M(q, t) into `mass` (skipped when `None`, as when a constant M is already
-    /// factorised), h(q, u, t) into `h` and the normal gaps of all contacts into `gaps`.
+    /// factorised), h(q, u, t) into `h` (handed over filled with zeros, as to
+    /// [`Mechanism::forces`]) and the normal gaps of all contacts into `gaps`.
     ///
     /// `memo` (length [`Self::memo_len`]) keeps what the same step's
     /// [`Self::midpoint_contacts`] may reuse at this q. The stepper passes it back unchanged,
@@ -172,6 +181,9 @@ pub(crate) fn evaluate<M: Mechanism + ?Sized>(
     gaps: &mut [f64],
     memo: &mut [f64],
 ) {
+    // h arrives zeroed (`Mechanism::forces`): the buffer holds the last step's values, or
+    // for more than 8 coordinates M⁻¹ h of the last step.
+    h.fill(0.0);
     match mech.shared_work() {
         Some(shared) => shared.evaluate(q, u, t, mass, h, gaps, memo),
         None => {

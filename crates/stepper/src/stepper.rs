@@ -244,14 +244,40 @@ pub(crate) fn check_state(f: usize, t: f64, q: &[f64], u: &[f64]) -> Result<(), 
     check_finite("u", u, t)
 }
 
-/// A contact's force directions w_N and w_T must be finite; the error names the first entry
-/// that is not (w_N's entries first, then w_T's).
+/// What the stepper writes into the buffers of w_N and w_T before it asks the mechanism for
+/// them: a NaN whose payload no arithmetic produces, so that an entry the mechanism leaves
+/// alone is told apart from one it computed as NaN.
+pub(crate) const UNWRITTEN: f64 = f64::from_bits(0x7ff8_0000_dead_beef);
+
+/// Fills buffers of force directions with [`UNWRITTEN`].
 #[inline(always)]
-fn check_directions(w_n: &[f64], w_t: &[f64]) -> Result<(), LcpFailure> {
+fn mark_unwritten(w_n: &mut [f64], w_t: &mut [f64]) {
+    w_n.fill(UNWRITTEN);
+    w_t.fill(UNWRITTEN);
+}
+
+/// The force directions w_N and w_T of contact `contact` must be written and finite; the
+/// error names the first entry that is not: an entry left at [`UNWRITTEN`] as
+/// [`LcpFailure::Unwritten`], otherwise by its index in w_N's entries, then w_T's.
+#[inline(always)]
+fn check_directions(contact: usize, w_n: &[f64], w_t: &[f64]) -> Result<(), LcpFailure> {
     match w_n.iter().chain(w_t).position(|x| !x.is_finite()) {
         None => Ok(()),
-        Some(index) => Err(LcpFailure::NonFinite { what: "w_N/w_T", index }),
+        Some(index) => Err(unwritten_or_non_finite(contact, w_n, w_t, index)),
     }
+}
+
+/// The failure of [`check_directions`] at entry `index` of w_N, w_T.
+#[cold]
+#[inline(never)]
+fn unwritten_or_non_finite(contact: usize, w_n: &[f64], w_t: &[f64], index: usize) -> LcpFailure {
+    let f = w_n.len();
+    let value = if index < f { w_n[index] } else { w_t[index - f] };
+    if value.to_bits() != UNWRITTEN.to_bits() {
+        return LcpFailure::NonFinite { what: "w_N/w_T", index };
+    }
+    let (what, entry) = if index < f { ("w_N", index) } else { ("w_T", index - f) };
+    LcpFailure::Unwritten { what, contact, entry }
 }
 
 /// The rheonomic terms ŵ_N, ŵ_T of the contacts `which` (their `points`) must be finite; the
@@ -360,7 +386,7 @@ impl<M: Mechanism> Stepper<M> {
             q_start: vec![0.0; if mechanism.num_bilaterals() > 0 { f } else { 0 }],
             u_unconstrained: vec![0.0; f],
             joint_impulses: vec![0.0; if body.is_some() { 0 } else { mechanism.num_bilaterals() }],
-            chol: Cholesky::new(f),
+            chol: Cholesky::for_mass_matrix(f),
             factored: false,
             active: Vec::with_capacity(n),
             frictional: Vec::with_capacity(n),
@@ -676,6 +702,7 @@ fn active_report(
 /// Internal failure of a contact step, turned into a [`StepError`] with context.
 enum LcpFailure {
     NonFinite { what: &'static str, index: usize },
+    Unwritten { what: &'static str, contact: usize, entry: usize },
     Input(moreau_lcp::LcpError),
     Solver(moreau_lcp::LcpError),
     Status(Status),

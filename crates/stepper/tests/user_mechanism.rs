@@ -25,6 +25,13 @@ enum Fault {
     None,
     RheonomicNan,
     TinyInertia,
+    /// M couples x and θ so that its θ column is 3 times its x column: singular, with a
+    /// Cholesky pivot that round-off leaves at 1.1e-16 instead of 0.
+    SingularMass,
+    /// `contact` writes only the first two entries of end 1's w_T.
+    UnwrittenWt,
+    /// `contact` writes only the first two entries of end 1's w_N.
+    UnwrittenWn,
 }
 
 impl Rod {
@@ -59,8 +66,15 @@ impl ContactKinematics for Rod {
     ) -> ContactPoint {
         let a = Self::side(i) * 0.5 * self.l;
         let (s, c) = q[2].sin_cos();
-        w_n.copy_from_slice(&[0.0, 1.0, a * c]);
-        w_t.copy_from_slice(&[1.0, 0.0, -a * s]);
+        let (w_n, w_t) = match (self.fault, i) {
+            (Fault::UnwrittenWn, 1) => (&mut w_n[..2], w_t),
+            (Fault::UnwrittenWt, 1) => (w_n, &mut w_t[..2]),
+            _ => (w_n, w_t),
+        };
+        let k = w_n.len();
+        w_n.copy_from_slice(&[0.0, 1.0, a * c][..k]);
+        let k = w_t.len();
+        w_t.copy_from_slice(&[1.0, 0.0, -a * s][..k]);
         let w_n_hat = if self.fault == Fault::RheonomicNan && i == 1 { f64::NAN } else { 0.0 };
         ContactPoint { g_n: self.normal_gap(i, q, t), g_t: q[0] + a * c, w_n_hat, w_t_hat: 0.0 }
     }
@@ -75,6 +89,9 @@ impl Mechanism for Rod {
         m[0] = self.m;
         m[4] = self.m;
         m[8] = self.inertia();
+        if self.fault == Fault::SingularMass {
+            (m[0], m[2], m[6], m[8]) = (0.1, 0.3, 0.3, 0.9);
+        }
     }
     fn forces(&self, _q: &[f64], _u: &[f64], _t: f64, h: &mut [f64]) {
         h.copy_from_slice(&[self.push, -self.m * G, 0.0]);
@@ -261,4 +278,133 @@ fn maximal_coordinates_need_three_coordinates_per_body() {
         Stepper::new(slider, &[0.1], &[0.0], 0.0, options(1e-3).with_projection(true)).unwrap_err();
     assert!(matches!(e, StepError::Dimension { expected: 3, found: 1, .. }), "{e:?}");
     assert!(e.to_string().contains("maximal_coordinates"), "{e}");
+}
+
+#[test]
+fn a_singular_mass_matrix_is_refused_though_round_off_leaves_its_pivot_positive() {
+    // Column θ of M is 3 times column x, and the elimination leaves 0.9 − (0.3/√0.1)² =
+    // 1.1e-16: a factor of M that amplifies round-off by 1e16. Without the refusal the rod
+    // pushed at 1 m/s flew off to 1.8e11 m within 2 s.
+    let mut rod = Rod::new(ContactLaw::new(0.5, 0.0, 0.3).unwrap());
+    rod.fault = Fault::SingularMass;
+    let mut s = Stepper::new(rod, &[0.0, 0.05, 0.0], &[1.0, 0.0, 0.0], 0.0, options(1e-3)).unwrap();
+    let e = s.step().unwrap_err();
+    match &e {
+        StepError::MassNotSpd { t, reason } => {
+            assert_eq!(*t, 5e-4);
+            assert!(reason.contains("singular") && reason.contains("column 2"), "{reason}");
+            assert!(reason.contains("1.2e-16"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!((s.t(), s.steps(), s.q()), (0.0, 0, &[0.0, 0.05, 0.0][..]));
+}
+
+#[test]
+fn a_force_direction_entry_left_unwritten_is_named_by_contact_and_entry() {
+    // Both ends resting (the general LCP), and end 1 alone touching and frictionless (the
+    // closed form of one contact): an entry that `contact` did not write stops the step, where
+    // it would have kept the value another contact left in the reused buffer.
+    let rest = [0.0; 3];
+    let tilted = [0.0, 0.5 * 0.1f64.sin(), 0.1];
+    for (fault, law, q0, what) in [
+        (Fault::UnwrittenWt, ContactLaw::new(0.0, 0.0, 0.3).unwrap(), rest, "w_T"),
+        (Fault::UnwrittenWn, ContactLaw::new(0.0, 0.0, 0.3).unwrap(), rest, "w_N"),
+        (Fault::UnwrittenWn, ContactLaw::frictionless(0.5).unwrap(), tilted, "w_N"),
+    ] {
+        let mut rod = Rod::new(law);
+        rod.fault = fault;
+        let mut s = Stepper::new(rod, &q0, &[0.0; 3], 0.0, options(1e-3)).unwrap();
+        let e = s.step().unwrap_err();
+        match &e {
+            StepError::Unwritten { what: w, contact, entry, t } => {
+                assert_eq!((*w, *contact, *entry, *t), (what, 1, 2, 5e-4), "{e}");
+            }
+            other => panic!("{what}: {other:?}"),
+        }
+        let text = e.to_string();
+        assert!(text.contains(&format!("{what}[2] of contact 1")), "{text}");
+        assert_eq!((s.t(), s.q()), (0.0, &q0[..]));
+    }
+}
+
+/// Nine coupled coordinates without contacts, M tridiagonal (2 on the diagonal, 0.5 beside
+/// it), pushed by a force of 1 N on coordinate 0 alone; `forces` writes that entry only, or
+/// every entry.
+struct Chain {
+    write_all: bool,
+}
+
+impl ContactKinematics for Chain {
+    fn num_coordinates(&self) -> usize {
+        9
+    }
+    fn num_contacts(&self) -> usize {
+        0
+    }
+    fn normal_gap(&self, _i: usize, _q: &[f64], _t: f64) -> f64 {
+        unreachable!("no contacts")
+    }
+    fn contact(&self, _: usize, _: &[f64], _: f64, _: &mut [f64], _: &mut [f64]) -> ContactPoint {
+        unreachable!("no contacts")
+    }
+}
+
+impl Mechanism for Chain {
+    fn laws(&self) -> &[ContactLaw] {
+        &[]
+    }
+    fn mass_matrix(&self, _q: &[f64], _t: f64, m: &mut [f64]) {
+        m.fill(0.0);
+        for j in 0..9 {
+            m[j + 9 * j] = 2.0;
+            if j > 0 {
+                (m[j + 9 * (j - 1)], m[j - 1 + 9 * j]) = (0.5, 0.5);
+            }
+        }
+    }
+    fn forces(&self, _q: &[f64], _u: &[f64], _t: f64, h: &mut [f64]) {
+        if self.write_all {
+            h.fill(0.0);
+        }
+        h[0] = 1.0;
+    }
+}
+
+#[test]
+fn forces_arrive_zeroed_so_that_a_mechanism_writes_only_its_non_zero_entries() {
+    // Under a constant force and a constant M the midpoint rule is exact: u(t) = t M⁻¹ h.
+    // M⁻¹ e_0 by the tridiagonal elimination (Thomas' algorithm).
+    let (n, dt, steps) = (9, 1e-3, 1000);
+    let (mut c, mut d) = (vec![0.0; n], vec![0.0; n]);
+    (c[0], d[0]) = (0.25, 0.5);
+    for j in 1..n {
+        let den = 2.0 - 0.5 * c[j - 1];
+        c[j] = 0.5 / den;
+        d[j] = -0.5 * d[j - 1] / den;
+    }
+    let mut x = d.clone();
+    for j in (0..n - 1).rev() {
+        x[j] = d[j] - c[j] * x[j + 1];
+    }
+    let run = |write_all: bool| {
+        let mut s =
+            Stepper::new(Chain { write_all }, &[0.0; 9], &[0.0; 9], 0.0, options(dt)).unwrap();
+        for _ in 0..steps {
+            s.step().unwrap();
+        }
+        s.u().to_vec()
+    };
+    let (some, all) = (run(false), run(true));
+    assert_eq!(some, all);
+    let t = dt * steps as f64;
+    for j in 0..n {
+        assert!((some[j] - t * x[j]).abs() < 1e-14, "u[{j}] = {} against {}", some[j], t * x[j]);
+    }
+    // M⁻¹ e_0 alternates in sign along the chain, shrinking by about 2 − √3 per coordinate:
+    // x_0 = 0.5359, x_1 = −0.1436, x_8 = 1.32e-5.
+    let expected = [(0, 0.5359), (1, -0.1436), (8, 1.3217e-5)];
+    for (j, v) in expected {
+        assert!((x[j] - v).abs() < 1e-4 * v.abs(), "x[{j}] = {}", x[j]);
+    }
 }

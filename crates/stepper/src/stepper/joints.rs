@@ -489,7 +489,7 @@ impl Joints {
         for (j, d) in diagonal.iter_mut().enumerate() {
             *d = k[j + j * m];
         }
-        factor_small::<0>(k, m).is_ok()
+        factor_small::<0>(k, m, 0.0).is_ok()
             && diagonal.iter().enumerate().all(|(j, d)| k[j + j * m].powi(2) >= 1e-10 * d)
     }
 }

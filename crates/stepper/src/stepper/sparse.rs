@@ -400,6 +400,7 @@ impl Core {
             }
             b.factored = true;
         }
+        b.h.fill(0.0);
         mech.forces(&b.q_m, &self.u, t_m, &mut b.h);
         check_finite("h", &b.h, t_m)?;
         for k in 0..nb {

@@ -381,6 +381,7 @@ impl Core {
         }
         ws.frictional.clear();
         let na = ws.active.len();
+        mark_unwritten(&mut ws.w_n[..na * f], &mut ws.w_t[..na * f]);
         crate::mechanism::midpoint_contacts(
             mech,
             &ws.active,
@@ -422,8 +423,8 @@ impl Core {
             }
         }
         if poison != 0.0 {
-            for a in 0..na {
-                check_directions(&ws.w_n[a * f..][..f], &ws.w_t[a * f..][..f])?;
+            for (a, &i) in ws.active.iter().enumerate() {
+                check_directions(i, &ws.w_n[a * f..][..f], &ws.w_t[a * f..][..f])?;
             }
             check_rheonomic(&ws.active, &ws.points[..na])?;
         }
@@ -606,6 +607,7 @@ impl Core {
         let f = order::<N>(u_a.len());
         let u_a = &u_a[..f];
         let (w_n, w_t) = (&mut ws.w_n[..f], &mut ws.w_t[..f]);
+        mark_unwritten(w_n, w_t);
         // A mechanism that shares work keeps the contact's geometry from the gaps.
         let point = match mech.shared_work() {
             Some(shared) => {
@@ -615,7 +617,7 @@ impl Core {
             }
             None => mech.contact(i, &ws.q_m, t_m, w_n, w_t),
         };
-        check_directions(w_n, w_t)?;
+        check_directions(i, w_n, w_t)?;
         if !(point.w_n_hat.is_finite() && point.w_t_hat.is_finite()) {
             check_rheonomic(&[i], std::slice::from_ref(&point))?;
         }
@@ -669,6 +671,9 @@ impl Core {
         let t = self.t;
         match failure {
             LcpFailure::NonFinite { what, index } => StepError::NonFinite { what, index, t: t_m },
+            LcpFailure::Unwritten { what, contact, entry } => {
+                StepError::Unwritten { what, contact, entry, t: t_m }
+            }
             // Finite M, h and W give a finite LCP unless the state has grown past the range
             // of f64 in between: report that as the state it is.
             LcpFailure::Input(moreau_lcp::LcpError::NonFinite { .. }) => StepError::NonFinite {
