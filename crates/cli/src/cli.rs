@@ -50,9 +50,12 @@ pub struct SweepArgs {
     /// Model: ball, woodpecker, slider-crank, slider-crank-ideal, cam, painleve; optional
     /// with --scene, which names the model or declares the mechanism.
     pub model: Option<String>,
-    /// Swept key and its values: --set key=v1,v2,... (repeatable; each entry once). The
-    /// values are split at the commas outside brackets, braces and quotes only, so that an
-    /// array or a table is one value: --set 'gravity=[0,-9.81],[0,-1.62]' sweeps two.
+    /// Swept key and its values: --set key=v1,v2,... (repeatable; each entry once; the
+    /// members are the product of the axes). The values are split at the commas outside
+    /// brackets, braces and quotes only, so that an array or a table is one value:
+    /// --set 'gravity=[0,-9.81],[0,-1.62]' sweeps two. A key written +key takes its values
+    /// with the --set before it, the i-th with the i-th, as many as it has:
+    /// --set 'bodies.bob.position=[..],[..]' --set '+joints.hinge.anchor_b=[..],[..]'.
     #[arg(long = "set", value_name = "KEY=V1,V2,...")]
     pub sets: Vec<String>,
     /// Scene file (TOML) to start from instead of the report's scene: a report model's or a

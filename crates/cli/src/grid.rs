@@ -1,5 +1,6 @@
-//! Parameter grids for sweeps: `--set key=v1,v2` options, their Cartesian product enumerated
-//! lazily, shards, and the progress display of a batch of runs.
+//! Parameter grids for sweeps: `--set key=v1,v2` options (`--set +key=w1,w2` taking its
+//! values with the axis before), their Cartesian product enumerated lazily, shards, and the
+//! progress display of a batch of runs.
 
 use std::io::IsTerminal;
 use std::sync::Mutex;
@@ -15,12 +16,18 @@ pub struct Axis {
     pub key: String,
     /// Values, e.g. `["0.1", "0.4"]`.
     pub values: Vec<String>,
+    /// Whether the axis takes its values with the axis before it (`+key=...`): member by
+    /// member, the i-th value of one with the i-th of the other, so that two keys that
+    /// describe one parameter (a pendulum's release angle, its bob's position and
+    /// orientation) vary together instead of multiplying the grid.
+    pub linked: bool,
 }
 
 impl Axis {
     /// Parses `key=v1,v2,...`, splitting the values at the commas outside brackets, braces
     /// and quotes only, so that an array or a table is one value
-    /// (`gravity=[0,-9.81],[0,-1.62]` has two).
+    /// (`gravity=[0,-9.81],[0,-1.62]` has two); `+key=v1,v2,...` is an axis
+    /// [`linked`](Self::linked) to the one before.
     ///
     /// # Errors
     /// [`CliError::BadOption`] naming `--set` and the text, when there is no `=`, the key is
@@ -35,6 +42,10 @@ impl Axis {
             return Err(bad("expected key=value[,value...]").into());
         };
         let key = key.trim();
+        let (key, linked) = match key.strip_prefix('+') {
+            Some(rest) => (rest.trim_start(), true),
+            None => (key, false),
+        };
         if key.is_empty() {
             return Err(bad("the key is empty").into());
         }
@@ -46,7 +57,12 @@ impl Axis {
         if let Some(i) = values.iter().position(String::is_empty) {
             return Err(bad(&format!("value {} of {} is empty", i + 1, values.len())).into());
         }
-        Ok(Self { key: key.to_owned(), values })
+        Ok(Self { key: key.to_owned(), values, linked })
+    }
+
+    /// The axis as `--set` takes it: `key=v1,v2,...`, or `+key=...` when it is linked.
+    pub fn text(&self) -> String {
+        format!("{}{}={}", if self.linked { "+" } else { "" }, self.key, self.values.join(","))
     }
 }
 
@@ -91,9 +107,10 @@ fn top_level_split(values: &str) -> Result<Vec<&str>, String> {
     Ok(parts)
 }
 
-/// A sweep's members: the Cartesian product of its axes, first axis outermost, enumerated
-/// lazily (member i → one value per axis by mixed radix), so that no list of members is ever
-/// built.
+/// A sweep's members: the Cartesian product of its axes, first axis outermost, an axis
+/// [`linked`](Axis::linked) to the one before taking its values with it, enumerated lazily
+/// (member i → one value per group of linked axes by mixed radix), so that no list of members
+/// is ever built.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Grid {
     axes: Vec<Axis>,
@@ -104,13 +121,44 @@ impl Grid {
     /// The grid of `axes`.
     ///
     /// # Errors
-    /// When the number of members does not fit in 64 bits.
+    /// [`CliError::BadOption`] naming `--set` when the first axis is linked (there is no axis
+    /// before it) or a linked axis has another number of values than the axis it is linked
+    /// to; and when the number of members does not fit in 64 bits.
     pub fn new(axes: Vec<Axis>) -> Result<Self> {
         let mut len: u64 = 1;
+        let mut head: Option<&Axis> = None;
         for a in &axes {
-            len = len
-                .checked_mul(a.values.len() as u64)
-                .with_context(|| format!("the sweep has more than {} members", u64::MAX))?;
+            let bad =
+                |reason: String| CliError::BadOption { option: "--set", text: a.text(), reason };
+            match (a.linked, head) {
+                (false, _) => {
+                    head = Some(a);
+                    len = len
+                        .checked_mul(a.values.len() as u64)
+                        .with_context(|| format!("the sweep has more than {} members", u64::MAX))?;
+                }
+                (true, None) => {
+                    return Err(bad(format!(
+                        "`+{}` takes its values with the --set before it, and there is none",
+                        a.key
+                    ))
+                    .into());
+                }
+                (true, Some(h)) if h.values.len() != a.values.len() => {
+                    let count = |n: usize| match n {
+                        1 => "1 value".to_owned(),
+                        n => format!("{n} values"),
+                    };
+                    return Err(bad(format!(
+                        "has {}, and `{}`, with which it takes them, has {}",
+                        count(a.values.len()),
+                        h.key,
+                        count(h.values.len())
+                    ))
+                    .into());
+                }
+                (true, Some(_)) => {}
+            }
         }
         Ok(Self { axes, len })
     }
@@ -130,17 +178,23 @@ impl Grid {
         self.len == 0
     }
 
-    /// Member `i` (< [`Self::len`]): one `(key, value)` per axis.
+    /// Member `i` (< [`Self::len`]): one `(key, value)` per axis, in the axes' order.
     pub fn member(&self, i: u64) -> Vec<(String, String)> {
-        let mut out = Vec::with_capacity(self.axes.len());
+        let mut index = vec![0; self.axes.len()];
         let mut rest = i;
-        for a in self.axes.iter().rev() {
-            let n = a.values.len() as u64;
-            out.push((a.key.clone(), a.values[(rest % n) as usize].clone()));
+        // From the last axis back: a linked axis takes the index of the axis its group starts
+        // with, which alone counts in the radix.
+        let mut group_end = self.axes.len();
+        for k in (0..self.axes.len()).rev() {
+            if self.axes[k].linked {
+                continue;
+            }
+            let n = self.axes[k].values.len() as u64;
+            index[k..group_end].fill((rest % n) as usize);
             rest /= n;
+            group_end = k;
         }
-        out.reverse();
-        out
+        self.axes.iter().zip(index).map(|(a, j)| (a.key.clone(), a.values[j].clone())).collect()
     }
 }
 
@@ -271,7 +325,7 @@ mod tests {
         let a = Axis::parse("eps_n=0.1, 0.4")?;
         assert_eq!(a.values, vec!["0.1", "0.4"]);
         let b = Axis::parse("dt=1e-3,1e-4,1e-5")?;
-        let p = Grid::new(vec![a, b])?;
+        let p = Grid::new(vec![a.clone(), b])?;
         assert_eq!(p.len(), 6);
         assert_eq!(p.member(0), vec![("eps_n".into(), "0.1".into()), ("dt".into(), "1e-3".into())]);
         assert_eq!(p.member(4), vec![("eps_n".into(), "0.4".into()), ("dt".into(), "1e-4".into())]);
@@ -288,6 +342,9 @@ mod tests {
         assert!(Axis::parse("gravity=[0,-9.81").is_err());
         assert!(Axis::parse("gravity=0,-9.81]").is_err());
         assert!(Axis::parse("name=\"a,b").is_err());
+        assert!(!a.linked && Axis::parse("+theta=1,2")?.linked);
+        assert_eq!(Axis::parse(" + theta = 1, 2")?.text(), "+theta=1,2");
+        assert!(Axis::parse("+=1").is_err());
         assert_eq!(Grid::new(Vec::new())?.len(), 1);
         // 40 axes of 3 values: 3^40 ≈ 1.2e19 members, never listed; member i by mixed radix.
         let big = Grid::new(
@@ -301,6 +358,32 @@ mod tests {
         assert!(
             Grid::new((0..41).map(|k| Axis::parse(&format!("k{k}=0,1,2"))).collect::<Result<_>>()?)
                 .is_err()
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn linked_axes_take_their_values_together() -> Result<()> {
+        let axes = ["a=1,2,3", "+b=x,y,z", "c=p,q", "+d=P,Q", "+e=0,1"];
+        let grid = Grid::new(axes.iter().map(|t| Axis::parse(t)).collect::<Result<_>>()?)?;
+        assert_eq!(grid.len(), 6);
+        let values = |i| grid.member(i).into_iter().map(|(_, v)| v).collect::<Vec<_>>().concat();
+        let members: Vec<String> = (0..6).map(values).collect();
+        assert_eq!(members, ["1xpP0", "1xqQ1", "2ypP0", "2yqQ1", "3zpP0", "3zqQ1"]);
+        let keys: Vec<String> = grid.member(0).into_iter().map(|(k, _)| k).collect();
+        assert_eq!(keys, ["a", "b", "c", "d", "e"]);
+
+        let refusal = |axes: &[&str]| {
+            let axes = axes.iter().map(|t| Axis::parse(t)).collect::<Result<_>>().unwrap();
+            Grid::new(axes).unwrap_err().to_string()
+        };
+        assert_eq!(
+            refusal(&["+b=1,2"]),
+            "--set +b=1,2: `+b` takes its values with the --set before it, and there is none"
+        );
+        assert_eq!(
+            refusal(&["a=1,2,3", "+b=x,y"]),
+            "--set +b=x,y: has 2 values, and `a`, with which it takes them, has 3 values"
         );
         Ok(())
     }

@@ -116,7 +116,7 @@ pub fn sweep_id(base: &Scene, axes: &[Axis], max_steps: u64) -> String {
         base.to_toml_string()
     );
     for a in axes {
-        text.push_str(&format!("axis {}={}\n", a.key, a.values.join(",")));
+        text.push_str(&format!("axis {}\n", a.text()));
     }
     format!("{:016x}", fnv64(text.as_bytes()))
 }
