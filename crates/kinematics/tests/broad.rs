@@ -120,3 +120,32 @@ fn broad_phase_matches_brute_force_on_piles_walls_and_strays() {
     assert_eq!(out, brute_pairs(&points, 0.0));
     assert!(!out.is_empty());
 }
+
+#[test]
+fn boxes_a_grid_cannot_hold_are_paired_by_testing_every_pair() {
+    let mut broad = BroadPhase::new();
+    let mut out = Vec::new();
+    let unit = |x: f64, y: f64| Aabb { min: [x, y], max: [x + 1.0, y + 1.0] };
+    // Boxes 2e308 apart: their span overflows f64, so no grid cell size covers it. The two
+    // far boxes touch each other and nothing else; the middle ones overlap each other.
+    let spread = vec![
+        unit(-1e308, 0.0),
+        unit(0.0, 0.0),
+        unit(0.5, 0.5),
+        unit(1e308, 0.0),
+        unit(-1e308, 0.5),
+    ];
+    broad.pairs(&spread, 0.0, &mut out);
+    assert_eq!(out, vec![(0, 4), (1, 2)]);
+    assert_eq!(out, brute_pairs(&spread, 0.0));
+    // An infinite margin makes every two boxes overlap, except a box with a NaN coordinate.
+    let mut boxes: Vec<Aabb> = (0..6).map(|k| unit(10.0 * k as f64, 0.0)).collect();
+    boxes[4].min[0] = f64::NAN;
+    broad.pairs(&boxes, f64::INFINITY, &mut out);
+    assert_eq!(out.len(), 10, "{out:?}");
+    assert!(out.iter().all(|&(i, j)| i < j && i != 4 && j != 4));
+    assert_eq!(out, brute_pairs(&boxes, f64::INFINITY));
+    // The same broad phase then grids ordinary boxes again.
+    broad.pairs(&boxes[..2], 5.0, &mut out);
+    assert_eq!(out, vec![(0, 1)]);
+}

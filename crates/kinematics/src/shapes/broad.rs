@@ -26,10 +26,12 @@
 //! exactly ([`Aabb::overlaps`]), so that the pairs come out in (i, j) order after sorting each
 //! box's few partners. A grid that would need more than about four cells per box (bodies
 //! scattered far apart) is made coarser. The few other boxes (half-planes with an infinite
-//! side, long walls) are tested against every box directly. Every buffer is kept, so that once
-//! warm a call allocates nothing. The grid is built once ([`BroadPhase::build`]) and searched
-//! by ranges of boxes ([`BroadPhase::pairs_of`]), whose lists follow each other in the order
-//! of the whole: ranges can be searched on several threads and their lists concatenated.
+//! side, long walls) are tested against every box directly, and so is every box when no grid
+//! can hold them (an infinite margin, boxes spread wider than f64's range). Every buffer is
+//! kept, so that once warm a call allocates nothing. The grid is built once
+//! ([`BroadPhase::build`]) and searched by ranges of boxes ([`BroadPhase::pairs_of`]), whose
+//! lists follow each other in the order of the whole: ranges can be searched on several
+//! threads and their lists concatenated.
 
 use std::ops::Range;
 
@@ -80,7 +82,8 @@ impl BroadPhase {
 
     /// Writes into `out` (cleared first) the pairs (i, j), i < j, of `boxes` that overlap when
     /// each is grown by `margin` (m) on every side, touching included, in increasing (i, j)
-    /// order. A box with a NaN coordinate overlaps nothing. It is [`Self::build`] then
+    /// order. A box with a NaN coordinate overlaps nothing; an infinite margin makes every two
+    /// other boxes overlap, a NaN margin none. It is [`Self::build`] then
     /// [`Self::pairs_of`] over all boxes.
     pub fn pairs(&mut self, boxes: &[Aabb], margin: f64, out: &mut Vec<(usize, usize)>) {
         out.clear();
@@ -117,6 +120,13 @@ impl BroadPhase {
             } else {
                 nans += 1;
             }
+        }
+        // An infinite margin, or boxes spread wider than f64's range, leave no finite cell size
+        // or grid span: every box is then tested against every other directly.
+        if !(h.is_finite() && (hi[0] - lo[0]).is_finite() && (hi[1] - lo[1]).is_finite()) {
+            self.direct.clear();
+            self.direct.extend((0..n).filter(|&i| !nan(&boxes[i])));
+            self.ordinary.fill(false);
         }
         let ordinary_count = n - self.direct.len() - nans;
         (self.nx, self.ny) = if ordinary_count > 0 {
