@@ -67,12 +67,15 @@ pub enum KinematicsError {
     NoSamples,
     /// A shape that fails [`crate::Shape::validate`]: a non-finite coordinate, a negative
     /// radius, a polygon that is not convex and counter-clockwise, too few points, ...
-    #[error("invalid {shape}: {problem}{}", at_index(*.index))]
+    #[error("invalid {shape}: {problem}{}{}", the_value(*.value), at_index(*.index))]
     InvalidShape {
         /// The shape's name (`disk`, `polygon`, `capsule`, `half_plane`, `polyline`, `profile`).
         shape: &'static str,
-        /// What is wrong, e.g. "vertices turn clockwise".
+        /// What is wrong, e.g. "negative radius".
         problem: &'static str,
+        /// The number at fault, if one is: the radius, the non-finite coordinate, the length
+        /// |n| of a half-plane's normal.
+        value: Option<f64>,
         /// The vertex, point or edge concerned, if one is.
         index: Option<usize>,
     },
@@ -109,6 +112,11 @@ pub enum KinematicsError {
         /// The property asked for (`unit inertia`, ...).
         what: &'static str,
     },
+}
+
+/// The ": value" part of a shape error, or nothing.
+fn the_value(value: Option<f64>) -> String {
+    value.map(|v| format!(": {v}")).unwrap_or_default()
 }
 
 /// The " at index i" suffix of a shape error, or nothing.

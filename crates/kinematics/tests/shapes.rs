@@ -333,8 +333,19 @@ fn unsupported_pairs_and_bad_margins_are_refused() {
     let empty = Shape::Polygon { vertices: vec![] };
     assert!(matches!(
         collide(&empty, &o, &floor(), &o, 0.0, &mut out),
-        Err(KinematicsError::InvalidShape { shape: "polygon", problem: "too few points", .. })
+        Err(KinematicsError::InvalidShape {
+            shape: "polygon",
+            problem: "too few points",
+            value: Some(0.0),
+            ..
+        })
     ));
+    // `collide` names a bad normal as validation does.
+    for normal in [[0.0, 0.0], [f64::NAN, 1.0], [1e-170, 0.0]] {
+        let plane = Shape::HalfPlane { point: [0.0, 0.0], normal };
+        let err = collide(&disk(0.0, 0.0, 1.0), &o, &plane, &o, 0.0, &mut out).unwrap_err();
+        assert_eq!(err.to_string(), plane.validate().unwrap_err().to_string());
+    }
     let dot = Shape::Capsule { a: [0.0, 0.0], b: [0.0, 0.0], radius: 1.0 };
     assert!(matches!(
         collide(&disk(0.0, 0.0, 1.0), &o, &dot, &o, 0.0, &mut out),
@@ -352,8 +363,32 @@ fn validation_names_what_is_wrong() {
         Err(KinematicsError::InvalidShape { problem, index, .. }) => (problem, index),
         other => panic!("expected an invalid shape, got {other:?}"),
     };
+    // The number at fault and the message that names it.
+    let value = |s: Shape| match s.validate() {
+        Err(e @ KinematicsError::InvalidShape { value, .. }) => (value, e.to_string()),
+        other => panic!("expected an invalid shape, got {other:?}"),
+    };
     assert_eq!(problem(disk(0.0, 0.0, -1.0)).0, "negative radius");
-    assert_eq!(problem(disk(f64::NAN, 0.0, 1.0)).0, "non-finite centre");
+    assert_eq!(
+        value(disk(0.0, 0.0, -0.1)),
+        (Some(-0.1), "invalid disk: negative radius: -0.1".into())
+    );
+    let (v, message) = value(disk(0.0, 0.0, f64::NAN));
+    assert!(v.unwrap().is_nan() && message == "invalid disk: non-finite radius: NaN", "{message}");
+    assert_eq!(problem(disk(f64::NAN, 0.0, 1.0)).0, "non-finite centre coordinate");
+    assert_eq!(value(disk(0.0, f64::INFINITY, 1.0)).0, Some(f64::INFINITY));
+    let capsule = Shape::Capsule { a: [0.0, 0.0], b: [1.0, f64::NEG_INFINITY], radius: 0.1 };
+    assert_eq!(problem(capsule.clone()), ("non-finite end coordinate", Some(1)));
+    assert_eq!(value(capsule).1, "invalid capsule: non-finite end coordinate: -inf (at index 1)");
+    let capsule = Shape::Capsule { a: [0.0, 0.0], b: [1.0, 0.0], radius: -2.5 };
+    assert_eq!(value(capsule).0, Some(-2.5));
+    let polyline = Shape::Polyline { points: vec![[0.0, 0.0], [1.0, 0.0], [2.0, f64::NAN]] };
+    assert_eq!(problem(polyline.clone()), ("non-finite coordinate", Some(2)));
+    assert!(value(polyline).0.unwrap().is_nan());
+    let hp = Shape::HalfPlane { point: [f64::INFINITY, 0.0], normal: [0.0, 1.0] };
+    assert_eq!(problem(hp), ("non-finite point coordinate", None));
+    let hp = Shape::HalfPlane { point: [0.0, 0.0], normal: [0.0, f64::NAN] };
+    assert_eq!(problem(hp), ("non-finite normal coordinate", None));
     let cw = Shape::Polygon { vertices: vec![[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]] };
     assert_eq!(problem(cw), ("not strictly convex and counter-clockwise", Some(1)));
     let dent = Shape::Polygon {
@@ -366,14 +401,17 @@ fn validation_names_what_is_wrong() {
             [a.cos(), a.sin()]
         })
         .collect();
-    assert_eq!(problem(Shape::Polygon { vertices: star }).0, "winds round more than once");
-    assert_eq!(
-        problem(Shape::Polygon { vertices: vec![[0.0, 0.0], [1.0, 0.0]] }).0,
-        "too few points"
-    );
+    // The pentagram turns twice round.
+    let star = Shape::Polygon { vertices: star };
+    assert_eq!(problem(star.clone()).0, "winds round more than once, turns");
+    assert_relative_eq!(value(star).0.unwrap(), 2.0, epsilon = 1e-12);
+    let pair = Shape::Polygon { vertices: vec![[0.0, 0.0], [1.0, 0.0]] };
+    assert_eq!(problem(pair.clone()).0, "too few points");
+    assert_eq!(value(pair), (Some(2.0), "invalid polygon: too few points: 2".into()));
     let cap = Shape::Capsule { a: [1.0, 1.0], b: [1.0, 1.0], radius: 0.1 };
-    assert_eq!(problem(cap).0, "its two ends coincide (a disk has one centre)");
+    assert_eq!(problem(cap), ("its two ends coincide (a disk has one centre)", None));
     let hp = Shape::HalfPlane { point: [0.0, 0.0], normal: [0.0, 0.0] };
+    assert_eq!(value(hp.clone()).0, None);
     assert_eq!(problem(hp).0, "zero normal");
     let line = Shape::Polyline { points: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 0.0]] };
     assert_eq!(problem(line), ("two consecutive points coincide", Some(1)));
@@ -381,8 +419,13 @@ fn validation_names_what_is_wrong() {
         points: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.2], [-0.5, 0.5]],
     };
     assert_eq!(problem(bow).0, "the contour crosses itself");
+    // The clockwise unit right triangle: signed area −1/2.
     let clockwise = Shape::Profile { points: vec![[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]] };
-    assert_eq!(problem(clockwise).0, "points run clockwise or enclose no area");
+    assert_eq!(
+        problem(clockwise.clone()).0,
+        "points run clockwise or enclose no area, signed area"
+    );
+    assert_eq!(value(clockwise).0, Some(-0.5));
     assert!(
         rect(1.0, 2.0).validate().is_ok()
             && zigzag().validate().is_ok()
@@ -424,7 +467,11 @@ fn half_plane_normal_of_any_usable_length_gives_the_unit_normal_and_others_are_r
     for normal in [[1e-200, 0.0], [1e-160, 1e-160], [1e-320, 0.0], [1e200, 0.0], [1e200, 1e200]] {
         let plane = Shape::HalfPlane { point: [0.0, 0.0], normal };
         let problem = match plane.validate() {
-            Err(KinematicsError::InvalidShape { shape: "half_plane", problem, .. }) => problem,
+            Err(KinematicsError::InvalidShape { shape: "half_plane", problem, value, .. }) => {
+                // The error names |n|, the length outside about 1.5e-154..1.3e154.
+                assert_eq!(value, Some(normal[0].hypot(normal[1])), "{normal:?}");
+                problem
+            }
             other => panic!("normal {normal:?}: expected an invalid half-plane, got {other:?}"),
         };
         assert!(problem.starts_with("normal too small or too large"), "{problem}");

@@ -2,7 +2,7 @@
 
 use super::convex::{Core, CorePoint, Feature, point_contact, polygon_contacts};
 use super::nonconvex::{convex_chain, half_plane_chain};
-use super::shape::{NORMAL_OUT_OF_SCALE, Placement, V, normal_scales};
+use super::shape::{ENDS_COINCIDE, Placement, V, bad_normal, invalid, normal_scales, too_few};
 use super::{ManifoldPoint, Pose, Shape};
 use crate::KinematicsError;
 
@@ -201,25 +201,18 @@ fn single(p: &CorePoint) -> ManifoldPoint {
 /// Refuses a shape with too few points, a capsule whose ends coincide or a normal that is zero
 /// or does not normalise.
 fn usable(shape: &Shape) -> Result<(), KinematicsError> {
-    let (enough, problem) = match shape {
-        Shape::Polygon { vertices } => (vertices.len() >= 3, "too few points"),
-        Shape::Profile { points } => (points.len() >= 3, "too few points"),
-        Shape::Polyline { points } => (points.len() >= 2, "too few points"),
-        Shape::Capsule { a, b, .. } => (a != b, "its two ends coincide (a disk has one centre)"),
-        Shape::HalfPlane { normal, .. } => {
-            if *normal == [0.0, 0.0] {
-                (false, "zero normal")
-            } else {
-                (normal_scales(normal), NORMAL_OUT_OF_SCALE)
-            }
+    let (count, min) = match shape {
+        Shape::Polygon { vertices: points } | Shape::Profile { points } => (points.len(), 3),
+        Shape::Polyline { points } => (points.len(), 2),
+        Shape::Capsule { a, b, .. } if a == b => {
+            return Err(invalid(shape.name(), ENDS_COINCIDE, None, None));
         }
-        Shape::Disk { .. } => (true, ""),
+        Shape::HalfPlane { normal, .. } if !normal_scales(normal) => {
+            return Err(bad_normal(normal));
+        }
+        _ => return Ok(()),
     };
-    if enough {
-        Ok(())
-    } else {
-        Err(KinematicsError::InvalidShape { shape: shape.name(), problem, index: None })
-    }
+    if count < min { Err(too_few(shape.name(), count)) } else { Ok(()) }
 }
 
 /// Calls `f` with the convex core of a disk, capsule or polygon so placed.

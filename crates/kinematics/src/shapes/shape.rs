@@ -111,9 +111,23 @@ pub enum Shape {
     },
 }
 
-/// The error of a shape `shape` with `problem` at `index`.
-fn invalid(shape: &'static str, problem: &'static str, index: Option<usize>) -> KinematicsError {
-    KinematicsError::InvalidShape { shape, problem, index }
+/// The error of a shape `shape` with `problem`, the number at fault `value` and the vertex or
+/// point `index`.
+pub(crate) fn invalid(
+    shape: &'static str,
+    problem: &'static str,
+    value: Option<f64>,
+    index: Option<usize>,
+) -> KinematicsError {
+    KinematicsError::InvalidShape { shape, problem, value, index }
+}
+
+/// The first coordinate of `points` that is not finite, with its point's index.
+fn non_finite<'p>(points: impl IntoIterator<Item = &'p [f64; 2]>) -> Option<(usize, f64)> {
+    points
+        .into_iter()
+        .enumerate()
+        .find_map(|(i, p)| p.iter().find(|v| !v.is_finite()).map(|&v| (i, v)))
 }
 
 /// Checks that every point is finite and that consecutive points differ (the last and the
@@ -125,25 +139,45 @@ fn check_chain(
     closed: bool,
 ) -> Result<(), KinematicsError> {
     if points.len() < min {
-        return Err(invalid(shape, "too few points", None));
+        return Err(too_few(shape, points.len()));
     }
-    if let Some(i) = points.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
-        return Err(invalid(shape, "non-finite coordinate", Some(i)));
+    if let Some((i, v)) = non_finite(points) {
+        return Err(invalid(shape, "non-finite coordinate", Some(v), Some(i)));
     }
     let n = points.len();
     let segments = if closed { n } else { n - 1 };
     for i in 0..segments {
         if points[i] == points[(i + 1) % n] {
-            return Err(invalid(shape, "two consecutive points coincide", Some(i)));
+            return Err(invalid(shape, "two consecutive points coincide", None, Some(i)));
         }
     }
     Ok(())
 }
 
-/// Why a half-plane's normal that is not zero is refused: its squared length is not a normal
-/// f64, so that normalising it gives a zero, inaccurate or non-finite unit normal.
-pub(crate) const NORMAL_OUT_OF_SCALE: &str =
-    "normal too small or too large to normalise (|n|² outside 2.2e-308..1.8e308)";
+/// Why a capsule is refused whose two ends are one point.
+pub(crate) const ENDS_COINCIDE: &str = "its two ends coincide (a disk has one centre)";
+
+/// The error of a shape with `count` points, fewer than it needs.
+pub(crate) fn too_few(shape: &'static str, count: usize) -> KinematicsError {
+    invalid(shape, "too few points", Some(count as f64), None)
+}
+
+/// The error of a half-plane whose normal is not finite, is zero, or is of a squared length
+/// that is not a normal f64, so that normalising it would give a zero, inaccurate or
+/// non-finite unit normal; it names the coordinate at fault or the length |n|.
+pub(crate) fn bad_normal(normal: &[f64; 2]) -> KinematicsError {
+    if let Some((_, v)) = non_finite([normal]) {
+        invalid("half_plane", "non-finite normal coordinate", Some(v), None)
+    } else if *normal == [0.0, 0.0] {
+        invalid("half_plane", "zero normal", None, None)
+    } else {
+        invalid("half_plane", NORMAL_OUT_OF_SCALE, Some(normal[0].hypot(normal[1])), None)
+    }
+}
+
+/// Why a half-plane's normal that is not zero is refused, before its length |n|.
+pub(crate) const NORMAL_OUT_OF_SCALE: &str = "normal too small or too large to normalise (|n|² \
+     outside 2.2e-308..1.8e308, |n| outside about 1.5e-154..1.3e154), |n|";
 
 /// Whether a half-plane's normal can be normalised accurately: |n|² is a normal f64 (neither
 /// zero, subnormal nor beyond f64's range), so |n| lies in about 1.5e-154..1.3e154.
@@ -206,52 +240,47 @@ impl Shape {
     /// Checks the shape once, before it is used: finite coordinates, radius ≥ 0, a polygon
     /// strictly convex and counter-clockwise with at least 3 vertices, a capsule's ends
     /// distinct, a half-plane's normal non-zero and of a length that normalises (|n|² a normal
-    /// f64), a polyline of at least 2 points and a profile
-    /// of at least 3, counter-clockwise and not crossing itself, no two consecutive points equal.
+    /// f64), a polyline of at least 2 points and a profile of at least 3, counter-clockwise and
+    /// not crossing itself, no two consecutive points equal.
     ///
     /// # Errors
-    /// [`KinematicsError::InvalidShape`] naming the shape, the problem and the vertex concerned.
+    /// [`KinematicsError::InvalidShape`] naming the shape, the problem, the number at fault (the
+    /// radius, the non-finite coordinate, the normal's length |n|, the number of points, a
+    /// profile's signed area, the turns of a polygon that winds round more than once) and the
+    /// vertex or point concerned (for a capsule's end, 0 for `a` and 1 for `b`).
     pub fn validate(&self) -> Result<(), KinematicsError> {
         let name = self.name();
-        let finite = |p: &[f64; 2]| p[0].is_finite() && p[1].is_finite();
         let radius_ok = |r: f64| {
             if !r.is_finite() {
-                Err(invalid(name, "non-finite radius", None))
+                Err(invalid(name, "non-finite radius", Some(r), None))
             } else if r < 0.0 {
-                Err(invalid(name, "negative radius", None))
+                Err(invalid(name, "negative radius", Some(r), None))
             } else {
                 Ok(())
             }
         };
         match self {
             Shape::Disk { center, radius } => {
-                if !finite(center) {
-                    return Err(invalid(name, "non-finite centre", None));
+                if let Some((_, v)) = non_finite([center]) {
+                    return Err(invalid(name, "non-finite centre coordinate", Some(v), None));
                 }
                 radius_ok(*radius)
             }
             Shape::Capsule { a, b, radius } => {
-                if !finite(a) || !finite(b) {
-                    return Err(invalid(name, "non-finite end", None));
+                if let Some((i, v)) = non_finite([a, b]) {
+                    return Err(invalid(name, "non-finite end coordinate", Some(v), Some(i)));
                 }
                 if a == b {
-                    return Err(invalid(
-                        name,
-                        "its two ends coincide (a disk has one centre)",
-                        None,
-                    ));
+                    return Err(invalid(name, ENDS_COINCIDE, None, None));
                 }
                 radius_ok(*radius)
             }
             Shape::HalfPlane { point, normal } => {
-                if !finite(point) || !finite(normal) {
-                    return Err(invalid(name, "non-finite point or normal", None));
-                }
-                if normal[0] == 0.0 && normal[1] == 0.0 {
-                    return Err(invalid(name, "zero normal", None));
+                if let Some((_, v)) = non_finite([point]) {
+                    return Err(invalid(name, "non-finite point coordinate", Some(v), None));
                 }
                 if !normal_scales(normal) {
-                    return Err(invalid(name, NORMAL_OUT_OF_SCALE, None));
+                    return Err(bad_normal(normal));
                 }
                 Ok(())
             }
@@ -270,6 +299,7 @@ impl Shape {
                         return Err(invalid(
                             name,
                             "not strictly convex and counter-clockwise",
+                            None,
                             Some((i + 1) % n),
                         ));
                     }
@@ -277,14 +307,22 @@ impl Shape {
                 }
                 // Left turns all round that add up to more than one revolution draw a star.
                 if (turning - 2.0 * PI).abs() > 1e-6 {
-                    return Err(invalid(name, "winds round more than once", None));
+                    let turns = turning / (2.0 * PI);
+                    return Err(invalid(
+                        name,
+                        "winds round more than once, turns",
+                        Some(turns),
+                        None,
+                    ));
                 }
                 Ok(())
             }
             Shape::Profile { points } => {
                 check_chain(name, points, 3, true)?;
-                if !(polygon_moments(points).0 > 0.0) {
-                    return Err(invalid(name, "points run clockwise or enclose no area", None));
+                let area = polygon_moments(points).0;
+                if !(area > 0.0) {
+                    let problem = "points run clockwise or enclose no area, signed area";
+                    return Err(invalid(name, problem, Some(area), None));
                 }
                 let n = points.len();
                 let p = |i: usize| V::from(points[i % n]);
@@ -295,7 +333,7 @@ impl Shape {
                             continue;
                         }
                         if segments_meet(p(i), p(i + 1), p(j), p(j + 1)) {
-                            return Err(invalid(name, "the contour crosses itself", Some(j)));
+                            return Err(invalid(name, "the contour crosses itself", None, Some(j)));
                         }
                     }
                 }
