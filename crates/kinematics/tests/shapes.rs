@@ -47,6 +47,17 @@ fn two_disks_gap_and_normal() {
     assert_relative_eq!(p[0].normal[1], 0.8, epsilon = 1e-12);
     let p = points(&a, Pose::default(), &b, Pose::new(0.0, 0.45, 0.0), 0.1);
     assert_relative_eq!(p[0].gap, -0.05, epsilon = 1e-12);
+    // Centres (1, 2) and (4, 6), 5 apart, radii 0.2 and 0.3: gap 4.5, normal (0.6, 0.8), the
+    // surface points p_A = c_A + r_A n and p_B = c_B − r_B n, with g_N = (p_B − p_A) · n.
+    let p = points(&a, Pose::new(1.0, 2.0, 0.7), &b, Pose::new(4.0, 6.0, -1.1), 5.0);
+    assert_eq!(p.len(), 1);
+    assert_relative_eq!(p[0].gap, 4.5, epsilon = 1e-12);
+    assert_relative_eq!(p[0].point_a[0], 1.12, epsilon = 1e-12);
+    assert_relative_eq!(p[0].point_a[1], 2.16, epsilon = 1e-12);
+    assert_relative_eq!(p[0].point_b[0], 3.82, epsilon = 1e-12);
+    assert_relative_eq!(p[0].point_b[1], 5.76, epsilon = 1e-12);
+    // Beyond the margin, nothing.
+    assert!(points(&a, Pose::new(1.0, 2.0, 0.7), &b, Pose::new(4.0, 6.0, 0.0), 4.49).is_empty());
 }
 
 #[test]
@@ -325,11 +336,30 @@ fn unsupported_pairs_and_bad_margins_are_refused() {
             assert_eq!(max_points(x, y), 0);
         }
     }
-    // A point against a shape with an inside, or a disk against a polyline, is a contact.
-    for other in [cam(), rect(0.4, 0.2), floor(), disk(0.0, -1.0, 1.0)] {
-        assert!(collide(&point, &o, &other, &o, 0.01, &mut out).is_ok());
+    // A point against a shape with an inside, or a disk against a polyline, is a contact: the
+    // point at the origin is 0.1 inside the 0.4 × 0.2 box (its nearest faces are the long
+    // ones), on the floor's boundary and on the unit disk centred at (0, −1).
+    for (other, gap) in [(rect(0.4, 0.2), -0.1), (floor(), 0.0), (disk(0.0, -1.0, 1.0), 0.0)] {
+        let p = points(&point, o, &other, o, 0.01);
+        assert_eq!(p.len(), 1, "{other:?}");
+        assert_relative_eq!(p[0].gap, gap, epsilon = 1e-15);
     }
-    assert!(collide(&disk(0.0, 0.0, 0.1), &o, &zigzag(), &o, 0.01, &mut out).is_ok());
+    // Inside the cam r(ψ) = 0.3 + 0.06 cos 3ψ, nearest to its three dents of radius 0.24,
+    // sampled points at ψ = π/3, π, 5π/3: it meets the first, at 0.24 (cos 60°, sin 60°).
+    let p = points(&point, o, &cam(), o, 0.01);
+    assert_eq!(p.len(), 1);
+    assert_relative_eq!(p[0].gap, -0.24, epsilon = 1e-12);
+    assert_relative_eq!(p[0].point_b[0], 0.12, epsilon = 1e-12);
+    assert_relative_eq!(p[0].point_b[1], 0.12 * 3f64.sqrt(), epsilon = 1e-12);
+    // A disk of radius 0.1 at the origin sits in the zigzag's concave corner at (0, −0.05)
+    // and touches both its segments there: the one from (−0.3, 0.15), at distance
+    // 0.015/√0.13 from the origin, and the one to (0.2, 0.1), at distance 0.04.
+    let p = points(&disk(0.0, 0.0, 0.1), o, &zigzag(), o, 0.01);
+    let mut gaps: Vec<f64> = p.iter().map(|q| q.gap).collect();
+    gaps.sort_by(f64::total_cmp);
+    assert_eq!(gaps.len(), 2, "{p:?}");
+    assert_relative_eq!(gaps[0], 0.04 - 0.1, epsilon = 1e-12);
+    assert_relative_eq!(gaps[1], 0.015 / 0.13f64.sqrt() - 0.1, epsilon = 1e-12);
     let empty = Shape::Polygon { vertices: vec![] };
     assert!(matches!(
         collide(&empty, &o, &floor(), &o, 0.0, &mut out),
