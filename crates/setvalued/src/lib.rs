@@ -9,6 +9,9 @@
 //!   split into two unilateral primitives ([`CoulombSplit`]) used by the step's LCP;
 //! * Newton's impact law ξ = γ⁺ + ε γ⁻, −P_N ∈ Upr(ξ_N), −P_T ∈ μ P_N Sgn(ξ_T)
 //!   ([`newton_xi`], [`check_impact`]) with the per-contact parameters [`ContactLaw`];
+//! * the planar friction cone K_μ = {λ_N ≥ 0, |λ_T| ≤ μλ_N} ([`FrictionCone`]): its
+//!   projection, distance and De Saxcé's natural map, which vanishes exactly when Signorini's
+//!   and Coulomb's laws hold together;
 //! * the graphs of Signorini's and Coulomb's laws for plotting ([`signorini_graph`],
 //!   [`coulomb_graph`], [`sample_graph`]).
 //!
@@ -33,10 +36,12 @@
 //! | γ⁻, γ⁺ | `gamma_minus`, `gamma_plus`, [`RelativeVelocity`] |
 //! | ξ_N, ξ_T, P_N, P_T | `xi_n`, `xi_t`, `p_n`, `p_t` |
 //! | λ_R, λ_L, γ_R, γ_L | fields of [`CoulombSplit`] |
+//! | K_μ, γ̂ = (γ_N + μ\|γ_T\|, γ_T) | [`FrictionCone`], De Saxcé's modified velocity |
 //!
 //! # Example
 //! ```
-//! use moreau_setvalued::{ContactLaw, RelativeVelocity, SetValuedError, SetValuedMap, Sgn, Upr};
+//! use moreau_setvalued::{ContactLaw, FrictionCone, RelativeVelocity, SetValuedError};
+//! use moreau_setvalued::{SetValuedMap, Sgn, Upr};
 //! use moreau_setvalued::{check_impact, complementarity};
 //!
 //! # fn main() -> Result<(), SetValuedError> {
@@ -50,6 +55,13 @@
 //! let pre = RelativeVelocity { gamma_n: -2.0, gamma_t: 0.0 };
 //! let post = RelativeVelocity { gamma_n: 1.0, gamma_t: 0.0 };
 //! assert!(check_impact(pre, post, 3.0, 0.0, &law, 1e-12).holds());
+//! // The friction cone |λ_T| ≤ μλ_N with μ = 1: (1, 3) lies beyond its upper edge and projects
+//! // to n (1, μ) with n = (1 + μ · 3)/(1 + μ²) = 2; a pulling force projects to the apex.
+//! let cone = FrictionCone::new(1.0)?;
+//! assert_eq!(cone.project(1.0, 3.0), (2.0, 2.0));
+//! assert_eq!(cone.project(-4.0, 1.0), (0.0, 0.0));
+//! // Sliding at γ_T = 2 m/s under λ_N = 4 N with λ_T = −μλ_N: both laws hold.
+//! assert_eq!(cone.natural_map((4.0, -4.0), (0.0, 2.0), 1.0)?, (0.0, 0.0));
 //! # Ok(())
 //! # }
 //! ```
@@ -63,12 +75,14 @@
 //!   formulation*. Universidade do Minho.
 #![deny(missing_docs)]
 
+mod cone;
 mod friction;
 mod impact;
 mod law;
 mod maps;
 mod value_set;
 
+pub use cone::FrictionCone;
 pub use friction::{CoulombSplit, CoulombState, coulomb_holds};
 pub use impact::{ImpactCheck, RelativeVelocity, check_impact, newton_xi};
 pub use law::{ContactLaw, ContactLawSpec};
@@ -115,6 +129,13 @@ pub enum SetValuedError {
     Undetermined {
         /// Which quantity.
         quantity: &'static str,
+    },
+    /// A step r of a natural map (e.g. [`FrictionCone::natural_map`]) that is not positive
+    /// and finite.
+    #[error("step r = {value} of a natural map must be positive and finite")]
+    Step {
+        /// The rejected value.
+        value: f64,
     },
     /// A plotting window edge that is not finite or leaves an empty window.
     #[error("graph window edge {name} = {value} is not finite or leaves an empty window")]

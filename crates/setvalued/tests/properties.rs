@@ -1,9 +1,10 @@
 //! Property tests of the set-valued maps: the identities of docs/theory.md section 1, the
-//! complementarity and relay-split equivalences, inverse graphs and the proximal maps.
+//! complementarity and relay-split equivalences, inverse graphs, the proximal maps and the
+//! projection onto the friction cone.
 
 use moreau_setvalued::{
-    CoulombSplit, CoulombState, GraphWindow, SetValuedMap, Sgn, Upr, ValueSet, complementarity,
-    coulomb_holds, sample_graph,
+    CoulombSplit, CoulombState, FrictionCone, GraphWindow, SetValuedMap, Sgn, Upr, ValueSet,
+    complementarity, coulomb_holds, sample_graph,
 };
 use proptest::prelude::*;
 
@@ -127,5 +128,64 @@ proptest! {
         for (x, y) in polyline {
             prop_assert!(relay.contains(x, y, 0.0));
         }
+    }
+
+    /// Moreau's decomposition x = proj_K(x) + proj_K°(x) into orthogonal parts, with the polar
+    /// cone K°_μ = {y_N + μ|y_T| ≤ 0} = −K_{1/μ} projected on independently.
+    #[test]
+    fn cone_projection_is_moreaus_decomposition(mu in 0.01..20.0f64, x_n in real(), x_t in real()) {
+        let (p_n, p_t) = FrictionCone::new(mu).unwrap().project(x_n, x_t);
+        let (m_n, m_t) = FrictionCone::new(1.0 / mu).unwrap().project(-x_n, -x_t);
+        let (q_n, q_t) = (-m_n, -m_t);
+        let scale = 1.0 + x_n.abs() + x_t.abs();
+        prop_assert!((p_n + q_n - x_n).abs() <= 1e-12 * scale, "{} + {} != {}", p_n, q_n, x_n);
+        prop_assert!((p_t + q_t - x_t).abs() <= 1e-12 * scale, "{} + {} != {}", p_t, q_t, x_t);
+        prop_assert!((p_n * q_n + p_t * q_t).abs() <= 1e-12 * scale * scale);
+    }
+
+    /// The projection lands in the cone, is idempotent and non-expansive, and no point of the
+    /// cone's edges or apex is nearer.
+    #[test]
+    fn cone_projection_is_the_nearest_point(mu in prop_oneof![Just(0.0), 0.0..5.0f64], a in real(), b in real(), c in real(), d in real(), s in 0.0..100.0f64) {
+        let cone = FrictionCone::new(mu).unwrap();
+        let (p_n, p_t) = cone.project(a, b);
+        let scale = 1.0 + a.abs() + b.abs();
+        prop_assert!(p_n >= 0.0 && p_t.abs() <= mu * p_n * (1.0 + 1e-15));
+        let (pp_n, pp_t) = cone.project(p_n, p_t);
+        prop_assert!((pp_n - p_n).abs() <= 1e-12 * scale && (pp_t - p_t).abs() <= 1e-12 * scale);
+        let (r_n, r_t) = cone.project(c, d);
+        prop_assert!((p_n - r_n).hypot(p_t - r_t) <= (a - c).hypot(b - d) * (1.0 + 1e-12) + 1e-12);
+        let distance = cone.distance(a, b);
+        for (e_n, e_t) in [(s, mu * s), (s, -mu * s), (0.0, 0.0)] {
+            prop_assert!(distance <= (a - e_n).hypot(b - e_t) + 1e-12 * scale);
+        }
+    }
+
+    /// λ = proj_K(λ − r γ̂) ⇔ 0 ≤ γ_N ⊥ λ_N ≥ 0 and −λ_T ∈ μλ_N Sgn(γ_T), exactly on the grid
+    /// (μ = 0 and μ = 1 keep every sum and the division by 1 + μ² exact).
+    #[test]
+    fn natural_map_vanishes_iff_signorini_and_coulomb_hold(
+        mu in prop_oneof![Just(0.0), Just(1.0)],
+        lambda_n in grid(), lambda_t in grid(), gamma_n in grid(), gamma_t in grid(),
+        r in prop_oneof![Just(0.5), Just(1.0), Just(4.0)],
+    ) {
+        let map = FrictionCone::new(mu).unwrap().natural_map((lambda_n, lambda_t), (gamma_n, gamma_t), r).unwrap();
+        let laws = complementarity(gamma_n, lambda_n, 0.0) && coulomb_holds(mu, lambda_n, lambda_t, gamma_t, 0.0);
+        prop_assert_eq!(map == (0.0, 0.0), laws, "map {:?}", map);
+    }
+
+    /// States planted on both laws (closed and sticking or sliding, or open with no force)
+    /// have a natural map of round-off size for any μ and r.
+    #[test]
+    fn planted_contact_states_have_a_vanishing_natural_map(mu in 0.0..2.0f64, lambda_n in 0.0..100.0f64, u in -1.0..1.0f64, speed in 0.0..5.0f64, r in 0.01..10.0f64, kind in 0..4u8) {
+        let bound = mu * lambda_n;
+        let (lambda, gamma) = match kind {
+            0 => ((lambda_n, u * bound), (0.0, 0.0)),
+            1 => ((lambda_n, -bound), (0.0, speed)),
+            2 => ((lambda_n, bound), (0.0, -speed)),
+            _ => ((0.0, 0.0), (speed, 10.0 * u)),
+        };
+        let (f_n, f_t) = FrictionCone::new(mu).unwrap().natural_map(lambda, gamma, r).unwrap();
+        prop_assert!(f_n.hypot(f_t) <= 1e-12 * (1.0 + lambda_n + r * speed), "{} {}", f_n, f_t);
     }
 }
