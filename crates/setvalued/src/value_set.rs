@@ -3,7 +3,8 @@
 /// A closed convex subset of ℝ: empty, a point, or an interval whose bounds may be ±∞.
 ///
 /// Built through [`ValueSet::interval`], an interval always has `lo < hi`; a degenerate interval
-/// is a [`ValueSet::Point`].
+/// is a [`ValueSet::Point`]. A set written through the variants with a NaN bound or `lo > hi`
+/// holds nothing: every method treats it as [`ValueSet::Empty`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ValueSet {
     /// The empty set ∅ (e.g. Upr(x) for x < 0).
@@ -36,33 +37,36 @@ impl ValueSet {
         Self::Interval { lo: f64::NEG_INFINITY, hi: f64::INFINITY }
     }
 
+    /// The bounds (lo, hi) with lo ≤ hi, `None` for the empty set (or one written with a NaN
+    /// bound or lo > hi).
+    fn bounds(&self) -> Option<(f64, f64)> {
+        let (lo, hi) = match *self {
+            Self::Empty => return None,
+            Self::Point(v) => (v, v),
+            Self::Interval { lo, hi } => (lo, hi),
+        };
+        (lo <= hi).then_some((lo, hi))
+    }
+
     /// Whether the set is empty.
     pub fn is_empty(&self) -> bool {
-        matches!(self, Self::Empty)
+        self.bounds().is_none()
     }
 
     /// The lower bound, `None` for the empty set.
     pub fn lower(&self) -> Option<f64> {
-        match *self {
-            Self::Empty => None,
-            Self::Point(v) => Some(v),
-            Self::Interval { lo, .. } => Some(lo),
-        }
+        self.bounds().map(|(lo, _)| lo)
     }
 
     /// The upper bound, `None` for the empty set.
     pub fn upper(&self) -> Option<f64> {
-        match *self {
-            Self::Empty => None,
-            Self::Point(v) => Some(v),
-            Self::Interval { hi, .. } => Some(hi),
-        }
+        self.bounds().map(|(_, hi)| hi)
     }
 
     /// The distance from `y` to the set: zero inside, +∞ for the empty set, NaN for a NaN `y`.
     pub fn distance(&self, y: f64) -> f64 {
-        match (self.lower(), self.upper()) {
-            (Some(lo), Some(hi)) => {
+        match self.bounds() {
+            Some((lo, hi)) => {
                 if y.is_nan() {
                     f64::NAN
                 } else if y < lo {
@@ -73,7 +77,7 @@ impl ValueSet {
                     0.0
                 }
             }
-            _ => f64::INFINITY,
+            None => f64::INFINITY,
         }
     }
 
@@ -84,18 +88,19 @@ impl ValueSet {
 
     /// The projection of `y` onto the set (the nearest element), `None` for the empty set.
     pub fn project(&self, y: f64) -> Option<f64> {
-        match (self.lower(), self.upper()) {
-            (Some(lo), Some(hi)) => Some(y.clamp(lo, hi)),
-            _ => None,
-        }
+        self.bounds().map(|(lo, hi)| y.clamp(lo, hi))
     }
 
     /// The set a·S = {a s : s ∈ S}; 0·S = {0} for a non-empty S, also when S is unbounded.
+    /// Empty for a NaN factor, and for ±∞·{0} or a point sent to infinity, which are no reals.
     pub fn scale(&self, a: f64) -> Self {
+        if self.is_empty() || a.is_nan() {
+            return Self::Empty;
+        }
         match *self {
             Self::Empty => Self::Empty,
             _ if a == 0.0 => Self::Point(0.0),
-            Self::Point(v) => Self::Point(a * v),
+            Self::Point(v) => Self::interval(a * v, a * v),
             Self::Interval { lo, hi } if a > 0.0 => Self::interval(a * lo, a * hi),
             Self::Interval { lo, hi } => Self::interval(a * hi, a * lo),
         }
@@ -143,6 +148,32 @@ mod tests {
         assert_eq!(s.project(5.0), Some(2.0));
         assert_eq!(ValueSet::interval(f64::NEG_INFINITY, 0.0).project(-7.0), Some(-7.0));
         assert_eq!(ValueSet::Empty.project(1.0), None);
+    }
+
+    #[test]
+    fn malformed_sets_and_nan_factors_behave_as_empty_without_panicking() {
+        // A NaN factor leaves no set, where it made the point {NaN} that every y was 0 from.
+        let nan_point = ValueSet::Point(1.0).scale(f64::NAN);
+        assert_eq!(nan_point, ValueSet::Empty);
+        assert_eq!(ValueSet::interval(-1.0, 2.0).scale(f64::NAN), ValueSet::Empty);
+        // ∞ · {0} is no number; ∞ · [−1, 2] is the real line.
+        assert_eq!(ValueSet::Point(0.0).scale(f64::INFINITY), ValueSet::Empty);
+        assert_eq!(ValueSet::interval(-1.0, 2.0).scale(f64::INFINITY), ValueSet::real_line());
+        // Sets written through the variants with a NaN bound or lo > hi hold nothing: no
+        // bounds, infinitely far from every y, no projection (the clamp panicked before).
+        for set in [
+            ValueSet::Point(f64::NAN),
+            ValueSet::Interval { lo: 2.0, hi: 1.0 },
+            ValueSet::Interval { lo: f64::NAN, hi: 1.0 },
+            ValueSet::Interval { lo: 0.0, hi: f64::NAN },
+        ] {
+            assert!(set.is_empty(), "{set:?}");
+            assert_eq!((set.lower(), set.upper()), (None, None), "{set:?}");
+            assert_eq!(set.distance(0.5), f64::INFINITY, "{set:?}");
+            assert!(!set.contains(0.5, 1e300), "{set:?}");
+            assert_eq!(set.project(0.5), None, "{set:?}");
+            assert_eq!(set.sum(&ValueSet::Point(1.0)), ValueSet::Empty, "{set:?}");
+        }
     }
 
     #[test]
