@@ -20,7 +20,7 @@
 use crate::{SetValuedError, SetValuedMap, Sgn, complementarity};
 
 /// Whether Coulomb's law −λ_T ∈ μλ_N Sgn(γ_T) holds within `tol` (graph distance of the relay
-/// with bound μλ_N). False when μλ_N is negative or an input is not finite.
+/// with bound μλ_N). False when μ or μλ_N is negative or an input is not finite.
 pub fn coulomb_holds(mu: f64, lambda_n: f64, lambda_t: f64, gamma_t: f64, tol: f64) -> bool {
     Sgn::coulomb(mu, lambda_n).is_ok_and(|relay| relay.contains(gamma_t, -lambda_t, tol))
 }

@@ -139,8 +139,12 @@ impl Sgn {
     /// The relay μλ_N Sgn of Coulomb's law.
     ///
     /// # Errors
-    /// [`SetValuedError::Bound`] when μλ_N is negative or not finite.
+    /// [`SetValuedError::Friction`] when μ is negative or not finite (also when λ_N < 0 would
+    /// make μλ_N positive), [`SetValuedError::Bound`] when μλ_N is negative or not finite.
     pub fn coulomb(mu: f64, lambda_n: f64) -> Result<Self, SetValuedError> {
+        if !(mu >= 0.0 && mu.is_finite()) {
+            return Err(SetValuedError::Friction { value: mu });
+        }
         Self::scaled(mu * lambda_n)
     }
 
@@ -350,8 +354,9 @@ pub fn signorini_graph(
 /// γ_T > 0, +μλ_N for γ_T < 0 and the vertical step at γ_T = 0.
 ///
 /// # Errors
-/// [`SetValuedError::Bound`] when μλ_N is negative or not finite, [`SetValuedError::Window`]
-/// for an empty or non-finite γ_T range, [`SetValuedError::Samples`] when `points < 2`.
+/// [`SetValuedError::Friction`] when μ is negative or not finite, [`SetValuedError::Bound`]
+/// when μλ_N is negative or not finite, [`SetValuedError::Window`] for an empty or non-finite
+/// γ_T range, [`SetValuedError::Samples`] when `points < 2`.
 pub fn coulomb_graph(
     mu: f64,
     lambda_n: f64,
@@ -411,6 +416,21 @@ mod tests {
         assert_eq!(Sgn::scaled(-0.1), Err(SetValuedError::Bound { value: -0.1 }));
         assert!(Sgn::scaled(f64::NAN).is_err() && Sgn::coulomb(0.3, f64::INFINITY).is_err());
         assert_eq!(Sgn::coulomb(0.3, 2.0).unwrap().bound(), 0.3 * 2.0);
+    }
+
+    #[test]
+    fn a_negative_friction_coefficient_is_refused_whatever_the_normal_force() {
+        // μ = −0.3 with λ_N = −2 made the bound μλ_N = 0.6 look valid.
+        assert_eq!(Sgn::coulomb(-0.3, -2.0), Err(SetValuedError::Friction { value: -0.3 }));
+        assert!(matches!(Sgn::coulomb(f64::NAN, 1.0), Err(SetValuedError::Friction { .. })));
+        assert_eq!(Sgn::coulomb(0.3, -2.0), Err(SetValuedError::Bound { value: 0.3 * -2.0 }));
+        assert!(!crate::coulomb_holds(-0.3, -2.0, -0.6, 1.0, 0.0));
+        assert_eq!(
+            coulomb_graph(-0.3, -2.0, -1.0, 1.0, 3),
+            Err(SetValuedError::Friction { value: -0.3 })
+        );
+        // μ = 0 takes any finite λ_N: the bound is zero.
+        assert_eq!(Sgn::coulomb(0.0, -2.0).map(|s| s.bound() == 0.0), Ok(true));
     }
 
     #[test]
