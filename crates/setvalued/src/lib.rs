@@ -137,8 +137,12 @@ pub enum SetValuedError {
         /// The rejected value.
         value: f64,
     },
-    /// A plotting window edge that is not finite or leaves an empty window.
-    #[error("graph window edge {name} = {value} is not finite or leaves an empty window")]
+    /// A plotting window edge that is not finite, or leaves an empty window or one wider than
+    /// f64's range.
+    #[error(
+        "graph window edge {name} = {value} is not finite or leaves an empty or overflowing \
+         window"
+    )]
     Window {
         /// Which edge (`x_min`, `x_max`, `y_min`, `y_max`, `g_max`, `lambda_max`).
         name: &'static str,

@@ -226,7 +226,7 @@ pub fn complementarity_residual(x: f64, y: f64) -> f64 {
 pub struct GraphWindow {
     /// Left edge (units of x). Default `-1.0`.
     pub x_min: f64,
-    /// Right edge (units of x), `> x_min`. Default `1.0`.
+    /// Right edge (units of x), `> x_min`, with a finite width `x_max − x_min`. Default `1.0`.
     pub x_max: f64,
     /// Bottom edge (units of y); the vertical segments of the graph are cut here. Default `-1.0`.
     pub y_min: f64,
@@ -253,7 +253,8 @@ impl GraphWindow {
                 return Err(SetValuedError::Window { name, value });
             }
         }
-        if self.x_max <= self.x_min {
+        // The abscissae are x_min + (x_max − x_min) k/(n − 1): the width must be finite too.
+        if self.x_max <= self.x_min || !(self.x_max - self.x_min).is_finite() {
             return Err(SetValuedError::Window { name: "x_max", value: self.x_max });
         }
         if self.y_max < self.y_min {
@@ -488,6 +489,15 @@ mod tests {
             Err(SetValuedError::Window { .. })
         ));
         assert_eq!(Upr.graph(&window, 1), Err(SetValuedError::Samples { points: 1 }));
+        // A window wider than f64's range: its width overflowed and the abscissae were NaN
+        // and +∞.
+        let wide = GraphWindow { x_min: -1e308, x_max: 1e308, ..window };
+        assert_eq!(
+            Upr.graph(&wide, 3),
+            Err(SetValuedError::Window { name: "x_max", value: 1e308 })
+        );
+        let g = Upr.graph(&GraphWindow { x_min: -1e307, x_max: 1e307, ..window }, 3).unwrap();
+        assert_eq!(g, vec![(0.0, -1.5), (0.0, 0.0), (1e307, 0.0)]);
         assert!(signorini_graph(0.0, 1.0, 3).is_err());
     }
 }
