@@ -443,6 +443,9 @@ impl SplitMix64 {
 
     /// A pseudo-random integer in `0..k` (`k >= 1`), by the remainder of [`Self::next_u64`]:
     /// its bias, below k / 2^64, does not matter for test data.
+    ///
+    /// # Panics
+    /// When `k = 0`: the range `0..0` holds no integer.
     pub fn below(&mut self, k: u64) -> u64 {
         self.next_u64() % k
     }
