@@ -124,17 +124,16 @@
 mod check;
 mod error;
 pub mod planar;
+mod sample;
 pub mod shapes;
 
-pub use check::{
-    Component, FdOptions, FdReport, Mismatch, SampleOptions, SplitMix64, assert_consistent,
-    check_jacobians, sample_states,
-};
+pub use check::{Component, FdOptions, FdReport, Mismatch, assert_consistent, check_jacobians};
 pub use error::KinematicsError;
 pub use planar::{
     Circle, ContactGeometry, LineMotion, PointMotion, PoseMotion, ScalarMotion, Side, chain_rule,
     circle_circle, circle_line, corner_line, point_line, rectangle_corners,
 };
+pub use sample::{SampleOptions, SplitMix64, sample_states};
 pub use shapes::{
     Aabb, BroadPhase, ManifoldPoint, Placement, Pose, Shape, collide, collide_placed, max_points,
 };
