@@ -16,7 +16,7 @@
 //! * Moreau, J. J. (1962). Décomposition orthogonale d'un espace hilbertien selon deux cônes
 //!   mutuellement polaires. *C. R. Acad. Sci. Paris* 255, 238–240.
 
-use crate::SetValuedError;
+use crate::{SetValuedError, checked_mu};
 
 /// The planar Coulomb friction cone K_μ = {(λ_N, λ_T) : λ_N ≥ 0, |λ_T| ≤ μ λ_N} of a friction
 /// coefficient μ ≥ 0, for forces (λ_N, λ_T) or impulses (P_N, P_T).
@@ -31,11 +31,7 @@ impl FrictionCone {
     /// # Errors
     /// [`SetValuedError::Friction`] when μ is negative or not finite.
     pub fn new(mu: f64) -> Result<Self, SetValuedError> {
-        if mu >= 0.0 && mu.is_finite() {
-            Ok(Self { mu })
-        } else {
-            Err(SetValuedError::Friction { value: mu })
-        }
+        Ok(Self { mu: checked_mu(mu)? })
     }
 
     /// The friction coefficient μ.

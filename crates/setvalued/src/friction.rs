@@ -17,7 +17,7 @@
 //!   contact-impact events in rigid multibody systems using the linear complementarity problem
 //!   formulation*. Universidade do Minho.
 
-use crate::{SetValuedError, SetValuedMap, Sgn, complementarity};
+use crate::{SetValuedError, SetValuedMap, Sgn, checked_mu, complementarity};
 
 /// Whether Coulomb's law −λ_T ∈ μλ_N Sgn(γ_T) holds within `tol` (graph distance of the relay
 /// with bound μλ_N). False when μ or μλ_N is negative or an input is not finite.
@@ -58,9 +58,7 @@ impl CoulombSplit {
     /// [`SetValuedError::Friction`] for a negative or non-finite μ, [`SetValuedError::NonFinite`]
     /// for a non-finite λ_N, λ_T or γ_T.
     pub fn from_coulomb(mu: f64, state: CoulombState) -> Result<Self, SetValuedError> {
-        if !(mu >= 0.0 && mu.is_finite()) {
-            return Err(SetValuedError::Friction { value: mu });
-        }
+        checked_mu(mu)?;
         for (what, value) in
             [("lambda_n", state.lambda_n), ("lambda_t", state.lambda_t), ("gamma_t", state.gamma_t)]
         {
@@ -98,9 +96,7 @@ impl CoulombSplit {
     /// [`SetValuedError::Undetermined`] when μ = 0 (λ_N is then not determined by the split),
     /// [`SetValuedError::Friction`] for a negative or non-finite μ.
     pub fn to_coulomb(&self, mu: f64) -> Result<CoulombState, SetValuedError> {
-        if !(mu >= 0.0 && mu.is_finite()) {
-            return Err(SetValuedError::Friction { value: mu });
-        }
+        checked_mu(mu)?;
         if mu == 0.0 {
             return Err(SetValuedError::Undetermined { quantity: "lambda_n" });
         }

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::SetValuedError;
+use crate::{SetValuedError, checked_mu};
 
 /// The parameters of one contact's laws: restitution ε_N, ε_T ∈ [0, 1] and friction μ ≥ 0.
 ///
@@ -43,9 +43,7 @@ impl ContactLaw {
                 return Err(SetValuedError::Restitution { name, value });
             }
         }
-        if !(mu >= 0.0 && mu.is_finite()) {
-            return Err(SetValuedError::Friction { value: mu });
-        }
+        checked_mu(mu)?;
         Ok(Self { eps_n, eps_t, mu })
     }
 

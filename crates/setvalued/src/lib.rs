@@ -156,3 +156,11 @@ pub enum SetValuedError {
         points: usize,
     },
 }
+
+/// μ itself when it is a valid friction coefficient (finite and `>= 0`).
+///
+/// # Errors
+/// [`SetValuedError::Friction`] naming μ otherwise.
+pub(crate) fn checked_mu(mu: f64) -> Result<f64, SetValuedError> {
+    if mu >= 0.0 && mu.is_finite() { Ok(mu) } else { Err(SetValuedError::Friction { value: mu }) }
+}

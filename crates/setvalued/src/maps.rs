@@ -20,7 +20,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{SetValuedError, ValueSet};
+use crate::{SetValuedError, ValueSet, checked_mu};
 
 /// A maximal monotone set-valued map F: ℝ ⇉ ℝ with a piecewise-linear graph.
 pub trait SetValuedMap {
@@ -142,9 +142,7 @@ impl Sgn {
     /// [`SetValuedError::Friction`] when μ is negative or not finite (also when λ_N < 0 would
     /// make μλ_N positive), [`SetValuedError::Bound`] when μλ_N is negative or not finite.
     pub fn coulomb(mu: f64, lambda_n: f64) -> Result<Self, SetValuedError> {
-        if !(mu >= 0.0 && mu.is_finite()) {
-            return Err(SetValuedError::Friction { value: mu });
-        }
+        checked_mu(mu)?;
         Self::scaled(mu * lambda_n)
     }
 
