@@ -683,3 +683,38 @@ fn disk_inside_a_profile_is_pushed_out_by_the_nearest_face() {
     assert_eq!(p.len(), 1);
     assert_relative_eq!(p[0].gap, 0.05, epsilon = 1e-12);
 }
+
+#[test]
+fn shapes_too_far_apart_to_square_their_distance_give_no_point() {
+    // At 1e160 the squared distance overflows f64: a disk far from a box gave a point of gap
+    // −∞ and NaN normal at any margin, and two far disks one of gap +∞ and normal (0, 0) at an
+    // infinite margin. Such points, and those of non-finite poses, are dropped.
+    let far = Pose::new(1e160, 7e159, 0.3);
+    let o = Pose::default();
+    let square = rect(1.0, 1.0);
+    let pairs = [
+        (disk(0.0, 0.0, 0.5), square.clone()),
+        (square.clone(), disk(0.0, 0.0, 0.5)),
+        (square.clone(), square.clone()),
+        (disk(0.0, 0.0, 0.5), disk(0.0, 0.0, 0.0)),
+        (Shape::Capsule { a: [0.0, 0.0], b: [1.0, 0.0], radius: 0.2 }, square.clone()),
+        (zigzag(), disk(0.0, 0.0, 0.5)),
+        (cam(), Shape::Capsule { a: [0.0, 0.0], b: [1.0, 0.0], radius: 0.0 }),
+    ];
+    for (a, b) in &pairs {
+        for margin in [0.0, 1.0, 1e300, f64::INFINITY] {
+            for pose in [far, Pose::new(f64::NAN, 0.0, 0.0), Pose::new(0.0, f64::INFINITY, 0.0)] {
+                let p = points(a, o, b, pose, margin);
+                assert!(
+                    p.is_empty(),
+                    "{} on {} at {pose:?}, margin {margin}: {p:?}",
+                    a.name(),
+                    b.name()
+                );
+            }
+        }
+        // Near, with an infinite margin, the same pair gives its points, all finite.
+        let p = points(a, o, b, Pose::new(0.3, 0.2, 0.3), f64::INFINITY);
+        assert!(!p.is_empty() && p.iter().all(|q| q.gap.is_finite()), "{p:?}");
+    }
+}

@@ -81,7 +81,8 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
 ///   outside, is still met by the segments alone: its ends on the corner's segments.
 ///
 /// Poses are not checked: a non-finite coordinate gives non-finite gaps, which no margin
-/// admits, so no point.
+/// admits, so no point; nor do shapes so far apart (beyond about 1e154 m) that their squared
+/// distance overflows f64.
 ///
 /// # Errors
 /// [`KinematicsError::UnsupportedPair`] for two half-planes, or two shapes among polylines
@@ -116,7 +117,6 @@ pub fn collide_placed(
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) -> Result<(), KinematicsError> {
-    use Shape::*;
     if !(margin >= 0.0) {
         return Err(KinematicsError::InvalidOption { name: "margin", value: margin });
     }
@@ -124,6 +124,32 @@ pub fn collide_placed(
     // cost of a comparison each; the rest (convexity, orientation) is validation's job.
     usable(a)?;
     usable(b)?;
+    let start = out.len();
+    let found = dispatch(a, place_a, b, place_b, margin, out);
+    // Drop what overflow or a non-finite pose left: a gap of ±∞ or a NaN, a NaN normal.
+    let mut kept = start;
+    for k in start..out.len() {
+        let p = out[k];
+        let finite = |v: [f64; 2]| v[0].is_finite() && v[1].is_finite();
+        if p.gap.is_finite() && finite(p.normal) && finite(p.point_a) && finite(p.point_b) {
+            out[kept] = p;
+            kept += 1;
+        }
+    }
+    out.truncate(kept);
+    found
+}
+
+/// The points of a pair of usable shapes, by the method of the pair.
+fn dispatch(
+    a: &Shape,
+    place_a: &Placement,
+    b: &Shape,
+    place_b: &Placement,
+    margin: f64,
+    out: &mut Vec<ManifoldPoint>,
+) -> Result<(), KinematicsError> {
+    use Shape::*;
     let unsupported = || KinematicsError::UnsupportedPair { a: a.name(), b: b.name() };
     match (a, b) {
         (HalfPlane { .. }, HalfPlane { .. }) => Err(unsupported()),
