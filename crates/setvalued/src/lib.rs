@@ -149,6 +149,12 @@ pub enum SetValuedError {
         /// The rejected value.
         value: f64,
     },
+    /// More sample abscissae for a graph than memory holds.
+    #[error("a graph of {points} sample points cannot be allocated")]
+    TooManySamples {
+        /// The number requested.
+        points: usize,
+    },
     /// Fewer than two sample abscissae for a graph.
     #[error("a graph needs at least 2 sample points, got {points}")]
     Samples {

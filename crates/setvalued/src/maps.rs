@@ -272,7 +272,8 @@ impl GraphWindow {
 ///
 /// # Errors
 /// [`SetValuedError::Window`] for a non-finite or empty window, [`SetValuedError::Samples`]
-/// when `points < 2`.
+/// when `points < 2`, [`SetValuedError::TooManySamples`] when the graph of `points` samples
+/// cannot be allocated.
 pub fn sample_graph<M: SetValuedMap + ?Sized>(
     map: &M,
     window: &GraphWindow,
@@ -283,23 +284,29 @@ pub fn sample_graph<M: SetValuedMap + ?Sized>(
         return Err(SetValuedError::Samples { points });
     }
     let GraphWindow { x_min, x_max, y_min, y_max } = *window;
-    let mut xs: Vec<f64> =
-        (0..points).map(|k| x_min + (x_max - x_min) * (k as f64) / ((points - 1) as f64)).collect();
+    let breaks = map.breakpoints().len();
+    // The abscissae, the value sets and the polyline, reserved before they are written so that
+    // a count beyond memory is an error, not an abort.
+    let too_many = || SetValuedError::TooManySamples { points };
+    let mut xs: Vec<f64> = Vec::new();
+    xs.try_reserve_exact(points.checked_add(breaks).ok_or_else(too_many)?)
+        .map_err(|_| too_many())?;
+    xs.extend((0..points).map(|k| x_min + (x_max - x_min) * (k as f64) / ((points - 1) as f64)));
     xs.extend(map.breakpoints().iter().copied().filter(|b| (x_min..=x_max).contains(b)));
     xs.sort_by(f64::total_cmp);
     xs.dedup();
 
     // The value sets cut to the window, as (lo, hi) pairs.
-    let cut: Vec<Option<(f64, f64)>> = xs
-        .iter()
-        .map(|&x| {
-            let set = map.value(x);
-            let (lo, hi) = (set.lower()?.max(y_min), set.upper()?.min(y_max));
-            (lo <= hi).then_some((lo, hi))
-        })
-        .collect();
+    let mut cut: Vec<Option<(f64, f64)>> = Vec::new();
+    cut.try_reserve_exact(xs.len()).map_err(|_| too_many())?;
+    cut.extend(xs.iter().map(|&x| {
+        let set = map.value(x);
+        let (lo, hi) = (set.lower()?.max(y_min), set.upper()?.min(y_max));
+        (lo <= hi).then_some((lo, hi))
+    }));
 
-    let mut polyline: Vec<(f64, f64)> = Vec::with_capacity(xs.len() + 2 * map.breakpoints().len());
+    let mut polyline: Vec<(f64, f64)> = Vec::new();
+    polyline.try_reserve_exact(xs.len() + 2 * breaks).map_err(|_| too_many())?;
     for (k, (&x, range)) in xs.iter().zip(&cut).enumerate() {
         let Some((lo, hi)) = *range else { continue };
         if lo == hi {
@@ -333,7 +340,8 @@ pub fn sample_graph<M: SetValuedMap + ?Sized>(
 ///
 /// # Errors
 /// [`SetValuedError::Window`] when `g_max` or `lambda_max` is not positive and finite,
-/// [`SetValuedError::Samples`] when `points < 2`.
+/// [`SetValuedError::Samples`] when `points < 2`, [`SetValuedError::TooManySamples`] beyond
+/// memory.
 pub fn signorini_graph(
     g_max: f64,
     lambda_max: f64,
@@ -355,7 +363,8 @@ pub fn signorini_graph(
 /// # Errors
 /// [`SetValuedError::Friction`] when μ is negative or not finite, [`SetValuedError::Bound`]
 /// when μλ_N is negative or not finite, [`SetValuedError::Window`] for an empty or non-finite
-/// γ_T range, [`SetValuedError::Samples`] when `points < 2`.
+/// γ_T range, [`SetValuedError::Samples`] when `points < 2`, [`SetValuedError::TooManySamples`]
+/// beyond memory.
 pub fn coulomb_graph(
     mu: f64,
     lambda_n: f64,
@@ -487,6 +496,15 @@ mod tests {
             Err(SetValuedError::Window { .. })
         ));
         assert_eq!(Upr.graph(&window, 1), Err(SetValuedError::Samples { points: 1 }));
+        // A count beyond memory is refused, where collecting it aborted on a capacity overflow.
+        assert_eq!(
+            Upr.graph(&window, usize::MAX),
+            Err(SetValuedError::TooManySamples { points: usize::MAX })
+        );
+        assert_eq!(
+            signorini_graph(1.0, 1.0, usize::MAX / 2),
+            Err(SetValuedError::TooManySamples { points: usize::MAX / 2 })
+        );
         // A window wider than f64's range: its width overflowed and the abscissae were NaN
         // and +∞.
         let wide = GraphWindow { x_min: -1e308, x_max: 1e308, ..window };
