@@ -461,10 +461,28 @@ fn validation_names_what_is_wrong() {
             && zigzag().validate().is_ok()
             && cam().validate().is_ok()
     );
-    assert!(matches!(
+    assert_eq!(
         Shape::profile_polar(|_| 1.0, 2),
-        Err(KinematicsError::InvalidOption { name: "samples", .. })
-    ));
+        Err(KinematicsError::InvalidOption { name: "samples", value: 2.0 })
+    );
+    // More samples than memory holds, where collecting them aborted on a capacity overflow.
+    assert_eq!(
+        Shape::profile_polar(|_| 1.0, usize::MAX),
+        Err(KinematicsError::InvalidOption { name: "samples", value: usize::MAX as f64 })
+    );
+    // A curve through one point samples coincident points.
+    assert_eq!(
+        Shape::profile_from_curve(|_| [0.5, 0.5], 8),
+        Err(KinematicsError::InvalidShape {
+            shape: "profile",
+            problem: "two consecutive points coincide",
+            value: None,
+            index: Some(0)
+        })
+    );
+    // Eight samples of the unit circle: the regular octagon of area 2√2.
+    let octagon = Shape::profile_polar(|_| 1.0, 8).unwrap();
+    assert_relative_eq!(octagon.area(), 2.0 * 2f64.sqrt(), epsilon = 1e-14);
     // A curve run clockwise is turned counter-clockwise.
     let cw =
         Shape::profile_from_curve(|s| [(2.0 * PI * s).cos(), -(2.0 * PI * s).sin()], 32).unwrap();

@@ -346,17 +346,19 @@ impl Shape {
     /// spaced values of s; the points are put in counter-clockwise order if `f` runs clockwise.
     ///
     /// # Errors
-    /// [`KinematicsError::InvalidOption`] for fewer than 3 samples; [`Shape::validate`]'s errors
-    /// for the sampled profile.
+    /// [`KinematicsError::InvalidOption`] for fewer than 3 samples or more than memory holds;
+    /// [`Shape::validate`]'s errors for the sampled profile.
     pub fn profile_from_curve(
         f: impl Fn(f64) -> [f64; 2],
         samples: usize,
     ) -> Result<Shape, KinematicsError> {
+        let refused = || KinematicsError::InvalidOption { name: "samples", value: samples as f64 };
         if samples < 3 {
-            return Err(KinematicsError::InvalidOption { name: "samples", value: samples as f64 });
+            return Err(refused());
         }
-        let mut points: Vec<[f64; 2]> =
-            (0..samples).map(|k| f(k as f64 / samples as f64)).collect();
+        let mut points: Vec<[f64; 2]> = Vec::new();
+        points.try_reserve_exact(samples).map_err(|_| refused())?;
+        points.extend((0..samples).map(|k| f(k as f64 / samples as f64)));
         if polygon_moments(&points).0 < 0.0 {
             points[1..].reverse();
         }
