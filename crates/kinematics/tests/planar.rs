@@ -268,6 +268,33 @@ fn sign_error_in_a_pair_row_is_flagged() {
 }
 
 #[test]
+fn relative_velocity_is_w_dot_u_plus_w_hat() {
+    // γ = wᵀu + ŵ = 1 · 3 + 2 · (−1) + 0.5.
+    assert_eq!(moreau_kinematics::relative_velocity(&[1.0, 2.0], 0.5, &[3.0, -1.0]), Ok(1.5));
+    // It agrees with the pair's own γ_N and γ_T: a point at (0.3, 0.2) moving with q = (x, y)
+    // at u = (0.4, −1.5) above a floor rising at 0.25 m/s.
+    let point = PointMotion::<2> {
+        position: Point2::new(0.3, 0.2),
+        jacobian: SMatrix::<f64, 2, 2>::identity(),
+        time_derivative: Vector2::zeros(),
+    };
+    let floor =
+        LineMotion::rheonomic(Point2::origin(), Vector2::new(0.0, 0.25), 0.0, 0.0, Side::Left);
+    let g = point_line(&point, &floor).unwrap();
+    let u = SVector::<f64, 2>::new(0.4, -1.5);
+    let gamma_n = moreau_kinematics::relative_velocity(g.w_n.as_slice(), g.w_n_hat, u.as_slice());
+    let gamma_t = moreau_kinematics::relative_velocity(g.w_t.as_slice(), g.w_t_hat, u.as_slice());
+    assert_eq!((gamma_n, gamma_t), (Ok(-1.75), Ok(0.4)));
+    assert_eq!((g.normal_velocity(&u), g.tangential_velocity(&u)), (-1.75, 0.4));
+    let err = moreau_kinematics::relative_velocity(&[1.0, 2.0], 0.0, &[3.0]).unwrap_err();
+    assert_eq!(
+        err,
+        KinematicsError::DimensionMismatch { what: "u against w", expected: 2, found: 1 }
+    );
+    assert_eq!(err.to_string(), "dimension mismatch in u against w: expected 2, found 1");
+}
+
+#[test]
 fn invalid_geometry_is_a_typed_error() {
     let center = PointMotion::<1>::fixed(Point2::origin());
     let floor = LineMotion::fixed(Point2::origin(), 0.0, Side::Left);
