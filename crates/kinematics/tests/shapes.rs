@@ -533,6 +533,33 @@ fn half_plane_normal_of_any_usable_length_gives_the_unit_normal_and_others_are_r
 }
 
 #[test]
+fn scaling_multiplies_areas_and_unit_inertias_by_the_square_of_the_factor() {
+    let capsule = Shape::Capsule { a: [0.1, 0.0], b: [0.5, 0.3], radius: 0.05 };
+    for shape in [rect(0.4, 0.2), disk(0.3, -0.1, 0.2), capsule, cam()] {
+        let big = shape.scaled(2.5);
+        big.validate().unwrap();
+        assert_relative_eq!(big.area(), 6.25 * shape.area(), max_relative = 1e-13);
+        let (i, j) = (shape.unit_inertia().unwrap(), big.unit_inertia().unwrap());
+        assert_relative_eq!(j, 6.25 * i, max_relative = 1e-13);
+        let (c, d) = (shape.centroid(), big.centroid());
+        assert_relative_eq!(d[0], 2.5 * c[0], max_relative = 1e-13);
+        assert_relative_eq!(d[1], 2.5 * c[1], max_relative = 1e-13);
+    }
+    // A negative factor makes a negative radius, which validation names.
+    assert_eq!(
+        disk(0.0, 0.0, 0.2).scaled(-1.0).validate(),
+        Err(KinematicsError::InvalidShape {
+            shape: "disk",
+            problem: "negative radius",
+            value: Some(-0.2),
+            index: None
+        })
+    );
+    let floor = Shape::HalfPlane { point: [0.0, -1.0], normal: [0.0, 3.0] };
+    assert_eq!(floor.scaled(2.0), Shape::HalfPlane { point: [0.0, -2.0], normal: [0.0, 3.0] });
+}
+
+#[test]
 fn mass_properties_closed_forms() {
     // A 0.4 × 0.2 box about its centre, then offset by (1, 2).
     let (w, h) = (0.4, 0.2);

@@ -384,7 +384,9 @@ impl Shape {
     }
 
     /// The shape scaled by the factor `s` about its body's origin: every point and length
-    /// times s (a half-plane's boundary point moves, its normal stays).
+    /// times s (a half-plane's boundary point moves, its normal stays). A valid shape stays
+    /// valid for a positive finite s, its area times s² and its unit inertia times s²; any
+    /// other s (a negative radius, coincident points) is for [`Shape::validate`] to refuse.
     pub fn scaled(&self, s: f64) -> Shape {
         let p = |v: &[f64; 2]| [v[0] * s, v[1] * s];
         match self {
