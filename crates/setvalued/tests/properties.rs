@@ -3,8 +3,8 @@
 //! projection onto the friction cone.
 
 use moreau_setvalued::{
-    CoulombSplit, CoulombState, FrictionCone, GraphWindow, SetValuedMap, Sgn, Upr, ValueSet,
-    complementarity, coulomb_holds, sample_graph,
+    ContactLaw, CoulombSplit, CoulombState, FrictionCone, GraphWindow, RelativeVelocity,
+    SetValuedMap, Sgn, Upr, ValueSet, check_impact, complementarity, coulomb_holds, sample_graph,
 };
 use proptest::prelude::*;
 
@@ -187,5 +187,22 @@ proptest! {
         };
         let (f_n, f_t) = FrictionCone::new(mu).unwrap().natural_map(lambda, gamma, r).unwrap();
         prop_assert!(f_n.hypot(f_t) <= 1e-12 * (1.0 + lambda_n + r * speed), "{} {}", f_n, f_t);
+    }
+
+    /// Newton's impact law checked on the graphs of Upr and Sgn holds exactly when the friction
+    /// cone's natural map of (P_N, P_T) and ξ = γ⁺ + ε γ⁻ vanishes (exact on the grid with
+    /// ε = 1/2 and μ ∈ {0, 1}).
+    #[test]
+    fn impact_check_agrees_with_the_cone_natural_map(
+        mu in prop_oneof![Just(0.0), Just(1.0)],
+        pre_n in grid(), pre_t in grid(), post_n in grid(), post_t in grid(),
+        p_n in grid(), p_t in grid(),
+    ) {
+        let law = ContactLaw::new(0.5, 0.5, mu).unwrap();
+        let pre = RelativeVelocity { gamma_n: pre_n, gamma_t: pre_t };
+        let post = RelativeVelocity { gamma_n: post_n, gamma_t: post_t };
+        let check = check_impact(pre, post, p_n, p_t, &law, 0.0);
+        let map = FrictionCone::new(mu).unwrap().natural_map((p_n, p_t), (check.xi_n, check.xi_t), 1.0).unwrap();
+        prop_assert_eq!(check.holds(), map == (0.0, 0.0), "{:?} {:?}", check, map);
     }
 }
