@@ -42,6 +42,11 @@ pub struct SimulateArgs {
     /// CSV file (declared mechanisms): t, id, bodies, points, normal, gap, impulses, state.
     #[arg(long, value_name = "FILE")]
     pub contacts: Option<PathBuf>,
+    /// Also write the run's end state as a scene file that starts there (t_start the last
+    /// time, the bodies or the model's initial state at the last step), to continue the run
+    /// or to start others from it: a pile settled once, swept over its friction.
+    #[arg(long, value_name = "FILE")]
+    pub end_scene: Option<PathBuf>,
 }
 
 /// Arguments of `sweep`.
@@ -157,6 +162,7 @@ impl SimulateArgs {
             solver: self.solver,
             max_steps: self.max_steps,
             contacts: self.contacts.clone(),
+            end_scene: self.end_scene.clone(),
         };
         let done = simulate::run_to_csv(&options, &self.out, &mut |w| eprintln!("warning: {w}"))?;
         println!(

@@ -83,13 +83,13 @@ pub(crate) struct ContactLog<W: Write> {
 }
 
 impl<W: Write> ContactLog<W> {
-    /// A log of `model` run from (q0, u0) at t = 0, recording one step in `every`, with the
+    /// A log of `model` run from (q0, u0) at t0, recording one step in `every`, with the
     /// stepper's step `dt` and gap tolerance `margin`; writes the header. With `stops_early`
     /// (a stop rule may end the run on a step the thinning skips) it keeps each step's start,
     /// so that [`Self::finish_step`] can write the run's last step as the record does.
     pub(crate) fn new(
         model: &Multibody,
-        (q0, u0): (Vec<f64>, Vec<f64>),
+        (q0, u0, t0): (Vec<f64>, Vec<f64>, f64),
         every: usize,
         (dt, margin): (f64, f64),
         stops_early: bool,
@@ -105,10 +105,10 @@ impl<W: Write> ContactLog<W> {
             dt,
             margin,
             names,
-            last_start: stops_early.then(|| (q0.clone(), u0.clone(), 0.0)),
+            last_start: stops_early.then(|| (q0.clone(), u0.clone(), t0)),
             q_a: q0,
             u_a: u0,
-            t_a: 0.0,
+            t_a: t0,
             q_m,
             rows: 0,
         })

@@ -97,24 +97,31 @@ pub enum CliError {
         t: f64,
     },
     /// The time step is longer than the run.
-    #[error("time step dt = {dt:e} s is longer than the run (t_end = {t_end:e} s)")]
+    #[error("time step dt = {dt:e} s is longer than the run ({})", run_span(*t_start, *t_end))]
     StepLongerThanRun {
         /// Time step (s).
         dt: f64,
+        /// Start time (s).
+        t_start: f64,
         /// End time (s).
         t_end: f64,
     },
-    /// t_end is not a whole number of steps.
+    /// The run's length t_end − t_start is not a whole number of steps.
     #[error(
-        "t_end = {t_end:e} s is not a whole number of steps of dt = {dt:e} s (t_end/dt = {ratio}); \
-         choose t_end = n dt so that the last row lies at t_end"
+        "{} is not a whole number of steps of dt = {dt:e} s ({}/dt = {ratio}); choose {} so \
+         that the last row lies at t_end",
+        run_span(*t_start, *t_end),
+        if *t_start == 0.0 { "t_end" } else { "(t_end − t_start)" },
+        if *t_start == 0.0 { "t_end = n dt" } else { "t_end = t_start + n dt" }
     )]
     NotWholeSteps {
+        /// Start time (s).
+        t_start: f64,
         /// End time (s).
         t_end: f64,
         /// Time step (s).
         dt: f64,
-        /// t_end / dt.
+        /// (t_end − t_start) / dt.
         ratio: f64,
     },
     /// More steps than the limit.
@@ -363,4 +370,17 @@ pub enum CliError {
         /// Where its last iterate was written, if it was.
         partial: Option<PathBuf>,
     },
+}
+
+/// The run's span in a message: `t_end = 1e0 s`, or from a start time other than 0
+/// `t_end − t_start = 5e-1 s (t_start = 2e0 s, t_end = 2.5e0 s)`.
+fn run_span(t_start: f64, t_end: f64) -> String {
+    if t_start == 0.0 {
+        format!("t_end = {t_end:e} s")
+    } else {
+        format!(
+            "t_end − t_start = {:e} s (t_start = {t_start:e} s, t_end = {t_end:e} s)",
+            t_end - t_start
+        )
+    }
 }

@@ -143,23 +143,24 @@ impl Scales {
     }
 }
 
-/// The number of steps of a scene's run after checking Δt ≤ t_end, that t_end is a whole
-/// number of steps and that there are at most `max_steps` of them.
+/// The number of steps of a scene's run after checking Δt ≤ t_end − t_start, that the run's
+/// length t_end − t_start is a whole number of steps and that there are at most `max_steps`
+/// of them.
 ///
 /// # Errors
 /// [`CliError::StepLongerThanRun`], [`CliError::NotWholeSteps`] or [`CliError::TooManySteps`].
 pub fn plan_steps(scene: &Scene, max_steps: u64) -> Result<u64, CliError> {
-    let (dt, t_end) = (scene.dt, scene.t_end);
-    if !(dt <= t_end) {
-        return Err(CliError::StepLongerThanRun { dt, t_end });
+    let (dt, t_start, t_end) = (scene.dt, scene.t_start, scene.t_end);
+    if !(dt <= t_end - t_start) {
+        return Err(CliError::StepLongerThanRun { dt, t_start, t_end });
     }
-    let ratio = t_end / dt;
+    let ratio = (t_end - t_start) / dt;
     if !(ratio <= max_steps as f64 + 0.5) {
         return Err(CliError::TooManySteps { steps: ratio, limit: max_steps });
     }
     let n = ratio.round();
     if !((ratio - n).abs() <= WHOLE_STEPS_TOLERANCE) {
-        return Err(CliError::NotWholeSteps { t_end, dt, ratio });
+        return Err(CliError::NotWholeSteps { t_start, t_end, dt, ratio });
     }
     Ok(n as u64)
 }
@@ -171,7 +172,7 @@ pub fn plan_steps(scene: &Scene, max_steps: u64) -> Result<u64, CliError> {
 /// columns `<name>.PN`, `<name>.PT`, `<name>.active`); with a detected contact
 /// set, the contacts that detection finds at the start, counted, with the deepest and the
 /// first touching named by their bodies.
-pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
+pub fn gap_warnings(model: &AnyModel, t0: f64) -> Vec<String> {
     let (q0, _) = model.initial_state();
     let names = model.contact_names();
     let tolerance = GAP_TOLERANCE * Scales::length(model);
@@ -186,7 +187,7 @@ pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
     };
     let mut out = Vec::new();
     for (i, name) in names.iter().enumerate() {
-        let g = model.normal_gap(i, &q0, 0.0);
+        let g = model.normal_gap(i, &q0, t0);
         if g < -tolerance {
             out.push(format!(
                 "{} starts penetrating: g_N = {g:.6e} (the scheme acts on velocities and leaves \
@@ -202,7 +203,7 @@ pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
         }
     }
     if let AnyModel::Declared(m) = model {
-        out.extend(detected_gap_warnings(model, m, &q0, tolerance, &unit));
+        out.extend(detected_gap_warnings(model, m, (&q0, t0), tolerance, &unit));
     }
     out
 }
@@ -214,15 +215,15 @@ pub fn gap_warnings(model: &AnyModel) -> Vec<String> {
 fn detected_gap_warnings(
     model: &AnyModel,
     m: &moreau_models::bodies::Multibody,
-    q0: &[f64],
+    (q0, t0): (&[f64], f64),
     tolerance: f64,
     unit: &str,
 ) -> Vec<String> {
     let Some(structure) = model.body_structure() else { return Vec::new() };
     let mut found = Vec::new();
-    structure.detect(q0, 0.0, tolerance, &mut found);
+    structure.detect(q0, t0, tolerance, &mut found);
     let names = m.body_names();
-    let between = |id: u64| match m.locate_contact(id, q0, 0.0, tolerance) {
+    let between = |id: u64| match m.locate_contact(id, q0, t0, tolerance) {
         Some(c) => format!("between `{}` and `{}`", names[c.bodies[0]], names[c.bodies[1]]),
         None => format!("of identity {id}"),
     };
@@ -322,20 +323,25 @@ impl Bounds {
     /// positions by [`MAGNITUDE_FACTOR`] (ℓ + max |x₀, y₀|), angles by
     /// [`MAGNITUDE_FACTOR`] (1 + max |θ₀|), velocities by [`MAGNITUDE_FACTOR`]
     /// (ℓ/τ + max |v₀|) and angular velocities by [`MAGNITUDE_FACTOR`] (1/τ + max |ω₀|).
-    pub fn of(model: &AnyModel, dt: f64) -> Bounds {
+    pub fn of(model: &AnyModel, dt: f64, t0: f64) -> Bounds {
         let (q0, u0) = model.initial_state();
-        Self::with_mass(model, dt, &q0, &u0, &mut Mass::new(model, &q0))
+        Self::with_mass(model, dt, (t0, &q0, &u0), &mut Mass::new(model, &q0))
     }
 
-    /// [`Self::of`] from the initial state (q₀, u₀), with the mass matrix of the energy test
-    /// given (at q₀ or to be evaluated).
-    fn with_mass(model: &AnyModel, dt: f64, q0: &[f64], u0: &[f64], mass: &mut Mass) -> Bounds {
+    /// [`Self::of`] from the initial state (q₀, u₀) at t₀, with the mass matrix of the energy
+    /// test given (at q₀ or to be evaluated).
+    fn with_mass(
+        model: &AnyModel,
+        dt: f64,
+        (t0, q0, u0): (f64, &[f64], &[f64]),
+        mass: &mut Mass,
+    ) -> Bounds {
         let energy = energy_bound_applies(model)
             .then(|| {
-                let v0 = model.potential_energy(q0, 0.0)?;
-                let t0 = kinetic(model, q0, u0, 0.0, mass);
-                let e0 = t0 + v0;
-                Some((e0, e0 + ENERGY_GROWTH * energy_scale(model, t0, v0)))
+                let v0 = model.potential_energy(q0, t0)?;
+                let k0 = kinetic(model, q0, u0, t0, mass);
+                let e0 = k0 + v0;
+                Some((e0, e0 + ENERGY_GROWTH * energy_scale(model, k0, v0)))
             })
             .flatten();
         let scales = Scales::of(model, dt);
@@ -359,7 +365,7 @@ impl Bounds {
             let b = MAGNITUDE_FACTOR * (1.0 + largest);
             (vec![b; q0.len()], vec![b; u0.len()])
         };
-        let penetration = deepest_penetration(model, q0, 0.0) + PENETRATION_LIMIT * scales.length;
+        let penetration = deepest_penetration(model, q0, t0) + PENETRATION_LIMIT * scales.length;
         Bounds { energy, q, u, penetration }
     }
 }
@@ -374,12 +380,12 @@ pub struct Guarded<'a, O> {
 }
 
 impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
-    /// The guard of `model` at its initial state, run with the step `dt`, passing every step
-    /// on to `inner`.
-    pub fn new(model: &AnyModel, dt: f64, inner: &'a mut O) -> Self {
+    /// The guard of `model` at its initial state at t₀, run with the step `dt`, passing every
+    /// step on to `inner`.
+    pub fn new(model: &AnyModel, dt: f64, t0: f64, inner: &'a mut O) -> Self {
         let (q0, u0) = model.initial_state();
         let mut mass = Mass::new(model, &q0);
-        let bounds = Bounds::with_mass(model, dt, &q0, &u0, &mut mass);
+        let bounds = Bounds::with_mass(model, dt, (t0, &q0, &u0), &mut mass);
         Self { inner, bounds, mass, diverged: None }
     }
 
@@ -521,15 +527,15 @@ pub fn run_guarded<O: Observer<AnyModel>>(
     if omega * scene.dt >= 2.0 {
         let cause =
             Divergence::StepAboveStability { dt: scene.dt, limit: 2.0 / omega, omega_max: omega };
-        return Err(CliError::Diverged { cause, step: 0, t: 0.0 }.into());
+        return Err(CliError::Diverged { cause, step: 0, t: scene.t_start }.into());
     }
-    let mut guarded = Guarded::new(model, scene.dt, observer);
+    let mut guarded = Guarded::new(model, scene.dt, scene.t_start, observer);
     let summary = match scene.run_with(&mut guarded) {
         Ok(s) => s,
         Err(ModelError::Step(StepError::NonFinite { what, index, t })) => {
             let message = format!("non-finite {what} at index {index}");
             let cause = Divergence::NonFinite { message };
-            let step = (t / scene.dt).round().max(0.0) as u64;
+            let step = ((t - scene.t_start) / scene.dt).round().max(0.0) as u64;
             return Err(CliError::Diverged { cause, step, t }.into());
         }
         Err(e) => return Err(e.into()),

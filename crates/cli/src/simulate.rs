@@ -42,6 +42,10 @@ pub struct SimulateOptions {
     /// A file to write the located contacts of the recorded steps to (declared mechanisms
     /// only; see [`crate::contacts`]), written as `<file>.partial` until the run succeeds.
     pub contacts: Option<PathBuf>,
+    /// A scene file to write the run's end state to, as the scene continued from it
+    /// ([`Scene::continued`]): its `t_start` the run's last time, its initial state the last
+    /// step's q and u. Written once the run has succeeded, and only then.
+    pub end_scene: Option<PathBuf>,
 }
 
 impl SimulateOptions {
@@ -238,7 +242,7 @@ pub fn run_scene(scene: &Scene, max_steps: u64) -> Result<Simulation> {
     check_record_every(scene, planned)?;
     let mut recorder = Recorder::every(scene.record_every);
     let (q0, u0) = model.initial_state();
-    recorder.push_initial(&model, 0.0, &q0, &u0);
+    recorder.push_initial(&model, scene.t_start, &q0, &u0);
     recorder.record.reserve((planned / scene.record_every.max(1) as u64).min(1 << 20) as usize);
     let run = guard::run_guarded(scene, &model, max_steps, &mut recorder)?;
     let mut record = recorder.record;
@@ -365,6 +369,8 @@ struct Streamer<W: Write> {
     contacts: Option<ContactLog<W>>,
     error: Option<anyhow::Error>,
     bar: Option<indicatif::ProgressBar>,
+    /// The last step's (t, q, u), at t_end exactly after the last planned step.
+    end: Option<(f64, Vec<f64>, Vec<f64>)>,
 }
 
 impl<W: Write> Streamer<W> {
@@ -405,6 +411,8 @@ impl<W: Write> Observer<AnyModel> for Streamer<W> {
 
     /// The run's last step: its row when the thinning skipped it, and its contacts.
     fn finish(&mut self, model: &AnyModel, last: &StepReport<'_>) {
+        let t = row_time(last.t, last.step, self.planned, &self.scene);
+        self.end = Some((t, last.q.to_vec(), last.u.to_vec()));
         self.recorder.finish(model, last);
         end_at_t_end(&mut self.recorder.record, last.step, self.planned, &self.scene);
         if let (Some(log), AnyModel::Declared(m)) = (&mut self.contacts, model) {
@@ -471,9 +479,12 @@ pub fn run_to_csv(
     let start = Instant::now();
     let out_file = Output::new(out)?;
     let contacts_file = options.contacts.as_deref().map(Output::new).transpose()?;
+    let end_file = options.end_scene.as_deref().map(Output::new).transpose()?;
     let inputs: Vec<&Path> = options.scene.iter().map(PathBuf::as_path).collect();
-    let outputs: Vec<&Output> =
-        [Some(&out_file), contacts_file.as_ref()].into_iter().flatten().collect();
+    let outputs: Vec<&Output> = [Some(&out_file), contacts_file.as_ref(), end_file.as_ref()]
+        .into_iter()
+        .flatten()
+        .collect();
     output::check_distinct(&inputs, &outputs)?;
     // The scene is checked before any file is touched, its lock included.
     let scene = scene(options)?;
@@ -489,9 +500,10 @@ pub fn run_to_csv(
             let (partial, w) = file.create_partial()?;
             let margin = m.gap_tolerance();
             let stops_early = scene.stop_at.is_some();
+            let (q0, u0) = m.initial_state();
             let log = ContactLog::new(
                 m,
-                m.initial_state(),
+                (q0, u0, scene.t_start),
                 scene.record_every,
                 (scene.dt, margin),
                 stops_early,
@@ -509,14 +521,14 @@ pub fn run_to_csv(
     // The problem an earlier run of the same output stopped on is not this run's.
     let failed_path = failed_problem_path(out_file.target());
     output::remove_stale(&failed_path)?;
-    let warnings = guard::gap_warnings(&model);
+    let warnings = guard::gap_warnings(&model, scene.t_start);
     for w in &warnings {
         warn(w);
     }
     writeln!(out_w, "{}", csv_record(header(&model))?)?;
     let mut recorder = Recorder::every(scene.record_every);
     let (q0, u0) = model.initial_state();
-    recorder.push_initial(&model, 0.0, &q0, &u0);
+    recorder.push_initial(&model, scene.t_start, &q0, &u0);
     let bar = (std::io::stderr().is_terminal() && planned >= 100_000).then(|| {
         let bar = indicatif::ProgressBar::new(planned);
         if let Ok(style) = indicatif::ProgressStyle::with_template(
@@ -536,6 +548,7 @@ pub fn run_to_csv(
         contacts: log,
         error: None,
         bar,
+        end: None,
     };
     let run = guard::run_guarded(&scene, &model, options.step_limit(), &mut streamer);
     if let Some(bar) = &streamer.bar {
@@ -581,6 +594,9 @@ pub fn run_to_csv(
     if let (Some(log), Some((file, partial))) = (streamer.contacts.take(), &contacts_files) {
         file.publish_written(partial, log.finish()?)?;
     }
+    if let Some(file) = &end_file {
+        write_end_scene(&scene, streamer.end.take(), &model, file)?;
+    }
     out_file.publish_written(&partial, streamer.out)?;
     Ok(Simulated {
         scene,
@@ -593,4 +609,32 @@ pub fn run_to_csv(
         wall_seconds: start.elapsed().as_secs_f64(),
         warnings,
     })
+}
+
+/// Writes the scene continued from the run's end state `end` (its last step's t, q, u; the
+/// initial state for a run of no steps) to `file`, whole or not at all.
+///
+/// # Errors
+/// The errors of [`Scene::continued`]; an unwritable file.
+fn write_end_scene(
+    scene: &Scene,
+    end: Option<(f64, Vec<f64>, Vec<f64>)>,
+    model: &AnyModel,
+    file: &Output,
+) -> Result<()> {
+    let (t, q, u) = end.unwrap_or_else(|| {
+        let (q0, u0) = model.initial_state();
+        (scene.t_start, q0, u0)
+    });
+    let next = scene.continued(t, &q, &u)?;
+    let (partial, mut w) = file.create_partial()?;
+    writeln!(
+        w,
+        "# The end state of a run at t = {t} s, continued: run it for as long again, or \
+         change t_end.\n{}",
+        next.to_toml_string()
+    )
+    .with_context(|| format!("writing {}", partial.display()))?;
+    file.publish_written(&partial, w)?;
+    Ok(())
 }

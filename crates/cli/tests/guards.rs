@@ -304,7 +304,7 @@ fn streamed_records_equal_the_kept_ones() -> Result<()> {
 fn initial_gaps_near_zero_or_negative_are_warned_about() -> Result<()> {
     let warnings = |y0: &str| -> Result<Vec<String>> {
         let s = scene(&ball(&[&format!("init.y0={y0}")]))?;
-        Ok(guard::gap_warnings(&s.build()?))
+        Ok(guard::gap_warnings(&s.build()?, 0.0))
     };
     ensure!(warnings("1")?.is_empty());
     // r = 0.1: gaps of +2.8e-17 and −1.4e-17 m (round-off) are both reported as touching.
@@ -322,7 +322,7 @@ fn initial_gaps_near_zero_or_negative_are_warned_about() -> Result<()> {
         sets: vec!["init.y=0".into()],
         ..SimulateOptions::default()
     })?;
-    let w = guard::gap_warnings(&s.build()?);
+    let w = guard::gap_warnings(&s.build()?, 0.0);
     let lower = "contact 2 (lower sleeve edge) starts penetrating: g_N = -8.800000e-7";
     ensure!(w.len() == 1 && w[0].starts_with(lower), "{w:?}");
     // 1e-6 m above the floor is a gap, not a touch.
@@ -448,13 +448,13 @@ fn a_declared_mechanism_is_guarded_alike_in_any_units() -> Result<()> {
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
     let reference = springs_in_units("detected", 5.0, 1.0, 1.0, 1e-6)?;
     let omega = guard::omega_max(&reference);
-    let bounds = guard::Bounds::of(&reference, 1e-3);
+    let bounds = guard::Bounds::of(&reference, 1e-3, 0.0);
     let (e0, e_max) = bounds.energy.context("no drives: the energy bound applies")?;
     for (s, m) in [(1e-6, 1e-6), (1e-3, 1.0), (1e3, 1e6), (1.0, 1e-6)] {
         let model = springs_in_units("detected", 5.0, s, m, 1e-6)?;
         let w = guard::omega_max(&model);
         ensure!((w * s.sqrt() - omega).abs() <= 1e-6 * omega, "{s} {m}: ω_max {w} vs {omega}");
-        let b = guard::Bounds::of(&model, 1e-3 * s.sqrt());
+        let b = guard::Bounds::of(&model, 1e-3 * s.sqrt(), 0.0);
         let (e, e_bound) = b.energy.context("energy bound")?;
         ensure!(close(e_bound - e, (e_max - e0) * m * s), "{s} {m}: {e_bound} − {e}");
         for (j, (x, x0)) in b.q.iter().zip(&bounds.q).enumerate() {
@@ -466,21 +466,21 @@ fn a_declared_mechanism_is_guarded_alike_in_any_units() -> Result<()> {
             ensure!(close(*v, v0 * unit), "{s} {m}: u bound {j}: {v} vs {v0}");
         }
         // The gaps of the contacts that a fixed contact set lists at the start.
-        let w = guard::gap_warnings(&springs_in_units("fixed", 5.0, s, m, 1e-6)?);
+        let w = guard::gap_warnings(&springs_in_units("fixed", 5.0, s, m, 1e-6)?, 0.0);
         ensure!(w.is_empty(), "{s} {m}: {w:?}");
         let touching = springs_in_units("fixed", 5.0, s, m, 1e-12)?;
-        let w = guard::gap_warnings(&touching);
+        let w = guard::gap_warnings(&touching, 0.0);
         // A declared contact is named as its columns are (`floor.0-probe.0.PN`).
         let name = w.first().and_then(|w| w.split_once(" starts touching")).map(|p| p.0);
         ensure!(w.len() == 1 && name == Some("contact `floor.0-probe.0`"), "{w:?}");
         // The same with a detected contact set: the contacts that detection finds at the start,
         // counted and named by their bodies.
-        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-6)?);
+        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-6)?, 0.0);
         ensure!(w.is_empty(), "{s} {m}: {w:?}");
-        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-12)?);
+        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-12)?, 0.0);
         let named = w.len() == 1 && w[0].starts_with("1 detected contact starts touching");
         ensure!(named && w[0].contains("`probe`"), "{s} {m}: {w:?}");
-        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, -1e-3)?);
+        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, -1e-3)?, 0.0);
         let named = w.len() == 1 && w[0].starts_with("1 detected contact starts penetrating");
         ensure!(named && w[0].contains("`probe`"), "{s} {m}: {w:?}");
         let g = format!("g_N = {:.6e}", -1e-3 * s);

@@ -166,6 +166,16 @@ impl ModelParams {
     /// # Errors
     /// The model's [`ModelError::InvalidParameter`] or [`ModelError::Law`].
     pub fn build(&self) -> Result<AnyModel, ModelError> {
+        self.build_at(0.0)
+    }
+
+    /// [`Self::build`] for a run that starts at t₀ (s): a declared mechanism's initial state
+    /// is then the state at t₀ ([`SystemSpec::build_at`]); a report model's does not depend
+    /// on when it starts.
+    ///
+    /// # Errors
+    /// As [`Self::build`].
+    pub fn build_at(&self, t0: f64) -> Result<AnyModel, ModelError> {
         Ok(match self {
             ModelParams::Ball(p) => AnyModel::Ball(Ball::new(p.clone())?),
             ModelParams::Woodpecker(p) => AnyModel::Woodpecker(Woodpecker::new(p.clone())?),
@@ -175,7 +185,7 @@ impl ModelParams {
             }
             ModelParams::Cam(p) => AnyModel::Cam(Cam::new(p.clone())?),
             ModelParams::Painleve(p) => AnyModel::Painleve(PainleveRod::new(p.clone())?),
-            ModelParams::Declared(spec) => AnyModel::Declared(spec.build()?),
+            ModelParams::Declared(spec) => AnyModel::Declared(spec.build_at(t0)?),
         })
     }
 }

@@ -6,6 +6,7 @@
 //! single values by their dotted keys (`--set key=value`), and `tree` finds where such a key
 //! lies in the scene's tree, with the fields each table takes.
 
+mod continued;
 mod file;
 mod set;
 mod tree;
@@ -96,7 +97,13 @@ pub struct StopRule {
 pub struct Scene {
     /// Time step Δt (s), finite and > 0.
     pub dt: f64,
-    /// End time (s); with a [`StopRule`] it is an upper bound on the run's length.
+    /// Start time t₀ (s), finite; default 0 (key `t_start`). The initial state is the state at
+    /// t₀, where a run starts and the driven bodies' motions, the loads' functions of time and
+    /// the motors take up; a scene written at the end of a run ([`Self::continued`]) starts
+    /// at that run's end.
+    pub t_start: f64,
+    /// End time (s), at least `t_start`; with a [`StopRule`] it is an upper bound on the run's
+    /// length.
     pub t_end: f64,
     /// Keep one step in `record_every` in the [`Record`] (>= 1), and the run's last step
     /// (at t_end or the stop rule's step) whatever the thinning; default 1.
@@ -218,6 +225,7 @@ impl Scene {
         };
         Scene {
             dt,
+            t_start: 0.0,
             t_end,
             record_every: 1,
             solver: SolverChoice::Auto,
@@ -298,7 +306,16 @@ impl Scene {
     /// [`ModelError::InvalidParameter`] naming the field.
     pub fn validate(&self) -> Result<(), ModelError> {
         positive("dt", self.dt)?;
-        non_negative("t_end", self.t_end)?;
+        finite("t_start", self.t_start)?;
+        if self.t_start == 0.0 {
+            non_negative("t_end", self.t_end)?;
+        } else if !(self.t_end >= self.t_start) {
+            return Err(relation(
+                "t_end",
+                self.t_end,
+                &format!("must be finite and >= t_start = {}", self.t_start),
+            ));
+        }
         if self.record_every == 0 {
             return Err(relation("record_every", 0.0, "must be at least 1"));
         }
@@ -311,7 +328,7 @@ impl Scene {
                 "must lie in [0, 1): a natural residual up to which an island is taken",
             ));
         }
-        let model = self.params.build()?;
+        let model = self.build()?;
         if let Some(stop) = &self.stop_at {
             finite("stop_at.value", stop.value)?;
             let names = model.coordinate_names();
@@ -338,7 +355,7 @@ impl Scene {
     /// # Errors
     /// The model's [`ModelError::InvalidParameter`] or [`ModelError::Law`].
     pub fn build(&self) -> Result<AnyModel, ModelError> {
-        self.params.build()
+        self.params.build_at(self.t_start)
     }
 
     /// The stepper's options: Δt, the solver and the projection. A declared mechanism gets its
@@ -350,7 +367,9 @@ impl Scene {
     pub fn stepper_options(&self) -> StepperOptions {
         match &self.params {
             // The build's error surfaces where the scene is built.
-            ModelParams::Declared(spec) => self.options_of(spec.build().ok().as_ref()),
+            ModelParams::Declared(spec) => {
+                self.options_of(spec.build_at(self.t_start).ok().as_ref())
+            }
             _ => self.options_of(None),
         }
     }
@@ -382,7 +401,7 @@ impl Scene {
         }
     }
 
-    /// A stepper at the model's initial state and t = 0, for stepping by hand.
+    /// A stepper at the model's initial state and t = t_start, for stepping by hand.
     ///
     /// # Errors
     /// The errors of [`Self::build`] and of `Stepper::new`.
@@ -390,7 +409,7 @@ impl Scene {
         let model = self.build()?;
         let (q0, u0) = model.initial_state();
         let options = self.options_for(&model);
-        Ok(Stepper::new(model, &q0, &u0, 0.0, options)?)
+        Ok(Stepper::new(model, &q0, &u0, self.t_start, options)?)
     }
 
     /// Builds the model, runs it to the stop rule (or `t_end`) and records every
@@ -406,9 +425,10 @@ impl Scene {
         let model = self.build()?;
         let (q0, u0) = model.initial_state();
         let mut recorder = Recorder::every(self.record_every);
-        recorder.push_initial(&model, 0.0, &q0, &u0);
+        recorder.push_initial(&model, self.t_start, &q0, &u0);
         // The rows up to t_end, or a million when more (a stop rule may end the run early).
-        let rows = (self.t_end / self.dt / self.record_every.max(1) as f64).ceil().clamp(0.0, 1e6);
+        let steps = (self.t_end - self.t_start) / self.dt;
+        let rows = (steps / self.record_every.max(1) as f64).ceil().clamp(0.0, 1e6);
         recorder.record.reserve(rows as usize + 1);
         let summary = self.run_model(&model, &mut recorder)?;
         Ok(Simulation {
@@ -447,7 +467,7 @@ impl Scene {
         run_to_end(stepper, stop, self.t_end, observer)
     }
 
-    /// Runs a stepper of `model`'s own type from its initial state at t = 0 to the stop rule
+    /// Runs a stepper of `model`'s own type from its initial state at t_start to the stop rule
     /// or end time, showing `observer` the scene-built `model`.
     fn run_model<O: Observer<AnyModel>>(
         &self,
@@ -459,7 +479,7 @@ impl Scene {
         let options = self.options_for(model);
         let mut shown = AsAnyModel { model, inner: observer };
         dispatch!(model, m => {
-            let mut stepper = Stepper::new(m.clone(), &q0, &u0, 0.0, options)?;
+            let mut stepper = Stepper::new(m.clone(), &q0, &u0, self.t_start, options)?;
             run_to_end(&mut stepper, stop, self.t_end, &mut shown)
         })
     }

@@ -163,6 +163,7 @@ fn a_misspelt_top_level_key_of_a_report_model() {
             "dt",
             "record_every",
             "t_end",
+            "t_start",
             "stop_at",
             "projection",
             "inexact_residual",
@@ -200,6 +201,7 @@ fn a_misspelt_top_level_key_of_a_declared_scene() {
             valid,
             [
                 "dt",
+                "t_start",
                 "t_end",
                 "record_every",
                 "solver",

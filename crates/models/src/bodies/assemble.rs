@@ -1,5 +1,5 @@
 //! Assembly of a declaration's initial positions onto its joints: q₀ moved onto the position
-//! constraints g_B(q, 0) = 0, and refused when a joint contradicts the declared positions or
+//! constraints g_B(q, t₀) = 0 at the start time t₀, and refused when a joint contradicts the declared positions or
 //! when driven joints ask for velocities that no motion has.
 
 use moreau_kinematics::ContactKinematics;
@@ -17,7 +17,7 @@ use crate::params::relation;
 /// anchors), before the declaration is refused as wrong rather than merely inexact.
 pub const MAX_ASSEMBLY_MOVE: f64 = 0.1;
 
-/// q₀ moved onto the joints' position constraints g_B(q, 0) = 0 by Gauss-Newton steps
+/// q₀ moved onto the joints' position constraints g_B(q, t₀) = 0 by Gauss-Newton steps
 /// q ← q − W (WᵀW)⁺ g (the smallest change in the Euclidean norm).
 pub(crate) fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
     let (f, nb) = (mb.num_coordinates(), mb.num_bilaterals());
@@ -32,7 +32,7 @@ pub(crate) fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
     let mut column = vec![0.0; f];
     for _ in 0..50 {
         for i in 0..nb {
-            let p = mb.bilateral(i, &q, 0.0, &mut column);
+            let p = mb.bilateral(i, &q, mb.t0, &mut column);
             (g[i], w_hat[i]) = (p.g, p.w_hat);
             w.column_mut(i).copy_from_slice(&column);
         }
@@ -44,7 +44,7 @@ pub(crate) fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
             return Err(relation(
                 &format!("joints.{}", mb.joints[mb.rows[worst].0].name),
                 size,
-                "the constraint is not finite at t = 0",
+                "the constraint is not finite at the start time",
             ));
         }
         if size <= 1e-13 * scale {
@@ -63,12 +63,12 @@ pub(crate) fn assemble(mb: &Multibody) -> Result<Vec<f64>, ModelError> {
         }
     }
     let (worst, size) = (0..nb)
-        .map(|i| (i, mb.bilateral(i, &q, 0.0, &mut column).g.abs()))
+        .map(|i| (i, mb.bilateral(i, &q, mb.t0, &mut column).g.abs()))
         .fold((0, 0.0f64), |(k, m), (i, v)| if v > m { (i, v) } else { (k, m) });
     Err(relation(
         &format!("joints.{}", mb.joints[mb.rows[worst].0].name),
         size,
-        "the joints cannot all be closed at t = 0 (incompatible anchors or positions)",
+        "the joints cannot all be closed at the start time (incompatible anchors or positions)",
     ))
 }
 
@@ -97,8 +97,8 @@ fn assembly_length(mb: &Multibody) -> f64 {
             | JointKind::TranslationalClearance { ra, rb, .. } => (ra, rb),
             JointKind::Motor { .. } => continue,
         };
-        grow(mb.bodies[j.a].frame(&mb.q0, 0.0).point(ra));
-        grow(mb.bodies[j.b].frame(&mb.q0, 0.0).point(rb));
+        grow(mb.bodies[j.a].frame(&mb.q0, mb.t0).point(ra));
+        grow(mb.bodies[j.b].frame(&mb.q0, mb.t0).point(rb));
     }
     let span = if lo[0].is_finite() { 0.6 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]) } else { 0.0 };
     mb.size.max(span)
@@ -131,7 +131,7 @@ fn checked_moves(mb: &Multibody, q: Vec<f64>) -> Result<Vec<f64>, ModelError> {
             let j = &mb.joints[mb.rows[i].0];
             j.a == body || j.b == body
         })
-        .map(|i| (mb.rows[i].0, mb.bilateral(i, &mb.q0, 0.0, &mut column).g.abs()))
+        .map(|i| (mb.rows[i].0, mb.bilateral(i, &mb.q0, mb.t0, &mut column).g.abs()))
         .fold(None, |m: Option<(usize, f64)>, (j, g)| match m {
             Some((_, h)) if h >= g => m,
             _ => Some((j, g)),
@@ -155,10 +155,10 @@ fn checked_moves(mb: &Multibody, q: Vec<f64>) -> Result<Vec<f64>, ModelError> {
 }
 
 /// Refuses joints whose velocity constraints W_Bᵀ u + ŵ_B = 0 no velocity u satisfies at
-/// t = 0: rows that depend on one another (W_B's columns not independent) with rheonomic terms
+/// the start time t₀: rows that depend on one another (W_B's columns not independent) with rheonomic terms
 /// that contradict each other, such as a motor turning a body that a weld holds, or two motors
 /// at different speeds on one pair of bodies. Their position constraints then part as soon as
-/// t > 0 and every step would fail. The least-squares velocity leaves a residual on exactly the
+/// t > t₀ and every step would fail. The least-squares velocity leaves a residual on exactly the
 /// rows in conflict, and the error names their joints. Without a rheonomic term (no motor, no
 /// joint to a driven body) u = 0 satisfies every row and nothing is computed.
 fn consistent_drives(
@@ -191,7 +191,7 @@ fn consistent_drives(
         &format!("joints.{}", names[0]),
         residual.amax(),
         &format!(
-            "the joints {list} ask for velocities that no motion has at t = 0 (their rows \
+            "the joints {list} ask for velocities that no motion has at the start time (their rows \
              depend on one another and their drives differ: a motor on a welded pair, two \
              motors on one pair, a joint to a driven body that another joint holds still); \
              the value is the least-squares residual of their velocity constraints; remove \

@@ -220,9 +220,9 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
     })
 }
 
-/// The relative angle θ_b − θ_a at t = 0 of two built bodies.
-fn relative_angle(bodies: &[Body], a: usize, b: usize) -> f64 {
-    let frame = |i: usize| bodies[i].frame(&[], 0.0);
+/// The relative angle θ_b − θ_a at the start time t₀ of two built bodies.
+fn relative_angle(bodies: &[Body], a: usize, b: usize, t0: f64) -> f64 {
+    let frame = |i: usize| bodies[i].frame(&[], t0);
     // Dynamic bodies' frames need q; their declared angle is their pose0.
     let angle = |i: usize| match bodies[i].kind {
         Kind::Dynamic { .. } => bodies[i].pose0[2],
@@ -234,6 +234,7 @@ fn relative_angle(bodies: &[Body], a: usize, b: usize) -> f64 {
 fn joint(
     spec: &JointSpec,
     bodies: &mut Vec<Body>,
+    t0: f64,
 ) -> Result<(Joint, Option<ContactLaw>), ModelError> {
     let name = spec.name();
     let path = format!("joints.{name}");
@@ -250,7 +251,7 @@ fn joint(
     let reference = |angle: Option<f64>| -> Result<f64, ModelError> {
         match angle {
             Some(v) => finite(&field("angle"), v).map(|()| v),
-            None => Ok(relative_angle(bodies, a, b)),
+            None => Ok(relative_angle(bodies, a, b, t0)),
         }
     };
     // The anchors of every kind are checked alike, before what is particular to the kind.
@@ -280,7 +281,12 @@ fn joint(
         }
         JointSpec::Motor { omega, angle, .. } => {
             finite(&field("omega"), omega)?;
-            JointKind::Motor { omega, angle: reference(angle)? }
+            // θ_b − θ_a − angle − Ω t vanishes at t₀ by default.
+            let angle = match angle {
+                Some(_) => reference(angle)?,
+                None => relative_angle(bodies, a, b, t0) - omega * t0,
+            };
+            JointKind::Motor { omega, angle }
         }
         JointSpec::RevoluteClearance { anchor_a, anchor_b, pin_radius, bearing_radius, .. } => {
             non_negative(&field("pin_radius"), pin_radius)?;
@@ -463,8 +469,20 @@ impl SystemSpec {
     /// [`GROUND`] (`bodies.ground.name`), which is reserved for the world; a body that
     /// assembly would move too far (`bodies.<name>.position`).
     pub fn build(&self) -> Result<Multibody, ModelError> {
+        self.build_at(0.0)
+    }
+
+    /// [`Self::build`] for a run that starts at t₀ (s) rather than 0: the declared positions
+    /// and velocities are the state at t₀, where the driven bodies' motions, the joints'
+    /// reference angles left to their default (the relative angle at t₀; a motor's such that
+    /// θ_b − θ_a − angle − Ω t vanishes at t₀) and the assembly are evaluated.
+    ///
+    /// # Errors
+    /// As [`Self::build`]; [`ModelError::InvalidParameter`] for a t₀ that is not finite.
+    pub fn build_at(&self, t0: f64) -> Result<Multibody, ModelError> {
+        finite("t_start", t0)?;
         if self.fill.is_empty() {
-            return self.build_expanded(self);
+            return self.build_expanded(self, t0);
         }
         unique("fill", self.fill.iter().map(|f| f.name.as_str()))?;
         // The fills together, each within the limit (checked by `FillSpec::bodies`).
@@ -490,11 +508,12 @@ impl SystemSpec {
         for fill in std::mem::take(&mut expanded.fill) {
             expanded.bodies.extend(fill.bodies()?);
         }
-        expanded.build_expanded(self)
+        expanded.build_expanded(self, t0)
     }
 
-    /// Builds a declaration without fills; `original` is kept as the mechanism's declaration.
-    fn build_expanded(&self, original: &SystemSpec) -> Result<Multibody, ModelError> {
+    /// Builds a declaration without fills, its initial state at t₀; `original` is kept as the
+    /// mechanism's declaration.
+    fn build_expanded(&self, original: &SystemSpec, t0: f64) -> Result<Multibody, ModelError> {
         finite2("gravity", self.gravity)?;
         // A clearance joint's contacts are slots of the fixed contact list, which the detected
         // set does not keep; its ideal joints are rows of the step problem in either set.
@@ -542,7 +561,7 @@ impl SystemSpec {
         let mut laws = Vec::new();
         let mut contact_names = Vec::new();
         for spec in &self.joints {
-            let (j, contact_law) = joint(spec, &mut bodies)?;
+            let (j, contact_law) = joint(spec, &mut bodies, t0)?;
             let index = joints.len();
             rows.extend((0..j.kind.num_rows()).map(|k| (index, k)));
             let n = j.kind.num_contacts();
@@ -616,9 +635,9 @@ impl SystemSpec {
         let constant_mass = dynamic
             .iter()
             .all(|&i| matches!(bodies[i].kind, Kind::Dynamic { com, .. } if com == [0.0; 2]));
-        let whole = extent(&bodies, |_| true);
+        let whole = extent(&bodies, |_| true, t0);
         let moves = |b: &Body| !matches!(b.kind, Kind::Fixed(_));
-        let size = if bodies.iter().any(moves) { extent(&bodies, moves).1 } else { whole.1 };
+        let size = if bodies.iter().any(moves) { extent(&bodies, moves, t0).1 } else { whole.1 };
         let mut mb = Multibody {
             spec: original.clone(),
             bodies,
@@ -635,6 +654,7 @@ impl SystemSpec {
             velocity_names,
             q0,
             u0,
+            t0,
             dynamic,
             constant_mass,
             extent: whole,
@@ -646,12 +666,12 @@ impl SystemSpec {
 }
 
 /// The centre and 0.6 times the diagonal of the box around the origins and finite shapes at
-/// t = 0 of the bodies that `counts`. Over every body it is the scene's extent, within which a
+/// the start time t₀ of the bodies that `counts`. Over every body it is the scene's extent, within which a
 /// half-plane is drawn; over the bodies that move it is the mechanism's size, in its own length
 /// unit, so that what is relative to it (the tolerances, the guards of a run) is the same in
 /// any unit and whatever the length of the fixed geometry drawn around it. A box of no size
 /// (every origin and shape at one point) gives 1.
-fn extent(bodies: &[Body], counts: impl Fn(&Body) -> bool) -> ([f64; 2], f64) {
+fn extent(bodies: &[Body], counts: impl Fn(&Body) -> bool, t0: f64) -> ([f64; 2], f64) {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     let mut grow = |p: [f64; 2], q: [f64; 2]| {
         for k in 0..2 {
@@ -661,7 +681,7 @@ fn extent(bodies: &[Body], counts: impl Fn(&Body) -> bool) -> ([f64; 2], f64) {
     };
     let frame = |body: &Body| match body.kind {
         Kind::Dynamic { .. } => super::body::Frame::at(body.pose0, [0.0; 2], 0.0, None),
-        _ => body.frame(&[], 0.0),
+        _ => body.frame(&[], t0),
     };
     for body in bodies.iter().filter(|b| (b.name != GROUND || !b.shapes.is_empty()) && counts(b)) {
         let frame = frame(body);

@@ -80,7 +80,7 @@ mod draw;
 mod fill;
 mod forces;
 mod joint_spec;
-mod joints;
+pub(crate) mod joints;
 mod motion;
 mod multibody;
 mod shape_check;

@@ -75,6 +75,8 @@ pub struct Multibody {
     pub(crate) velocity_names: Vec<String>,
     pub(crate) q0: Vec<f64>,
     pub(crate) u0: Vec<f64>,
+    /// The start time t₀ (s) at which (q₀, u₀) is the state ([`super::SystemSpec::build_at`]).
+    pub(crate) t0: f64,
     /// The indices of the dynamic bodies, in coordinate order.
     pub(crate) dynamic: Vec<usize>,
     pub(crate) constant_mass: bool,

@@ -39,6 +39,8 @@ fn is_zero(x: &f64) -> bool {
 #[serde(deny_unknown_fields)]
 pub(super) struct BuiltinFile {
     dt: f64,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    t_start: f64,
     t_end: f64,
     #[serde(default = "one")]
     record_every: usize,
@@ -58,6 +60,8 @@ pub(super) struct BuiltinFile {
 #[serde(deny_unknown_fields)]
 pub(super) struct DeclaredFile {
     dt: f64,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    t_start: f64,
     t_end: f64,
     #[serde(default = "one")]
     record_every: usize,
@@ -89,6 +93,7 @@ impl From<BuiltinFile> for Scene {
     fn from(f: BuiltinFile) -> Self {
         Scene {
             dt: f.dt,
+            t_start: f.t_start,
             t_end: f.t_end,
             record_every: f.record_every,
             solver: f.solver,
@@ -114,6 +119,7 @@ impl From<DeclaredFile> for Scene {
         };
         Scene {
             dt: f.dt,
+            t_start: f.t_start,
             t_end: f.t_end,
             record_every: f.record_every,
             solver: f.solver,
@@ -130,6 +136,7 @@ impl Serialize for Scene {
         match &self.params {
             ModelParams::Declared(spec) => DeclaredFile {
                 dt: self.dt,
+                t_start: self.t_start,
                 t_end: self.t_end,
                 record_every: self.record_every,
                 solver: self.solver,
@@ -148,6 +155,7 @@ impl Serialize for Scene {
             .serialize(serializer),
             params => BuiltinFile {
                 dt: self.dt,
+                t_start: self.t_start,
                 t_end: self.t_end,
                 record_every: self.record_every,
                 solver: self.solver,

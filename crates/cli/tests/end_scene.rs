@@ -1,0 +1,126 @@
+//! `simulate --end-scene FILE` writes the run's end state as a scene that starts there: the
+//! pendulum run in two halves against one run of the whole, a sweep started from the end
+//! state, and no file from a run that does not succeed.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{Context, Result, ensure};
+use moreau_cli::grid::Axis;
+use moreau_cli::simulate::{SimulateOptions, run_to_csv};
+use moreau_cli::sweep::{SweepOptions, run as sweep};
+use moreau_models::Scene;
+
+fn pendulum() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies/pendulum-wall.toml")
+}
+
+/// The header and the rows of a record, as numbers.
+fn record(path: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>)> {
+    let mut r = csv::ReaderBuilder::new().comment(Some(b'#')).from_path(path)?;
+    let header = r.headers()?.iter().map(str::to_owned).collect();
+    let rows = r
+        .records()
+        .map(|row| row?.iter().map(|x| x.parse::<f64>().map_err(Into::into)).collect())
+        .collect::<Result<_>>()?;
+    Ok((header, rows))
+}
+
+fn options(scene: PathBuf, tf: f64, end_scene: Option<PathBuf>) -> SimulateOptions {
+    SimulateOptions { scene: Some(scene), tf: Some(tf), end_scene, ..SimulateOptions::default() }
+}
+
+#[test]
+fn the_end_scene_continues_the_run() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let (first, second, whole) =
+        (dir.path().join("first.csv"), dir.path().join("second.csv"), dir.path().join("whole.csv"));
+    let end = dir.path().join("end.toml");
+    // The bob falls for 0.3 s, then 0.3 s more, through its impact on the wall at 0.50 s.
+    run_to_csv(&options(pendulum(), 0.3, Some(end.clone())), &first, &mut |_| {})?;
+    let next = Scene::from_path(&end)?;
+    ensure!((next.t_start, next.t_end) == (0.3, 0.6), "{} to {}", next.t_start, next.t_end);
+    run_to_csv(&options(end.clone(), 0.6, None), &second, &mut |_| {})?;
+    run_to_csv(&options(pendulum(), 0.6, None), &whole, &mut |_| {})?;
+    let (h, a) = record(&first)?;
+    let (h2, b) = record(&second)?;
+    let (_, c) = record(&whole)?;
+    ensure!(h == h2, "the continued run has the same columns");
+    // Its first row is the first run's last, at t = 0.3 s.
+    let (last, start) = (a.last().context("rows")?, &b[0]);
+    ensure!(start[0] == 0.3, "starts at {}", start[0]);
+    let x = h.iter().position(|c| c == "bob.x").context("bob.x")?;
+    let vx = h.iter().position(|c| c == "bob.vx").context("bob.vx")?;
+    ensure!(start[x] == last[x] && start[vx] == last[vx], "{start:?} against {last:?}");
+    // Its rows are those of the run of the whole from 0.3 s on: the same times and states to
+    // round-off, the impact included.
+    let from = c.iter().position(|row| row[0] == 0.3).context("a row at 0.3 s")?;
+    ensure!(c.len() - from == b.len(), "{} rows against {}", b.len(), c.len() - from);
+    let p_n = h.iter().position(|c| c == "hit.PN").context("hit.PN")?;
+    ensure!(b.iter().any(|row| row[p_n] > 0.0), "the bob strikes the wall in the second half");
+    for (r, s) in b.iter().zip(&c[from..]) {
+        // n Δt from 0.3 s and from 0 round differently in the last bit.
+        ensure!((r[0] - s[0]).abs() <= 1e-12, "row at {} against {}", r[0], s[0]);
+        for j in [x, vx, p_n] {
+            ensure!(
+                (r[j] - s[j]).abs() <= 1e-9,
+                "{} at t = {}: {} against {}",
+                h[j],
+                r[0],
+                r[j],
+                s[j]
+            );
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn a_sweep_starts_from_the_end_state() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let end = dir.path().join("end.toml");
+    run_to_csv(
+        &options(pendulum(), 0.3, Some(end.clone())),
+        &dir.path().join("a.csv"),
+        &mut |_| {},
+    )?;
+    let first_impacts = |scene: &Path, out: &Path| -> Result<Vec<f64>> {
+        let axes = vec![Axis::parse("contacts.hit.eps_n=0.5,0.8")?, Axis::parse("t_end=0.6")?];
+        let summary = sweep(&SweepOptions::scene(scene, axes), out)?;
+        ensure!((summary.rows, summary.failed, summary.diverged) == (2, 0, 0));
+        let part = moreau_cli::parts::read_part(out, false)?;
+        let t = part.columns.iter().position(|c| c == "hit.first_impact_t").context("column")?;
+        part.rows.iter().map(|(_, row)| Ok(row[t].parse::<f64>()?)).collect()
+    };
+    // The members start at 0.3 s, not at 0: they strike the wall when the sweep from rest
+    // does, at 0.50 s.
+    let continued = first_impacts(&end, &dir.path().join("continued.csv"))?;
+    let from_rest = first_impacts(&pendulum(), &dir.path().join("from-rest.csv"))?;
+    for (a, b) in continued.iter().zip(&from_rest) {
+        ensure!((a - b).abs() <= 1e-12 && (0.49..0.52).contains(a), "first impact {a}, {b}");
+    }
+    Ok(())
+}
+
+#[test]
+fn a_run_that_does_not_succeed_writes_no_end_scene() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let end = dir.path().join("end.toml");
+    let out = dir.path().join("out.csv");
+    // 0.30005 s is not a whole number of steps of 1e-4 s: refused before the first step.
+    let e = run_to_csv(&options(pendulum(), 0.30005, Some(end.clone())), &out, &mut |_| {});
+    ensure!(e.is_err() && !end.exists(), "{e:?}");
+    // The command line's option, and the end scene may not be the record itself.
+    let run = |args: &[&str]| Command::new(env!("CARGO_BIN_EXE_moreau")).args(args).output();
+    let scene = pendulum();
+    let scene = scene.to_str().context("UTF-8")?;
+    let (out_s, end_s) = (out.to_str().context("UTF-8")?, end.to_str().context("UTF-8")?);
+    let same =
+        run(&["simulate", "--scene", scene, "--tf", "0.1", "--out", out_s, "--end-scene", out_s])?;
+    ensure!(!same.status.success(), "the record and the end scene are one file");
+    let ok =
+        run(&["simulate", "--scene", scene, "--tf", "0.1", "--out", out_s, "--end-scene", end_s])?;
+    ensure!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    ensure!(Scene::from_path(&end)?.t_start == 0.1);
+    Ok(())
+}

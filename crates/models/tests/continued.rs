@@ -1,0 +1,140 @@
+//! A scene continued from the end of its run (`Scene::continued`) continues that run: a report
+//! model and a declared mechanism (a motor-driven linkage with a clearance joint, a pyramid of
+//! generated boxes on detected contacts) run in two halves against one run of the whole, and
+//! the start time a driven mechanism needs.
+
+use moreau_models::{ModelError, ModelKind, Scene};
+
+fn scene_file(name: &str) -> Scene {
+    let path = format!("{}/../../scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    Scene::from_path(std::path::Path::new(&path)).expect("a valid scene")
+}
+
+/// The end state (t, q, u) of a run of `scene`.
+fn end(scene: &Scene) -> (f64, Vec<f64>, Vec<f64>) {
+    let run = scene.run().expect("the run succeeds");
+    let last = run.record.len() - 1;
+    (run.record.t[last], run.record.q[last].to_vec(), run.record.u[last].to_vec())
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+/// `scene` run to `half` and continued to `2 half`, against one run to `2 half`: the end
+/// states' largest difference in q and in u.
+fn halves(mut scene: Scene, half: f64) -> (Scene, f64, f64) {
+    scene.t_end = half;
+    let (t, q, u) = end(&scene);
+    assert!((t - half).abs() < 1e-12, "ends at {t}");
+    let next = scene.continued(t, &q, &u).expect("continued");
+    assert_eq!((next.t_start, next.t_end), (t, t + half));
+    // The continued scene is a scene file like any other.
+    let text = next.to_toml_string();
+    assert_eq!(Scene::from_toml_str(&text).expect("reads back"), next, "{text}");
+    let (t2, q2, u2) = end(&next);
+    scene.t_end = 2.0 * half;
+    let (t1, q1, u1) = end(&scene);
+    assert!((t1 - t2).abs() < 1e-12, "{t1} against {t2}");
+    (next, max_diff(&q1, &q2), max_diff(&u1, &u2))
+}
+
+#[test]
+fn a_report_model_continues_its_run() {
+    // The ball falls freely for 0.3 s, then 0.3 s more, through its impact at 0.4285 s.
+    let (_, dq, du) = halves(Scene::report(ModelKind::Ball), 0.3);
+    assert!(dq <= 1e-13 && du <= 1e-12, "ball: {dq:e}, {du:e}");
+    // The woodpecker's sleeve and bird swing and strike the pole in either half.
+    let (_, dq, du) = halves(Scene::report(ModelKind::Woodpecker), 0.05);
+    assert!(dq <= 1e-12 && du <= 1e-9, "woodpecker: {dq:e}, {du:e}");
+}
+
+#[test]
+fn a_driven_mechanism_continues_at_its_start_time() {
+    // The cam turns with time: its continued scene starts at 0.03 s, where the first half
+    // ended, and follows the run of the whole to round-off.
+    let (next, dq, du) = halves(Scene::report(ModelKind::Cam), 0.03);
+    assert!(dq <= 1e-12 && du <= 1e-9, "cam: {dq:e}, {du:e}");
+    // The same state taken as the state at t = 0 meets the cam where it was 0.03 s earlier,
+    // 0.63 rad back: another run altogether.
+    let wrong = Scene { t_start: 0.0, t_end: 0.03, ..next.clone() };
+    let (_, q_wrong, _) = end(&wrong);
+    let (_, q_right, _) = end(&next);
+    let apart = max_diff(&q_wrong, &q_right);
+    assert!(apart > 1e-4, "the start time changes the run by {apart:e} m only");
+}
+
+#[test]
+fn a_linkage_with_a_motor_and_a_clearance_joint_continues_its_run() {
+    // The crank turns at 2π rad/s by its motor, θ_crank − angle − Ω t = 0: the continued
+    // scene writes the motor's reference angle out and starts at t = 0.05 s, where the
+    // crank has turned by 0.1π.
+    let scene = scene_file("bodies/four-bar-clearance.toml");
+    let (next, dq, du) = halves(scene, 0.05);
+    // The pin's impacts in its bearing amplify round-off: stepped side by side, the two runs
+    // agree to 1.2e-15 m over the first 100 steps and part to 1e-8 m by step 150.
+    assert!(dq <= 1e-7 && du <= 3e-5, "four-bar: {dq:e}, {du:e}");
+    let mut whole = scene_file("bodies/four-bar-clearance.toml");
+    whole.t_end = 0.1;
+    let mut straight = whole.stepper().expect("a stepper");
+    for _ in 0..500 {
+        straight.step().expect("a step");
+    }
+    let (t, q, u) = (straight.t(), straight.q().to_vec(), straight.u().to_vec());
+    let mut continued =
+        whole.continued(t, &q, &u).expect("continued").stepper().expect("a stepper");
+    for k in 0..100 {
+        straight.step().expect("a step");
+        continued.step().expect("a step");
+        let apart =
+            max_diff(straight.q(), continued.q()).max(max_diff(straight.u(), continued.u()));
+        assert!(apart <= 1e-13, "step {k}: {apart:e}");
+    }
+    let text = next.to_toml_string();
+    let doc: toml::Table = toml::from_str(&text).expect("TOML");
+    assert_eq!(doc["t_start"].as_float(), Some(0.05), "{text}");
+    let motor = doc["joints"]
+        .as_array()
+        .and_then(|j| j.iter().find(|j| j["name"].as_str() == Some("motor")));
+    // The relative angle at t = 0, written out: the crank's, 0.
+    assert_eq!(
+        motor.and_then(|m| m.get("angle")).and_then(toml::Value::as_float),
+        Some(0.0),
+        "{text}"
+    );
+    // Started at t = 0 instead, the motor would ask for the crank at angle 0, 0.1π from
+    // where it is: assembly refuses to move it that far.
+    let e = Scene { t_start: 0.0, t_end: 0.05, ..next }.build().unwrap_err();
+    assert!(e.to_string().contains("correct the position or the joint's anchors"), "{e}");
+}
+
+#[test]
+fn generated_bodies_become_declared_ones_and_continue_their_run() {
+    // A pyramid of 6 boxes (base 3) dropped 2 mm onto the floor, on detected contacts solved
+    // by Gauss-Seidel to 1e-10: the halves differ by the second half's first solve, which
+    // starts without the reactions of the step before.
+    let mut scene = scene_file("scale/pyramid.toml");
+    scene.set("fill.box.base", "3").expect("base 3");
+    scene.record_every = 1;
+    let (next, dq, du) = halves(scene, 0.2);
+    assert!(dq <= 1e-9 && du <= 1e-7, "pyramid: {dq:e}, {du:e}");
+    let text = next.to_toml_string();
+    assert!(!text.contains("[[fill]]"), "{text}");
+    let boxes = (0..6).filter(|k| text.contains(&format!("name = \"box{k}\""))).count();
+    assert_eq!(boxes, 6, "{text}");
+}
+
+#[test]
+fn a_state_of_another_mechanism_is_refused() {
+    let scene = Scene::report(ModelKind::Woodpecker);
+    let e = scene.continued(0.1, &[0.0; 2], &[0.0; 3]).unwrap_err();
+    assert!(matches!(&e, ModelError::BadValue { key, .. } if key == "q"), "{e:?}");
+    assert!(e.to_string().contains("has 2 entries; the model has 3 coordinates"), "{e}");
+    let e = scene.continued(0.1, &[0.0; 3], &[0.0, f64::NAN, 0.0]).unwrap_err();
+    assert!(e.to_string().contains("entry 1 is not finite"), "{e}");
+    // A start after the end is refused by the scene's own check.
+    let late = Scene { t_start: 2.0, ..scene };
+    let e = late.validate().unwrap_err();
+    assert!(e.to_string().contains("t_end") && e.to_string().contains(">= t_start = 2"), "{e}");
+}
