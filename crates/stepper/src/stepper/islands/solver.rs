@@ -264,13 +264,12 @@ impl IslandSolver {
                     // infeasible: a chain hanging straight from its pivot onto a pile in a box
                     // jams, and its projection has no solution. The stages for friction
                     // would spend 0.6 s to find nothing there (a chain of 8 links on 30 disks).
-                    // So would they on a frictionless island small enough for pivoting: the
+                    // So would they on any frictionless island small enough for pivoting: the
                     // contact projection of a stack of five boxes spent 50 Newton iterations
-                    // on 47 of 2,000 steps before pivoting solved it.
+                    // on 47 of 2,000 steps before pivoting solved it. A larger one, with joints
+                    // or not, has no pivoting to go to and takes the stages below.
                     let frictionless = problem.parts().mu.iter().all(|&mu| mu == 0.0);
-                    let joints = problem.n_groups() > problem.n_contacts();
-                    let pivot_at_once =
-                        frictionless && (joints || problem.n_groups() <= PIVOTING_ISLAND);
+                    let pivot_at_once = frictionless && problem.n_groups() <= PIVOTING_ISLAND;
                     if !pivot_at_once {
                         newton.solve_into(problem, None, out)?;
                         if !out.is_solved() {
