@@ -43,17 +43,7 @@ impl FrictionCone {
     /// apex (0, 0) in the polar cone {λ_N + μ|λ_T| ≤ 0}, and otherwise the point
     /// n (1, μ sgn λ_T) of the nearer edge, n = (λ_N + μ|λ_T|) / (1 + μ²). NaN in, NaN out.
     pub fn project(&self, lambda_n: f64, lambda_t: f64) -> (f64, f64) {
-        let mu = self.mu;
-        let abs_t = lambda_t.abs();
-        // λ_N ≥ 0 is tested apart: with μ = 0 and λ_T = 0, |λ_T| ≤ μ λ_N holds for λ_N < 0 too.
-        if lambda_n >= 0.0 && abs_t <= mu * lambda_n {
-            (lambda_n, lambda_t)
-        } else if mu * abs_t <= -lambda_n {
-            (0.0, 0.0)
-        } else {
-            let n = (lambda_n + mu * abs_t) / (1.0 + mu * mu);
-            (n, (mu * n).copysign(lambda_t))
-        }
+        project_friction_cone(lambda_n, lambda_t, self.mu)
     }
 
     /// The Euclidean distance from (λ_N, λ_T) to K_μ; NaN for a NaN input.
@@ -88,6 +78,23 @@ impl FrictionCone {
         let w_n = gamma_n + self.mu * gamma_t.abs();
         let (p_n, p_t) = self.project(lambda_n - r * w_n, lambda_t - r * gamma_t);
         Ok((lambda_n - p_n, lambda_t - p_t))
+    }
+}
+
+/// [`FrictionCone::project`] for a μ the caller has checked (finite and ≥ 0): the projection
+/// of (λ_N, λ_T) onto K_μ, for the inner loops of solvers that check μ once per problem.
+#[inline]
+pub fn project_friction_cone(lambda_n: f64, lambda_t: f64, mu: f64) -> (f64, f64) {
+    let abs_t = lambda_t.abs();
+    // λ_N ≥ 0 is tested apart: with μ = 0 and λ_T = 0, |λ_T| ≤ μ λ_N holds for λ_N < 0 too.
+    if lambda_n >= 0.0 && abs_t <= mu * lambda_n {
+        (lambda_n, lambda_t)
+    } else if mu * abs_t <= -lambda_n {
+        // In the polar cone: the nearest point of K_μ is its apex.
+        (0.0, 0.0)
+    } else {
+        let n = (lambda_n + mu * abs_t) / (1.0 + mu * mu);
+        (n, (mu * n).copysign(lambda_t))
     }
 }
 

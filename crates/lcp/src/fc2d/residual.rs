@@ -9,21 +9,9 @@ use super::{Fc2dRef, chunks};
 const ROUND_OFF_ULPS: f64 = 4.0;
 
 /// The projection of `(x_N, x_T)` onto the planar Coulomb cone
-/// `K = {x_N >= 0, |x_T| <= μ x_N}` (for μ = 0 the half-line x_T = 0 <= x_N).
-#[inline]
-pub(crate) fn project_cone(x_n: f64, x_t: f64, mu: f64) -> (f64, f64) {
-    let abs_t = x_t.abs();
-    // x_N >= 0 is tested apart: with μ = 0 and x_T = 0, |x_T| <= μ x_N holds for x_N < 0 too.
-    if x_n >= 0.0 && abs_t <= mu * x_n {
-        (x_n, x_t)
-    } else if mu * abs_t <= -x_n {
-        // In the polar cone: the nearest point of K is its apex.
-        (0.0, 0.0)
-    } else {
-        let n = (x_n + mu * abs_t) / (1.0 + mu * mu);
-        (n, (mu * n).copysign(x_t))
-    }
-}
+/// `K = {x_N >= 0, |x_T| <= μ x_N}` (for μ = 0 the half-line x_T = 0 <= x_N), μ checked by
+/// the problem's construction.
+pub(crate) use moreau_setvalued::project_friction_cone as project_cone;
 
 /// The natural map of one contact, `r - proj_K(r - (u + μ |u_T| e_N))`: zero exactly when
 /// (r, u) satisfies Signorini's and Coulomb's laws (De Saxcé's bipotential form).
