@@ -26,18 +26,19 @@ impl Scene {
     /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
     /// use moreau_models::{ModelKind, Scene};
     ///
-    /// // The report's ball, 0.3 s into its fall from 1 m, and continued from there.
+    /// // The report's ball, 0.2 s into its fall from 1 m, and continued from there.
     /// let mut scene = Scene::report(ModelKind::Ball);
-    /// scene.t_end = 0.3;
+    /// scene.t_end = 0.2;
     /// let first = scene.run()?;
     /// let last = first.record.len() - 1;
     /// let (t, q, u) = (first.record.t[last], &first.record.q[last], &first.record.u[last]);
     /// let next = scene.continued(t, q, u)?;
-    /// assert_eq!((next.t_start, next.t_end), (0.3, 0.6));
-    /// // Falling freely, y = 1 − g t²/2 at any t: the midpoint rule is exact.
+    /// assert_eq!((next.t_start, next.t_end), (0.2, 0.4));
+    /// // Falling freely until it meets the floor at 0.43 s, y = 1 − g t²/2: the midpoint rule
+    /// // is exact.
     /// let second = next.run()?;
     /// let y = second.record.q[second.record.len() - 1][0];
-    /// assert!((y - (1.0 - 0.5 * 9.81 * 0.36)).abs() < 1e-12);
+    /// assert!((y - (1.0 - 0.5 * 9.81 * 0.16)).abs() < 1e-12);
     /// # Ok(())
     /// # }
     /// ```
