@@ -16,6 +16,16 @@ pub enum KinematicsError {
         /// The length given.
         found: usize,
     },
+    /// An index past the end of what it indexes, e.g. a coordinate j >= f.
+    #[error("{what} {index} is out of range: there are {len}, numbered from 0")]
+    IndexOutOfRange {
+        /// What the index counts.
+        what: &'static str,
+        /// The index given.
+        index: usize,
+        /// How many there are.
+        len: usize,
+    },
     /// A NaN or infinite value in an input or in a value returned by the kinematics.
     #[error("non-finite {what} (contact {contact:?}, sample {sample:?})")]
     NonFinite {

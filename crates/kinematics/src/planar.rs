@@ -79,14 +79,10 @@ impl<const F: usize> ScalarMotion<F> {
     /// The coordinate q_j itself: value `value`, gradient the unit vector e_j.
     ///
     /// # Errors
-    /// [`KinematicsError::DimensionMismatch`] when `j >= F`.
+    /// [`KinematicsError::IndexOutOfRange`] when `j >= F`.
     pub fn coordinate(j: usize, value: f64) -> Result<Self, KinematicsError> {
         if j >= F {
-            return Err(KinematicsError::DimensionMismatch {
-                what: "coordinate index",
-                expected: F,
-                found: j,
-            });
+            return Err(KinematicsError::IndexOutOfRange { what: "coordinate", index: j, len: F });
         }
         let mut gradient = SVector::zeros();
         gradient[j] = 1.0;
