@@ -151,10 +151,12 @@ impl Scales {
 /// [`CliError::StepLongerThanRun`], [`CliError::NotWholeSteps`] or [`CliError::TooManySteps`].
 pub fn plan_steps(scene: &Scene, max_steps: u64) -> Result<u64, CliError> {
     let (dt, t_start, t_end) = (scene.dt, scene.t_start, scene.t_end);
-    if !(dt <= t_end - t_start) {
+    let ratio = (t_end - t_start) / dt;
+    // One step within the rounding of the steps (t_end − t_start of 2.001 − 2 is
+    // 0.99999999999989 Δt for Δt = 1e-3) is a step.
+    if !(ratio >= 1.0 - WHOLE_STEPS_TOLERANCE) {
         return Err(CliError::StepLongerThanRun { dt, t_start, t_end });
     }
-    let ratio = (t_end - t_start) / dt;
     if !(ratio <= max_steps as f64 + 0.5) {
         return Err(CliError::TooManySteps { steps: ratio, limit: max_steps });
     }
@@ -575,5 +577,11 @@ mod tests {
         s.dt = 1e-4;
         assert_eq!(plan_steps(&s, DEFAULT_MAX_STEPS).ok(), Some(1500));
         assert!(matches!(plan_steps(&s, 1499), Err(CliError::TooManySteps { .. })));
+        // One step from a start time, whose span t_end − t_start rounds below Δt.
+        (s.dt, s.t_start, s.t_end) = (1e-3, 2.0, 2.001);
+        assert!(s.t_end - s.t_start < s.dt);
+        assert_eq!(plan_steps(&s, 10).ok(), Some(1));
+        s.t_end = 2.0009;
+        assert!(matches!(plan_steps(&s, 10), Err(CliError::StepLongerThanRun { .. })));
     }
 }
