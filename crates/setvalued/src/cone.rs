@@ -73,12 +73,25 @@ impl FrictionCone {
         if !(r > 0.0 && r.is_finite()) {
             return Err(SetValuedError::Step { value: r });
         }
-        let (lambda_n, lambda_t) = lambda;
-        let (gamma_n, gamma_t) = gamma;
-        let w_n = gamma_n + self.mu * gamma_t.abs();
-        let (p_n, p_t) = self.project(lambda_n - r * w_n, lambda_t - r * gamma_t);
-        Ok((lambda_n - p_n, lambda_t - p_t))
+        Ok(friction_natural_map(lambda, gamma, self.mu, r))
     }
+}
+
+/// [`FrictionCone::natural_map`] for a μ and an r the caller has checked (μ finite and ≥ 0,
+/// r > 0 and finite), for the inner loops of solvers: λ − proj_K(λ − r γ̂) with
+/// γ̂ = (γ_N + μ|γ_T|, γ_T). With r = 1 it is the residual of the planar frictional-contact
+/// solvers, bit for bit (a product by 1 is exact).
+#[inline]
+pub fn friction_natural_map(
+    (lambda_n, lambda_t): (f64, f64),
+    (gamma_n, gamma_t): (f64, f64),
+    mu: f64,
+    r: f64,
+) -> (f64, f64) {
+    // λ_N − r γ_N − r μ|γ_T|, left to right, so that r = 1 rounds as λ_N − γ_N − μ|γ_T|.
+    let x_n = lambda_n - r * gamma_n - r * (mu * gamma_t.abs());
+    let (p_n, p_t) = project_friction_cone(x_n, lambda_t - r * gamma_t, mu);
+    (lambda_n - p_n, lambda_t - p_t)
 }
 
 /// [`FrictionCone::project`] for a μ the caller has checked (finite and ≥ 0): the projection

@@ -82,7 +82,7 @@ mod law;
 mod maps;
 mod value_set;
 
-pub use cone::{FrictionCone, project_friction_cone};
+pub use cone::{FrictionCone, friction_natural_map, project_friction_cone};
 pub use friction::{CoulombSplit, CoulombState, coulomb_holds};
 pub use impact::{ImpactCheck, RelativeVelocity, check_impact, newton_xi};
 pub use law::{ContactLaw, ContactLawSpec};

@@ -17,8 +17,7 @@ pub(crate) use moreau_setvalued::project_friction_cone as project_cone;
 /// (r, u) satisfies Signorini's and Coulomb's laws (De Saxcé's bipotential form).
 #[inline]
 pub(crate) fn natural_map(r_n: f64, r_t: f64, u_n: f64, u_t: f64, mu: f64) -> (f64, f64) {
-    let (p_n, p_t) = project_cone(r_n - u_n - mu * u_t.abs(), r_t - u_t, mu);
-    (r_n - p_n, r_t - p_t)
+    moreau_setvalued::friction_natural_map((r_n, r_t), (u_n, u_t), mu, 1.0)
 }
 
 /// The residual of a candidate r for a planar frictional-contact problem: one definition
