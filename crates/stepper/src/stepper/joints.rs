@@ -34,6 +34,10 @@ const RIDGE: f64 = 1e-10;
 /// as singular.
 const SINGULAR: f64 = 1e-12;
 
+/// The smallest share of its diagonal entry a pivot of the held contacts' K = Vᵀ M⁻¹ V may
+/// keep before the correction counts as dominated by round-off.
+const HELD_SINGULAR: f64 = 1e-10;
+
 /// Largest number of corrections of the positions per step (on both paths).
 pub(super) const PROJECTION_ITERATIONS: usize = 4;
 
@@ -457,8 +461,9 @@ impl Joints {
     }
 
     /// Forms and factorises K = Vᵀ M⁻¹ V over the constraints and the `held` contacts, with
-    /// the factor `chol` of M; false when K is not positive definite or a pivot falls below
-    /// 1e-10 of its diagonal entry, where the correction would be dominated by round-off.
+    /// the factor `chol` of M; false when K is not positive definite or a pivot keeps at most
+    /// [`HELD_SINGULAR`] of its diagonal entry, where the correction would be dominated by
+    /// round-off.
     fn factor_held<K: Mechanism>(&mut self, mech: &K, chol: &Cholesky, held: &[f64]) -> bool {
         let (f, n) = (self.f, self.n);
         let h = held.len() / f;
@@ -485,11 +490,6 @@ impl Joints {
                 k[c + r * m] = v;
             }
         }
-        let diagonal = &mut self.k_rhs[..m];
-        for (j, d) in diagonal.iter_mut().enumerate() {
-            *d = k[j + j * m];
-        }
-        factor_small::<0>(k, m, 0.0).is_ok()
-            && diagonal.iter().enumerate().all(|(j, d)| k[j + j * m].powi(2) >= 1e-10 * d)
+        factor_small::<0>(k, m, HELD_SINGULAR).is_ok()
     }
 }
