@@ -128,6 +128,13 @@ pub enum StepError {
         /// The rejected value.
         value: f64,
     },
+    /// Impulses given to a restarted stepper that it cannot take
+    /// ([`crate::Stepper::set_impulses`]).
+    #[error("impulses: {reason}")]
+    InvalidImpulses {
+        /// What is wrong with them.
+        reason: String,
+    },
     /// The end time lies before the current time.
     #[error("end time {t_end} lies before the current time {t}")]
     EndBeforeStart {

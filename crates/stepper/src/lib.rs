@@ -165,5 +165,5 @@ pub use observer::{Impact, Observer, Record, Recorder};
 pub use options::{SolverChoice, StepperOptions, UnknownSolver};
 pub use rows::{RowIter, Rows};
 pub use stepper::{
-    ContactReport, ContactState, LcpInfo, PhaseTimes, RunSummary, StepReport, Stepper,
+    ContactReport, ContactState, Impulses, LcpInfo, PhaseTimes, RunSummary, StepReport, Stepper,
 };

@@ -141,6 +141,57 @@ pub struct StepReport<'a> {
     pub(crate) u_start: &'a [f64],
 }
 
+/// The impulses of one step, by contact identity and by joint row: what a stepper keeps of
+/// its last step, as the next step's warm start and to tell an impact (a contact closing
+/// after a step without impulse) from persistent contact. Taken from a step's report
+/// ([`Self::of`]) and given to a stepper restarted from that step's end state
+/// ([`Stepper::set_impulses`](crate::Stepper::set_impulses)), they let the run go on as the
+/// run that did not stop would: a settled pile restarted without them is solved from zero
+/// impulses, which takes a large island many sweeps and reports its resting contacts as
+/// impacts.
+///
+/// ```
+/// use moreau_stepper::Impulses;
+///
+/// // Contact 3 pressed with P_N = 0.2 N s and sliding back with P_T = −0.05 N s.
+/// let impulses = Impulses { contacts: vec![(3, 0.2, -0.05)], joints: vec![] };
+/// assert_eq!(impulses.contacts[0].1, 0.2);
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Impulses {
+    /// The contacts that carried an impulse, as (identity, P_N, P_T) in N s and in increasing
+    /// order of identity ([`StepReport::contact_ids`]: the index on the path of fixed
+    /// contacts, the detection's identity on the many-body path). A contact not listed carried
+    /// none.
+    #[serde(default)]
+    pub contacts: Vec<(u64, f64, f64)>,
+    /// The joints' impulses Λ_B, one per bilateral constraint
+    /// ([`StepReport::joint_impulses`]); empty to start the joints from zero.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<f64>,
+}
+
+impl Impulses {
+    /// The impulses of the step that `report` describes: its contacts with a nonzero impulse
+    /// (the zero impulse is what an unlisted contact has) and its joints' impulses.
+    pub fn of(report: &StepReport<'_>) -> Self {
+        let contacts = report
+            .contact_ids
+            .iter()
+            .zip(report.contacts)
+            .filter(|(_, c)| c.p_n != 0.0 || c.p_t != 0.0)
+            .map(|(&id, c)| (id, c.p_n, c.p_t))
+            .collect();
+        Impulses { contacts, joints: report.joint_impulses.to_vec() }
+    }
+
+    /// Whether no contact and no joint carried an impulse.
+    pub fn is_empty(&self) -> bool {
+        self.contacts.is_empty() && self.joints.iter().all(|&l| l == 0.0)
+    }
+}
+
 /// The wall time of the phases of one step of a mechanism with a [`crate::BodyStructure`],
 /// for scaling studies.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

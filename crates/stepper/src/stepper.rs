@@ -10,7 +10,9 @@ use moreau_lcp::{
 
 use crate::dense::{Cholesky, dot, order, weigh_bodies_alike};
 use crate::observer::{Observer, Recorder};
-pub use crate::report::{ContactReport, ContactState, LcpInfo, PhaseTimes, RunSummary, StepReport};
+pub use crate::report::{
+    ContactReport, ContactState, Impulses, LcpInfo, PhaseTimes, RunSummary, StepReport,
+};
 use crate::{Mechanism, Record, SolverChoice, StepError, StepperOptions};
 
 mod checks;
@@ -426,6 +428,65 @@ impl<M: Mechanism> Stepper<M> {
         self.core.ws.joints.moved();
         if let Some(body) = &mut self.core.body {
             body.forget();
+        }
+        Ok(())
+    }
+
+    /// Takes `impulses` as those of the step that ended at the current state: the next step's
+    /// warm start, and the contacts that were closed before it (so that a contact that goes on
+    /// pressing is not reported as an impact). Call it after [`Self::set_state`] (which forgets
+    /// them) or on a new stepper, with the impulses of the step that reached its state
+    /// ([`Impulses::of`] its report): the run then goes on as the run that reached it. On the
+    /// path of fixed contacts a contact's P_R = P_T + μ P_N is restored and its ξ_L (the
+    /// Gauss-Seidel choice's warm start of the slip) starts at 0; its joints need no warm start.
+    ///
+    /// # Errors
+    /// [`StepError::InvalidImpulses`] when the contacts' identities are not in increasing
+    /// order (or, on the path of fixed contacts, not contact indices), a P_N is negative, a
+    /// value is not finite, or `joints` is neither empty nor one per bilateral constraint; the
+    /// impulses held before are then kept.
+    pub fn set_impulses(&mut self, impulses: &Impulses) -> Result<(), StepError> {
+        let invalid = |reason: String| Err(StepError::InvalidImpulses { reason });
+        let n_b = self.mechanism.num_bilaterals();
+        if !impulses.joints.is_empty() && impulses.joints.len() != n_b {
+            return invalid(format!(
+                "{} joint impulses for {n_b} bilateral constraints",
+                impulses.joints.len()
+            ));
+        }
+        if let Some(k) = impulses.joints.iter().position(|l| !l.is_finite()) {
+            return invalid(format!("joint impulse {k} is {}", impulses.joints[k]));
+        }
+        let fixed = self.core.body.is_none();
+        let n = self.core.contacts.len();
+        for (k, &(id, p_n, p_t)) in impulses.contacts.iter().enumerate() {
+            if !(p_n.is_finite() && p_t.is_finite()) {
+                return invalid(format!("contact {id} has (P_N, P_T) = ({p_n}, {p_t})"));
+            }
+            if p_n < 0.0 {
+                return invalid(format!("contact {id} has a negative P_N = {p_n}"));
+            }
+            if k > 0 && impulses.contacts[k - 1].0 >= id {
+                return invalid(format!(
+                    "contact {id} follows contact {}",
+                    impulses.contacts[k - 1].0
+                ));
+            }
+            if fixed && id >= n as u64 {
+                return invalid(format!("contact {id} of a mechanism with {n} contacts"));
+            }
+        }
+        match &mut self.core.body {
+            Some(body) => body.set_impulses(impulses),
+            None => {
+                let laws = self.mechanism.laws();
+                let prev = &mut self.core.ws.prev;
+                prev.fill([0.0; 3]);
+                for &(id, p_n, p_t) in &impulses.contacts {
+                    let i = id as usize;
+                    prev[i] = [p_n, p_t + laws[i].mu() * p_n, 0.0];
+                }
+            }
         }
         Ok(())
     }

@@ -68,8 +68,8 @@ pub(super) struct BodyPath {
     /// The step's impulses (P_N, P_T) by identity, in increasing order: the next step's
     /// warm start, and what tells an impact from persistent contact.
     prev: Vec<(u64, [f64; 2])>,
-    /// The joint groups' impulses of the step, the next step's warm start.
-    joint_prev: Vec<[f64; 2]>,
+    /// The joints' impulses of the step in row order, the next step's warm start.
+    joint_prev: Vec<f64>,
     pub(super) islands: Islands,
     info: Option<LcpInfo>,
     lcp_size: usize,
@@ -290,6 +290,14 @@ impl BodyPath {
         self.joint_prev.clear();
     }
 
+    /// Takes `impulses`, checked by the caller, as those of the last step.
+    pub(super) fn set_impulses(&mut self, impulses: &crate::Impulses) {
+        self.prev.clear();
+        self.prev.extend(impulses.contacts.iter().map(|&(id, p_n, p_t)| (id, [p_n, p_t])));
+        self.joint_prev.clear();
+        self.joint_prev.extend_from_slice(&impulses.joints);
+    }
+
     /// The rows of the contact reports of the last step.
     pub(super) fn report<'a>(&'a self, core: &'a Core) -> StepReport<'a> {
         StepReport {
@@ -484,16 +492,19 @@ impl Core {
             // The joint groups ask γ_B,M(u_E) = −(γ_B,M(u_A) − γ_B,A(u_A)) (joints.rs):
             // q_B = w_Bᵀ ũ + ŵ_B + γ_B,M(u_A) − γ_B,A(u_A), warm-started from the step before
             // (the groups are the same at every step). A group holds consecutive rows.
-            let warm_joints = joint_prev.len() == groups.len();
+            let warm_joints = joint_prev.len() == gamma_start.len();
             let mut first = 0;
-            for (g, (group, w)) in groups.iter().zip(&mut work[nc..]).enumerate() {
+            for (group, w) in groups.iter().zip(&mut work[nc..]) {
+                w.warm = [0.0; 2];
                 for row in 0..group.rows {
                     let (dir, w_hat) = (&group.w[row], group.w_hat[row]);
                     let change = side_dot(group.bodies, dir, u) + w_hat - gamma_start[first + row];
                     w.b[row] = side_dot(group.bodies, dir, u_free) + w_hat + change;
+                    if warm_joints {
+                        w.warm[row] = joint_prev[first + row];
+                    }
                 }
                 first += group.rows;
-                w.warm = if warm_joints { joint_prev[g] } else { [0.0; 2] };
             }
         };
         let mut split = || islands.split(nb, detected, groups);
@@ -570,13 +581,13 @@ impl Core {
         });
         b.prev.clear();
         b.prev.extend(b.ids.iter().zip(&b.islands.r).map(|(&id, &r)| (id, r)));
-        b.joint_prev.clear();
-        b.joint_prev.extend_from_slice(&b.islands.r_joints);
         // The groups hold consecutive rows: their impulses in row order are the mechanism's.
         b.joint_impulses.clear();
         for (group, r) in b.groups.iter().zip(&b.islands.r_joints) {
             b.joint_impulses.extend_from_slice(&r[..group.rows]);
         }
+        b.joint_prev.clear();
+        b.joint_prev.extend_from_slice(&b.joint_impulses);
         std::mem::swap(&mut self.u, &mut b.u_e);
         std::mem::swap(&mut self.q, &mut b.q_e);
         let solved = Instant::now();
