@@ -16,10 +16,12 @@ fn column(n: usize, structured: bool) -> (Disks, Vec<f64>, Vec<f64>) {
     (disks, q, u)
 }
 
-/// q, u, the impulses and the contacts reported as impacts over `steps` steps, and the most
-/// sweeps or pivots of a step.
+/// One step's q, u, impulses and contacts reported as impacts.
+type Step = (Vec<f64>, Vec<f64>, Impulses, Vec<bool>);
+
+/// The steps of a run, and the most sweeps or pivots of a step.
 struct Run {
-    steps: Vec<(Vec<f64>, Vec<f64>, Impulses, Vec<bool>)>,
+    steps: Vec<Step>,
     most_iterations: usize,
 }
 
