@@ -179,8 +179,8 @@ impl SimulateArgs {
         }
         if done.inexact_steps > 0 {
             println!(
-                "{} steps took an island above the solvers' tolerance, as inexact_residual = {} \
-                 allows (largest LCP residual {:.1e})",
+                "{} steps took an island above the solvers' tolerance, at a natural residual \
+                 up to inexact_residual = {} (their largest scale-free LCP residual {:.1e})",
                 done.inexact_steps, done.scene.inexact_residual, done.inexact_residual
             );
         }

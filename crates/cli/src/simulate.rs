@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use moreau_models::{AnyModel, ModelKind, Scene, Simulation};
-use moreau_stepper::{Mechanism, Observer, Record, Recorder, StepReport};
+use moreau_stepper::{Impulses, Mechanism, Observer, Record, Recorder, StepReport};
 
 use crate::contacts::ContactLog;
 use crate::error::CliError;
@@ -245,15 +245,15 @@ pub fn run_scene(scene: &Scene, max_steps: u64) -> Result<Simulation> {
     recorder.push_initial(&model, scene.t_start, &q0, &u0);
     recorder.record.reserve((planned / scene.record_every.max(1) as u64).min(1 << 20) as usize);
     let run = guard::run_guarded(scene, &model, max_steps, &mut recorder)?;
-    let mut record = recorder.record;
-    end_at_t_end(&mut record, run.summary.steps.saturating_sub(1), planned, scene);
+    end_at_t_end(&mut recorder.record, run.summary.steps.saturating_sub(1), planned, scene);
     Ok(Simulation {
-        record,
+        record: std::mem::take(&mut recorder.record),
         wall_seconds: start.elapsed().as_secs_f64(),
         steps: run.summary.steps,
         lcp_solves: run.summary.lcp_solves,
         inexact_steps: run.summary.inexact_steps,
         inexact_residual: run.summary.inexact_residual,
+        impulses: recorder.last_impulses().cloned().or_else(|| scene.impulses.clone()),
         model,
     })
 }
@@ -369,8 +369,16 @@ struct Streamer<W: Write> {
     contacts: Option<ContactLog<W>>,
     error: Option<anyhow::Error>,
     bar: Option<indicatif::ProgressBar>,
-    /// The last step's (t, q, u), at t_end exactly after the last planned step.
-    end: Option<(f64, Vec<f64>, Vec<f64>)>,
+    /// The last step's end state, at t_end exactly after the last planned step.
+    end: Option<EndState>,
+}
+
+/// A run's end state: the last step's t, q and u, and its impulses.
+struct EndState {
+    t: f64,
+    q: Vec<f64>,
+    u: Vec<f64>,
+    impulses: Impulses,
 }
 
 impl<W: Write> Streamer<W> {
@@ -412,7 +420,8 @@ impl<W: Write> Observer<AnyModel> for Streamer<W> {
     /// The run's last step: its row when the thinning skipped it, and its contacts.
     fn finish(&mut self, model: &AnyModel, last: &StepReport<'_>) {
         let t = row_time(last.t, last.step, self.planned, &self.scene);
-        self.end = Some((t, last.q.to_vec(), last.u.to_vec()));
+        let (q, u, impulses) = (last.q.to_vec(), last.u.to_vec(), Impulses::of(last));
+        self.end = Some(EndState { t, q, u, impulses });
         self.recorder.finish(model, last);
         end_at_t_end(&mut self.recorder.record, last.step, self.planned, &self.scene);
         if let (Some(log), AnyModel::Declared(m)) = (&mut self.contacts, model) {
@@ -611,28 +620,33 @@ pub fn run_to_csv(
     })
 }
 
-/// Writes the scene continued from the run's end state `end` (its last step's t, q, u; the
-/// initial state for a run of no steps) to `file`, whole or not at all.
+/// Writes the scene continued from the run's end state `end` (its last step's t, q, u and
+/// impulses; the initial state and the scene's impulses for a run of no steps) to `file`,
+/// whole or not at all.
 ///
 /// # Errors
-/// The errors of [`Scene::continued`]; an unwritable file.
+/// The errors of [`Scene::continued`]; a scene that TOML cannot hold; an unwritable file.
 fn write_end_scene(
     scene: &Scene,
-    end: Option<(f64, Vec<f64>, Vec<f64>)>,
+    end: Option<EndState>,
     model: &AnyModel,
     file: &Output,
 ) -> Result<()> {
-    let (t, q, u) = end.unwrap_or_else(|| {
-        let (q0, u0) = model.initial_state();
-        (scene.t_start, q0, u0)
-    });
-    let next = scene.continued(t, &q, &u)?;
+    let (t, q, u, impulses) = match end {
+        Some(EndState { t, q, u, impulses }) => (t, q, u, Some(impulses)),
+        None => {
+            let (q0, u0) = model.initial_state();
+            (scene.t_start, q0, u0, scene.impulses.clone())
+        }
+    };
+    let next = scene.continued(t, &q, &u, impulses.filter(|i| !i.is_empty()))?;
+    let text = toml::to_string(&next).context("writing the end scene as TOML")?;
     let (partial, mut w) = file.create_partial()?;
     writeln!(
         w,
         "# The end state of a run at t = {t} s, continued: run it for as long again, or \
-         change t_end.\n{}",
-        next.to_toml_string()
+         change t_end. The impulses of its last step, by contact identity, start it warm.\n\
+         {text}"
     )
     .with_context(|| format!("writing {}", partial.display()))?;
     file.publish_written(&partial, w)?;

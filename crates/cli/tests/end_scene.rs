@@ -124,3 +124,73 @@ fn a_run_that_does_not_succeed_writes_no_end_scene() -> Result<()> {
     ensure!(Scene::from_path(&end)?.t_start == 0.1);
     Ok(())
 }
+
+fn pyramid() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/scale/pyramid.toml")
+}
+
+#[test]
+fn a_settled_pile_goes_on_from_its_end_scene_as_the_run_of_the_whole() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let end = dir.path().join("end.toml");
+    let base = |tf: f64, end_scene: Option<PathBuf>| SimulateOptions {
+        sets: vec!["fill.box.base=3".to_owned(), "record_every=10".to_owned()],
+        ..options(pyramid(), tf, end_scene)
+    };
+    // Six boxes land on the floor and on each other, and rest by t = 0.3 s.
+    run_to_csv(&base(0.3, Some(end.clone())), &dir.path().join("a.csv"), &mut |_| {})?;
+    let text = std::fs::read_to_string(&end)?;
+    let next = Scene::from_toml_str(&text)?;
+    let impulses = next.impulses.as_ref().context("the end scene holds its last impulses")?;
+    // Each of the five boxes on a box or the floor presses at two corners.
+    ensure!(impulses.contacts.len() >= 10, "{impulses:?}");
+    let second = dir.path().join("second.csv");
+    run_to_csv(&options(end.clone(), 0.5, None), &second, &mut |_| {})?;
+    let whole = dir.path().join("whole.csv");
+    run_to_csv(&base(0.5, None), &whole, &mut |_| {})?;
+    let (h, b) = record(&second)?;
+    let (_, c) = record(&whole)?;
+    let from = c.iter().position(|row| row[0] == 0.3).context("a row at 0.3 s")?;
+    ensure!(c.len() - from == b.len(), "{} rows against {}", b.len(), c.len() - from);
+    // Bit for bit but the times, which n Δt from 0.3 s and from 0 round differently, and
+    // the energy dissipated, which each run counts from its own start.
+    let dissipated = h.iter().position(|c| c == "dissipated").context("dissipated")?;
+    for (r, s) in b.iter().zip(&c[from..]) {
+        ensure!((r[0] - s[0]).abs() <= 1e-12, "row at {} against {}", r[0], s[0]);
+        for j in (1..h.len()).filter(|&j| j != dissipated) {
+            ensure!(r[j] == s[j], "{} at t = {}: {} against {}", h[j], r[0], r[j], s[j]);
+        }
+        let since = s[dissipated] - c[from][dissipated];
+        ensure!((r[dissipated] - since).abs() <= 1e-12, "dissipated {}, {since}", r[dissipated]);
+    }
+    // Without them the first step starts cold and finds other bits.
+    let mut cold = next.clone();
+    cold.impulses = None;
+    let cold_path = dir.path().join("cold.toml");
+    std::fs::write(&cold_path, cold.to_toml_string())?;
+    let cold_csv = dir.path().join("cold.csv");
+    run_to_csv(&options(cold_path, 0.5, None), &cold_csv, &mut |_| {})?;
+    let (_, d) = record(&cold_csv)?;
+    let apart = d.iter().zip(&b).any(|(r, s)| r[1..] != s[1..]);
+    ensure!(apart, "a cold start gives the same record");
+    Ok(())
+}
+
+#[test]
+fn impulses_the_mechanism_cannot_take_are_refused_by_name() -> Result<()> {
+    let dir = tempfile::tempdir()?;
+    let end = dir.path().join("end.toml");
+    let first = dir.path().join("a.csv");
+    run_to_csv(&options(pendulum(), 0.3, Some(end.clone())), &first, &mut |_| {})?;
+    let mut scene = Scene::from_path(&end)?;
+    // The revolute joint has two rows: three impulses do not fit it.
+    let impulses = scene.impulses.get_or_insert_with(Default::default);
+    ensure!(impulses.joints.len() == 2, "the hinge holds the swinging bob: {impulses:?}");
+    impulses.joints.push(0.0);
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, scene.to_toml_string())?;
+    let e = run_to_csv(&options(bad, 0.6, None), &dir.path().join("b.csv"), &mut |_| {})
+        .expect_err("three joint impulses for two rows");
+    ensure!(format!("{e:#}").contains("impulses: 3 joint impulses for 2 bilateral"), "{e:#}");
+    Ok(())
+}

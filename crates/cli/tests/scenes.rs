@@ -394,7 +394,7 @@ fn an_unknown_key_is_told_as_such_with_the_keys_of_its_level() -> Result<()> {
             vec!["simulate", "--scene", b, "--set", "zzz=1"],
             "--set zzz=1: unknown key `zzz`; the keys of the scene are dt, t_start, t_end, record_every, \
              solver, stop_at, projection, inexact_residual, gravity, bodies, joints, forces, \
-             contacts, contacts_auto, contact_set, fill",
+             contacts, contacts_auto, contact_set, fill, impulses",
         ),
         (
             vec!["simulate", "--scene", b, "--set", "bodies.ball.masss=2"],
@@ -409,8 +409,8 @@ fn an_unknown_key_is_told_as_such_with_the_keys_of_its_level() -> Result<()> {
         (
             vec!["sweep", "ball", "--set", "eps_nn=0.1,0.2"],
             "unknown key `eps_nn` (did you mean `eps_n`?); the keys of the scene are solver, dt, \
-             record_every, t_end, t_start, stop_at, projection, inexact_residual, eps_n, g, init.v0, \
-             init.y0, m, r",
+             record_every, t_end, t_start, stop_at, projection, inexact_residual, impulses, eps_n, g, \
+             init.v0, init.y0, m, r",
         ),
         (
             vec!["simulate", "ball", "--set", "init.y00=2"],

@@ -18,7 +18,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use moreau_stepper::{
-    Mechanism, Observer, Record, Recorder, RunSummary, SolverChoice, StepReport, Stepper,
+    Impulses, Mechanism, Observer, Record, Recorder, RunSummary, SolverChoice, StepReport, Stepper,
     StepperOptions,
 };
 use serde::{Deserialize, Serialize};
@@ -71,7 +71,8 @@ pub struct StopRule {
 /// (generated bodies, [`crate::bodies::FillSpec`]), `[[joints]]`, `[[forces]]`,
 /// `[[contacts]]` and the table `[contacts_auto]`; `projection` defaults to `true` there, and
 /// `inexact_residual` (0 by default) lets a scene of detected contacts take islands that the
-/// solvers leave above their tolerance ([`Scene::inexact_residual`]):
+/// solvers leave above their tolerance ([`Scene::inexact_residual`]). Either form may end
+/// with the table `[impulses]` of a scene written at the end of a run ([`Scene::impulses`]):
 ///
 /// ```toml
 /// dt = 0.001
@@ -123,6 +124,13 @@ pub struct Scene {
     pub inexact_residual: f64,
     /// The model and its parameters (the table `[params]`, or the declaration).
     pub params: ModelParams,
+    /// The impulses of the step that reached the initial state (key `impulses`: the table's
+    /// `contacts`, each `[identity, P_N, P_T]` in N s, and `joints`, one Λ_B per bilateral
+    /// constraint), taken as the first step's warm start and as the contacts closed before
+    /// it ([`Stepper::set_impulses`]); `None` (the default) starts from zero impulses. A scene
+    /// written at the end of a run has them, so that a settled pile goes on resting without
+    /// a cold start.
+    pub impulses: Option<Impulses>,
 }
 
 /// The result of [`Scene::run`].
@@ -141,6 +149,9 @@ pub struct Simulation {
     pub inexact_steps: u64,
     /// See `inexact_steps`.
     pub inexact_residual: f64,
+    /// The impulses of the last step (the scene's own for a run of no steps): with the
+    /// record's last state, the start of a continued run ([`Scene::continued`]).
+    pub impulses: Option<Impulses>,
     /// The model that was run.
     pub model: AnyModel,
 }
@@ -233,6 +244,7 @@ impl Scene {
             projection: kind == ModelKind::Declared,
             inexact_residual: 0.0,
             params: ModelParams::report(kind),
+            impulses: None,
         }
     }
 
@@ -409,7 +421,11 @@ impl Scene {
         let model = self.build()?;
         let (q0, u0) = model.initial_state();
         let options = self.options_for(&model);
-        Ok(Stepper::new(model, &q0, &u0, self.t_start, options)?)
+        let mut stepper = Stepper::new(model, &q0, &u0, self.t_start, options)?;
+        if let Some(impulses) = &self.impulses {
+            stepper.set_impulses(impulses)?;
+        }
+        Ok(stepper)
     }
 
     /// Builds the model, runs it to the stop rule (or `t_end`) and records every
@@ -431,6 +447,7 @@ impl Scene {
         let rows = (steps / self.record_every.max(1) as f64).ceil().clamp(0.0, 1e6);
         recorder.record.reserve(rows as usize + 1);
         let summary = self.run_model(&model, &mut recorder)?;
+        let impulses = recorder.last_impulses().cloned().or_else(|| self.impulses.clone());
         Ok(Simulation {
             record: recorder.record,
             wall_seconds: start.elapsed().as_secs_f64(),
@@ -438,6 +455,7 @@ impl Scene {
             lcp_solves: summary.lcp_solves,
             inexact_steps: summary.inexact_steps,
             inexact_residual: summary.inexact_residual,
+            impulses,
             model,
         })
     }
@@ -480,6 +498,9 @@ impl Scene {
         let mut shown = AsAnyModel { model, inner: observer };
         dispatch!(model, m => {
             let mut stepper = Stepper::new(m.clone(), &q0, &u0, self.t_start, options)?;
+            if let Some(impulses) = &self.impulses {
+                stepper.set_impulses(impulses)?;
+            }
             run_to_end(&mut stepper, stop, self.t_end, &mut shown)
         })
     }

@@ -167,6 +167,7 @@ fn a_misspelt_top_level_key_of_a_report_model() {
             "stop_at",
             "projection",
             "inexact_residual",
+            "impulses",
             "eps_n",
             "g",
             "init.v0",
@@ -215,7 +216,8 @@ fn a_misspelt_top_level_key_of_a_declared_scene() {
                 "contacts",
                 "contacts_auto",
                 "contact_set",
-                "fill"
+                "fill",
+                "impulses"
             ],
             "{file}"
         );

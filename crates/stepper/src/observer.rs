@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::dense::half_quadratic;
 use crate::report::MassView;
-use crate::{ContactReport, ContactState, Mechanism, Rows, StepReport};
+use crate::{ContactReport, ContactState, Impulses, Mechanism, Rows, StepReport};
 
 /// Receives every step of a run; returning [`ControlFlow::Break`] stops the run after it.
 ///
@@ -208,6 +208,8 @@ pub struct Recorder {
     states: Vec<ContactState>,
     /// Energy removed by the impulses since the first row (J).
     sum_dissipated: f64,
+    /// The impulses of the run's last step, once it has finished.
+    last_impulses: Option<Impulses>,
 }
 
 impl Default for Recorder {
@@ -237,7 +239,16 @@ impl Recorder {
             sum_joints: Vec::new(),
             states: Vec::new(),
             sum_dissipated: 0.0,
+            last_impulses: None,
         }
+    }
+
+    /// The impulses of the last step of the run that last finished on this recorder
+    /// ([`Impulses::of`] its report): with the record's last state, what a run continued from
+    /// there starts with ([`crate::Stepper::set_impulses`]). `None` before a run has finished
+    /// (a run of no steps finishes none).
+    pub fn last_impulses(&self) -> Option<&Impulses> {
+        self.last_impulses.as_ref()
     }
 
     /// Records the state a run starts from, as row 0 with zero impulses.
@@ -359,6 +370,7 @@ impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
         if self.pending > 0 {
             self.push_step(mechanism, last);
         }
+        self.last_impulses = Some(Impulses::of(last));
     }
 }
 

@@ -3,6 +3,7 @@
 //! mechanism brought to a steady motion, is the start of other runs and sweeps.
 
 use moreau_kinematics::ContactKinematics;
+use moreau_stepper::Impulses;
 
 use super::Scene;
 use crate::bodies::joints::JointKind;
@@ -10,17 +11,19 @@ use crate::bodies::{BodyType, JointSpec, Multibody, SystemSpec};
 use crate::{AnyModel, ModelError, ModelParams};
 
 impl Scene {
-    /// The scene whose initial state is (q, u) at time t, for the same length of run
-    /// (`t_start` = t, `t_end` = t + (t_end − t_start)); everything else is kept.
+    /// The scene whose initial state is (q, u) at time t, reached by a step with `impulses`
+    /// ([`Scene::impulses`]: `None` starts the continued run from zero impulses), for the same
+    /// length of run (`t_start` = t, `t_end` = t + (t_end − t_start)); everything else is kept.
     ///
     /// A report model's initial state (`[params.init]`) is set from q and u. A declared
     /// mechanism's fills become the bodies they generate, each dynamic body's `position`,
     /// `angle`, `velocity` and `omega` are those of q and u (its origin's pose and velocity),
     /// and each joint's reference angle is written out as the joint had it, so that the
     /// continued scene has the mechanism it had: the run from it continues the run that
-    /// reached (q, u) at t up to the solvers' tolerance (it starts without the reactions of
-    /// the step before as warm starts) and the assembly of its positions onto the joints,
-    /// which moves them by the joints' drift.
+    /// reached (q, u) at t up to the assembly of its positions onto the joints, which moves
+    /// them by the joints' drift, and the rounding of t + k Δt against the time of the run of
+    /// the whole (which a driven body or a load in time reads). Without the impulses, a
+    /// Gauss-Seidel island starts cold and the run follows only to the solvers' tolerance.
     ///
     /// ```
     /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -32,7 +35,7 @@ impl Scene {
     /// let first = scene.run()?;
     /// let last = first.record.len() - 1;
     /// let (t, q, u) = (first.record.t[last], &first.record.q[last], &first.record.u[last]);
-    /// let next = scene.continued(t, q, u)?;
+    /// let next = scene.continued(t, q, u, first.impulses.clone())?;
     /// assert_eq!((next.t_start, next.t_end), (0.2, 0.4));
     /// // Falling freely until it meets the floor at 0.43 s, y = 1 − g t²/2: the midpoint rule
     /// // is exact.
@@ -47,7 +50,13 @@ impl Scene {
     /// The errors of [`Self::build`]; [`ModelError::BadValue`] (key `q` or `u`) when q or u
     /// has another length than the model's coordinates or holds a value that is not finite,
     /// and (key `t_start`) for a t that is not finite.
-    pub fn continued(&self, t: f64, q: &[f64], u: &[f64]) -> Result<Scene, ModelError> {
+    pub fn continued(
+        &self,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+        impulses: Option<Impulses>,
+    ) -> Result<Scene, ModelError> {
         let model = self.build()?;
         let f = model.num_coordinates();
         for (key, x) in [("q", q), ("u", u)] {
@@ -69,7 +78,8 @@ impl Scene {
             }
             (params, _) => report_at(params, q, u),
         };
-        Ok(Scene { t_start: t, t_end: t + (self.t_end - self.t_start), params, ..self.clone() })
+        let t_end = t + (self.t_end - self.t_start);
+        Ok(Scene { t_start: t, t_end, params, impulses, ..self.clone() })
     }
 }
 

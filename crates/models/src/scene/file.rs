@@ -12,7 +12,7 @@ use crate::{
     BallParams, CamParams, ModelError, ModelKind, ModelParams, PainleveParams,
     SliderCrankIdealParams, SliderCrankParams, WoodpeckerParams,
 };
-use moreau_stepper::SolverChoice;
+use moreau_stepper::{Impulses, SolverChoice};
 
 fn one() -> usize {
     1
@@ -53,6 +53,8 @@ pub(super) struct BuiltinFile {
     #[serde(default, skip_serializing_if = "is_zero")]
     inexact_residual: f64,
     params: ModelParams,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    impulses: Option<Impulses>,
 }
 
 /// A declared mechanism's scene as written in TOML: the scene's keys and the declaration's.
@@ -87,6 +89,8 @@ pub(super) struct DeclaredFile {
     contact_set: ContactSet,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     fill: Vec<FillSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    impulses: Option<Impulses>,
 }
 
 impl From<BuiltinFile> for Scene {
@@ -101,6 +105,7 @@ impl From<BuiltinFile> for Scene {
             projection: f.projection,
             inexact_residual: f.inexact_residual,
             params: f.params,
+            impulses: f.impulses,
         }
     }
 }
@@ -127,6 +132,7 @@ impl From<DeclaredFile> for Scene {
             projection: f.projection,
             inexact_residual: f.inexact_residual,
             params: ModelParams::Declared(Box::new(spec)),
+            impulses: f.impulses,
         }
     }
 }
@@ -151,6 +157,7 @@ impl Serialize for Scene {
                 contacts_auto: spec.contacts_auto.clone(),
                 contact_set: spec.contact_set,
                 fill: spec.fill.clone(),
+                impulses: self.impulses.clone(),
             }
             .serialize(serializer),
             params => BuiltinFile {
@@ -163,6 +170,7 @@ impl Serialize for Scene {
                 projection: self.projection,
                 inexact_residual: self.inexact_residual,
                 params: params.clone(),
+                impulses: self.impulses.clone(),
             }
             .serialize(serializer),
         }
