@@ -48,6 +48,21 @@ pub enum Divergence {
         /// chosen) or `the run's end`.
         at: &'static str,
     },
+    /// A step carried a body through a shape it should strike, without any contact sinking
+    /// deep: it moved by more than its own thickness in one step
+    /// (`moreau_models::bodies::CrossingCheck`).
+    Crossed {
+        /// The body that moved.
+        body: String,
+        /// The body it passed through.
+        other: String,
+        /// How far it moved in the step (the mechanism's length unit).
+        moved: f64,
+        /// Its thickness (the same unit).
+        thickness: f64,
+        /// The deepest overlap on its way (a negative gap).
+        gap: f64,
+    },
     /// The stepper met a non-finite number.
     NonFinite {
         /// The stepper's message.
@@ -76,6 +91,14 @@ impl std::fmt::Display for Divergence {
                 "a contact penetrates {depth:.6e} deep at {at}, deeper than the bound \
                  {bound:.3e} (the guards' length ℓ: 1 m, or a declared mechanism's size): a \
                  body has passed through another, the time step is too long for the contacts"
+            ),
+            Self::Crossed { body, other, moved, thickness, gap } => write!(
+                f,
+                "`{body}` went through `{other}` in one step: it moved {moved:.6e} (its \
+                 thickness {thickness:.3e}) and overlapped `{other}` by {:.3e} on its way \
+                 between the step's ends, which the step's midpoint did not see: the time step \
+                 is too long for the bodies' speeds",
+                -gap
             ),
             Self::NonFinite { message } => write!(f, "{message}"),
         }

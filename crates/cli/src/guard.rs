@@ -33,7 +33,12 @@
 //! ([`Bounds::of`]). And no contact may sink more than [`PENETRATION_LIMIT`] ℓ deeper than the
 //! deepest one at the start, at a step's midpoint (where the step's contacts are chosen) or at
 //! the run's end: a body carried through what it should strike by a step too long for its
-//! contacts.
+//! contacts. A thin wall can be crossed without any contact sinking deep (the midpoint past
+//! its middle, where the gap is measured to its far face, or the whole wall skipped in one
+//! step): a declared mechanism's bodies that move by more than a quarter of their thickness
+//! in a step are followed along their path (`moreau_models::bodies::CrossingCheck`), and one
+//! that overlaps a shape it may strike there by more than a quarter of its thickness stops
+//! the run.
 //!
 //! **Units.** The constants are in metres, seconds and joules for the report's models. A
 //! declared mechanism may be written in any consistent units, and its guards measure it in
@@ -45,7 +50,7 @@
 use std::ops::ControlFlow;
 
 use moreau_kinematics::ContactKinematics;
-use moreau_models::bodies::{BodyType, ForceSpec, JointSpec};
+use moreau_models::bodies::{BodyType, Crossing, CrossingCheck, ForceSpec, JointSpec};
 use moreau_models::{AnyModel, ModelError, ModelKind, Scene};
 use moreau_stepper::{Mechanism, Observer, RunSummary, StepError, StepReport};
 
@@ -377,6 +382,9 @@ pub struct Guarded<'a, O> {
     inner: &'a mut O,
     bounds: Bounds,
     mass: Mass,
+    /// For a declared mechanism: the check of bodies carried through shapes, and the state
+    /// (t, q) at the start of the step it looks at.
+    crossing: Option<(CrossingCheck, f64, Vec<f64>)>,
     /// The divergence seen, if any.
     pub diverged: Option<CliError>,
 }
@@ -388,7 +396,11 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
         let (q0, u0) = model.initial_state();
         let mut mass = Mass::new(model, &q0);
         let bounds = Bounds::with_mass(model, dt, (t0, &q0, &u0), &mut mass);
-        Self { inner, bounds, mass, diverged: None }
+        let crossing = match model {
+            AnyModel::Declared(m) => Some((m.crossing_check(), t0, q0.clone())),
+            _ => None,
+        };
+        Self { inner, bounds, mass, crossing, diverged: None }
     }
 
     fn check(&mut self, model: &AnyModel, r: &StepReport<'_>) -> Option<Divergence> {
@@ -409,6 +421,15 @@ impl<'a, O: Observer<AnyModel>> Guarded<'a, O> {
         if !(r.penetration <= bound) {
             let (depth, at) = (r.penetration, "the step's midpoint");
             return Some(Divergence::Penetration { depth, bound, at });
+        }
+        if let (Some((check, t, q)), AnyModel::Declared(m)) = (&mut self.crossing, model) {
+            let found = check.find(m, (q, *t), (r.q, r.t));
+            q.copy_from_slice(r.q);
+            *t = r.t;
+            if let Some(c) = found {
+                let Crossing { body, other, moved, thickness, gap } = c;
+                return Some(Divergence::Crossed { body, other, moved, thickness, gap });
+            }
         }
         if let Some((initial, bound)) = self.bounds.energy {
             let v = model.potential_energy(r.q, r.t).unwrap_or(0.0);

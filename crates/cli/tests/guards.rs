@@ -522,3 +522,74 @@ fn a_pile_under_gravity_alone_has_no_stiffness() -> Result<()> {
     }
     Ok(())
 }
+
+#[test]
+fn a_body_carried_through_a_thin_wall_stops_the_run() -> Result<()> {
+    // A disk of radius 0.1 m flies at a plate 10 mm thick, with Δt = 1 ms.
+    let dir = tempfile::tempdir()?;
+    let file = dir.path().join("plate.toml");
+    std::fs::write(
+        &file,
+        r#"dt = 0.001
+t_end = 0.1
+gravity = [0.0, 0.0]
+
+[[bodies]]
+name = "plate"
+type = "fixed"
+position = [0.0, 0.0]
+shapes = [{ type = "polygon", vertices = [[-0.005, -0.5], [0.005, -0.5], [0.005, 0.5], [-0.005, 0.5]] }]
+
+[[bodies]]
+name = "ball"
+type = "dynamic"
+mass = 1.0
+inertia = 0.005
+position = [-0.5, 0.0]
+velocity = [100.0, 0.0]
+shapes = [{ type = "disk", center = [0.0, 0.0], radius = 0.1 }]
+
+[[contacts]]
+name = "hit"
+body_a = "plate"
+body_b = "ball"
+eps_n = 1.0
+eps_t = 0.0
+mu = 0.0
+"#,
+    )?;
+    let at = |v: f64, contact_set: &str| SimulateOptions {
+        scene: Some(file.clone()),
+        sets: vec![format!("bodies.ball.velocity=[{v},0]"), format!("contact_set={contact_set}")],
+        ..SimulateOptions::default()
+    };
+    for contact_set in ["fixed", "detected"] {
+        // Up to 300 m/s (0.3 m a step, 1.5 diameters) it bounces back, elastically.
+        for v in [10.0, 100.0, 300.0] {
+            let r = run(&at(v, contact_set))?;
+            let vx = r.record().u.column(0).last().context("rows")?;
+            ensure!((vx + v).abs() <= 1e-9 * v, "{contact_set}, {v} m/s: back at {vx}");
+        }
+        // At 400 m/s the second step's midpoint lies past the plate's middle, where the gap
+        // is measured to its far face; at 1,000 m/s the first step jumps over it. Neither sinks
+        // a contact deep.
+        for (v, step) in [(400.0, 1), (1000.0, 0)] {
+            let e = run(&at(v, contact_set)).expect_err("through the plate");
+            match cli_error(&e) {
+                Some(CliError::Diverged {
+                    cause: Divergence::Crossed { body, other, moved, thickness, gap },
+                    step: s,
+                    ..
+                }) => ensure!(
+                    (body.as_str(), other.as_str(), *s) == ("ball", "plate", step)
+                        && (moved - v * 1e-3).abs() < 1e-9
+                        && *thickness == 0.2
+                        && *gap < -0.05,
+                    "{e:#}"
+                ),
+                _ => anyhow::bail!("{contact_set}, {v} m/s: {e:#}"),
+            }
+        }
+    }
+    Ok(())
+}

@@ -155,7 +155,7 @@ impl Detector {
     /// The law of the pair of colliders at (body, shape) `x` and `y` (x before y), and whether
     /// the contact's side a is `y` (an explicit contact declared the other way round); `None`
     /// when the rules give the pair no contact.
-    fn law(
+    pub(crate) fn law(
         &self,
         bodies: &[Body],
         (a, sa): (usize, usize),

@@ -1,0 +1,178 @@
+//! Whether a step carried a body through a shape it should strike. The scheme sees the
+//! contacts at each step's midpoint only: a body that moves in one step by more than its own
+//! thickness can have its midpoint past a thin wall, where the gap is measured to the far face
+//! and the contact pushes it on, or skip the wall altogether, without any contact sinking
+//! deep. The check follows each body that moved by more than a quarter of its thickness along
+//! the straight path between its poses at the step's two ends, in stations a quarter of its
+//! thickness apart (the other bodies along their own), and looks for a shape it may strike
+//! (its contacts' pairs, or the pairs the detection's rules allow whose boxes swept over the
+//! step overlap; not a half-plane, which has no far side and whose penetration the depth
+//! tells) overlapping it at a station by more than a quarter of its thickness.
+
+use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Pose, Shape, collide_placed};
+
+use super::multibody::Multibody;
+
+/// Most stations along a body's path in one step.
+const MAX_STATIONS: usize = 4096;
+
+/// A body carried through another shape within one step ([`CrossingCheck::find`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Crossing {
+    /// The body that moved.
+    pub body: String,
+    /// The body it passed through.
+    pub other: String,
+    /// How far the body's origin moved in the step (the mechanism's length unit).
+    pub moved: f64,
+    /// The body's thickness: twice the smallest half-width of its bounded shapes' boxes in its
+    /// own frame.
+    pub thickness: f64,
+    /// The deepest overlap at a station between the step's ends (a negative gap).
+    pub gap: f64,
+}
+
+/// The thickness of each dynamic body, computed once, for [`CrossingCheck::find`].
+#[derive(Clone, Debug)]
+pub struct CrossingCheck {
+    /// Per dynamic body, in coordinate order; `None` for a body without a bounded shape of
+    /// positive width (half-planes, segments), which the check leaves out.
+    thickness: Vec<Option<f64>>,
+}
+
+impl Multibody {
+    /// The check of this mechanism's bodies crossing shapes within a step.
+    pub fn crossing_check(&self) -> CrossingCheck {
+        let thickness = self
+            .dynamic
+            .iter()
+            .map(|&b| {
+                let local = Pose::new(0.0, 0.0, 0.0);
+                let widths = self.bodies[b].shapes.iter().map(|s| s.aabb(&local)).filter_map(|a| {
+                    let w = (a.max[0] - a.min[0]).min(a.max[1] - a.min[1]);
+                    (a.is_finite() && w > 0.0).then_some(w)
+                });
+                widths.reduce(f64::min)
+            })
+            .collect();
+        CrossingCheck { thickness }
+    }
+
+    /// The pairs of shapes (body a, shape, body o, shape) that a moving body (`moving[a]` or
+    /// `moving[o]`) may strike within the step from (q_a, t_a) to (q_e, t_e): its contacts'
+    /// pairs on a fixed contact set; on a detected one, the pairs the rules allow whose shapes'
+    /// boxes, each the union of its boxes at the step's ends, overlap.
+    fn moving_pairs(
+        &self,
+        moving: &[bool],
+        (q_a, t_a): (&[f64], f64),
+        (q_e, t_e): (&[f64], f64),
+    ) -> Vec<(usize, usize, usize, usize)> {
+        let Some(d) = &self.detector else {
+            let pairs = self.pairs.iter().filter(|p| moving[p.a] || moving[p.b]);
+            return pairs.map(|p| (p.a, p.shape_a, p.b, p.shape_b)).collect();
+        };
+        let boxes: Vec<Aabb> = d
+            .colliders
+            .iter()
+            .map(|&(b, k)| {
+                let shape = &self.bodies[b].shapes[k];
+                let at = |q: &[f64], t: f64| shape.aabb_placed(&self.frame(b, q, t).placement());
+                let (x, y) = (at(q_a, t_a), at(q_e, t_e));
+                Aabb {
+                    min: [x.min[0].min(y.min[0]), x.min[1].min(y.min[1])],
+                    max: [x.max[0].max(y.max[0]), x.max[1].max(y.max[1])],
+                }
+            })
+            .collect();
+        let mut pairs = Vec::new();
+        BroadPhase::new().pairs(&boxes, 0.0, &mut pairs);
+        pairs
+            .into_iter()
+            .map(|(i, j)| (d.colliders[i], d.colliders[j]))
+            .filter(|&(x, y)| moving[x.0] || moving[y.0])
+            .filter(|&(x, y)| d.law(&self.bodies, x, y).is_some())
+            .map(|(x, y)| (x.0, x.1, y.0, y.1))
+            .collect()
+    }
+}
+
+impl CrossingCheck {
+    /// The first dynamic body that the step from (q_a, t_a) to (q_e, t_e) carried through a
+    /// shape it may strike, if any (see the module's description). A body that bounces off a
+    /// flat wall keeps both poses on the wall's side and never overlaps it on the line between
+    /// them; one that rests or rolls moves too little in a step to be looked at.
+    pub fn find(
+        &self,
+        mb: &Multibody,
+        (q_a, t_a): (&[f64], f64),
+        (q_e, t_e): (&[f64], f64),
+    ) -> Option<Crossing> {
+        // Each body's displacement and, for those moving by more than a quarter of their
+        // thickness, how many stations their path takes.
+        let mut moving = vec![false; mb.bodies.len()];
+        let mut stations = vec![0usize; mb.bodies.len()];
+        let mut moved = vec![0.0; mb.bodies.len()];
+        for (k, (&b, thickness)) in mb.dynamic.iter().zip(&self.thickness).enumerate() {
+            let Some(quarter) = thickness.map(|t| 0.25 * t) else { continue };
+            moved[b] = (q_e[3 * k] - q_a[3 * k]).hypot(q_e[3 * k + 1] - q_a[3 * k + 1]);
+            if moved[b] > quarter {
+                moving[b] = true;
+                stations[b] = ((moved[b] / quarter).ceil() as usize).clamp(2, MAX_STATIONS);
+            }
+        }
+        if !moving.contains(&true) {
+            return None;
+        }
+        let coordinate: Vec<Option<usize>> = {
+            let mut c = vec![None; mb.bodies.len()];
+            for (k, &b) in mb.dynamic.iter().enumerate() {
+                c[b] = Some(3 * k);
+            }
+            c
+        };
+        let mut q = q_a.to_vec();
+        let mut points: Vec<ManifoldPoint> = Vec::new();
+        let mut found: Option<Crossing> = None;
+        for (a, sa, o, so) in mb.moving_pairs(&moving, (q_a, t_a), (q_e, t_e)) {
+            let (shape_a, shape_o): (&Shape, &Shape) =
+                (&mb.bodies[a].shapes[sa], &mb.bodies[o].shapes[so]);
+            // A half-plane has no far side: a body in it is caught by its depth.
+            let half_plane = |s: &Shape| matches!(s, Shape::HalfPlane { .. });
+            if half_plane(shape_a) || half_plane(shape_o) {
+                continue;
+            }
+            // The pair is followed in the stations of its faster-moving body.
+            let (b, other) = if stations[a] >= stations[o] { (a, o) } else { (o, a) };
+            let thickness = self.thickness[mb.dynamic.iter().position(|&d| d == b)?]?;
+            let n = stations[b];
+            for j in 1..n {
+                let s = j as f64 / n as f64;
+                for body in [a, o] {
+                    if let Some(c) = coordinate[body] {
+                        for i in c..c + 3 {
+                            q[i] = q_a[i] + s * (q_e[i] - q_a[i]);
+                        }
+                    }
+                }
+                let t = t_a + s * (t_e - t_a);
+                let (pa, po) = (mb.frame(a, &q, t).placement(), mb.frame(o, &q, t).placement());
+                points.clear();
+                if collide_placed(shape_a, &pa, shape_o, &po, 0.0, &mut points).is_err() {
+                    continue;
+                }
+                let Some(gap) = points.iter().map(|p| p.gap).reduce(f64::min) else { continue };
+                if gap < -0.25 * thickness && found.as_ref().is_none_or(|c| gap < c.gap) {
+                    found = Some(Crossing {
+                        body: mb.bodies[b].name.clone(),
+                        other: mb.bodies[other].name.clone(),
+                        moved: moved[b],
+                        thickness,
+                        gap,
+                    });
+                }
+            }
+        }
+        found
+    }
+}
