@@ -151,3 +151,20 @@ fn a_state_of_another_mechanism_is_refused() {
     let e = late.validate().unwrap_err();
     assert!(e.to_string().contains("t_end") && e.to_string().contains(">= t_start = 2"), "{e}");
 }
+
+#[test]
+fn a_stop_rule_the_run_has_met_gives_way_to_a_run_as_long() {
+    // Painlevé's rod stops when it lies flat (phi = 0), after 0.669 s.
+    let scene = Scene::report(ModelKind::Painleve);
+    let (t, q, u, impulses) = end_with_impulses(&scene);
+    assert!(t > 0.1 && t < 1.5 && q[2] <= 0.0, "flat at {t}: {q:?}");
+    let next = scene.continued(t, &q, &u, impulses.clone()).expect("continued");
+    assert_eq!((next.stop_at.as_ref(), next.t_end), (None, 2.0 * t), "{next:?}");
+    let (t2, _, _) = end(&next);
+    assert!((t2 - 2.0 * t).abs() < 1e-12, "the continued run ends at {t2}");
+    // Halfway, the rule is still ahead and kept, with the scene's bound on the run.
+    let half = Scene { t_end: 0.1, ..scene.clone() };
+    let (t, q, u, impulses) = end_with_impulses(&half);
+    let next = half.continued(t, &q, &u, impulses).expect("continued");
+    assert_eq!((next.stop_at, next.t_end), (scene.stop_at, 0.2));
+}

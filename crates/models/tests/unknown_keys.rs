@@ -225,3 +225,19 @@ fn a_misspelt_top_level_key_of_a_declared_scene() {
         assert_eq!(suggestion, None, "{file}");
     }
 }
+
+#[test]
+fn a_value_out_of_range_is_told_as_given() {
+    // A pyramid of base 0 is refused with the 0 it was given.
+    let mut pyramid = scene("scale/pyramid.toml");
+    let e = pyramid.set("fill.box.base", "0").expect_err("base 0").to_string();
+    assert!(
+        e.contains("bad value `0` for `fill.box.base`") && e.contains("needs `base` >= 1"),
+        "{e}"
+    );
+    // A Gauss-Seidel tolerance out of its range names the option once.
+    let mut ball = Scene::report(ModelKind::Ball);
+    ball.set("solver", "pgs").unwrap();
+    let e = ball.set("solver.tolerance", "2").expect_err("tolerance 2").to_string();
+    assert!(e.ends_with("solver.tolerance must be in (0, 1)"), "{e}");
+}

@@ -1,6 +1,6 @@
 //! Options of the time-stepper: the step size h and the LCP solver.
 
-use moreau_lcp::PgsOptions;
+use moreau_lcp::{LcpError, PgsOptions};
 use serde::{Deserialize, Serialize};
 
 /// Which LCP solver a step uses when contacts are closed.
@@ -74,7 +74,12 @@ impl TryFrom<SolverTable> for SolverChoice {
                     .with_tolerance(tolerance)
                     .with_max_iterations(max_iterations)
                     .validate()
-                    .map_err(|e| format!("solver.{e}"))?;
+                    .map_err(|e| match e {
+                        LcpError::InvalidOption { name, reason } => {
+                            format!("solver.{name} {reason}")
+                        }
+                        e => e.to_string(),
+                    })?;
                 Self::Pgs { tolerance, omega, max_iterations }
             }
         })

@@ -182,8 +182,9 @@ impl FillSpec {
     /// naming its `count` or `base`, before any body is made.
     pub fn bodies(&self) -> Result<Vec<BodySpec>, ModelError> {
         let field = |f: &str| format!("fill.{}.{f}", self.name);
-        let missing = |f: &str, pattern: &str| {
-            bad(field(f), "(missing)", format!("a `{pattern}` fill needs `{f}` (>= 1)"))
+        let missing = |f: &str, given: Option<usize>, pattern: &str| {
+            let value = given.map_or_else(|| "(missing)".to_owned(), |v| v.to_string());
+            bad(field(f), &value, format!("a `{pattern}` fill needs `{f}` >= 1"))
         };
         let refuse = |f: &str, present: bool, pattern: &str| {
             if present {
@@ -197,14 +198,14 @@ impl FillSpec {
                 for f in ["count", "columns"] {
                     let v = if f == "count" { self.count } else { self.columns };
                     if v.unwrap_or(0) == 0 {
-                        return Err(missing(f, "lattice"));
+                        return Err(missing(f, v, "lattice"));
                     }
                 }
                 refuse("base", self.base.is_some(), "lattice")?;
             }
             FillPattern::Pyramid => {
                 if self.base.unwrap_or(0) == 0 {
-                    return Err(missing("base", "pyramid"));
+                    return Err(missing("base", self.base, "pyramid"));
                 }
                 refuse("count", self.count.is_some(), "pyramid")?;
                 refuse("columns", self.columns.is_some(), "pyramid")?;

@@ -13,7 +13,11 @@ use crate::{AnyModel, ModelError, ModelParams};
 impl Scene {
     /// The scene whose initial state is (q, u) at time t, reached by a step with `impulses`
     /// ([`Scene::impulses`]: `None` starts the continued run from zero impulses), for the same
-    /// length of run (`t_start` = t, `t_end` = t + (t_end − t_start)); everything else is kept.
+    /// length of run (`t_start` = t, `t_end` = t + (t_end − t_start)); everything else is kept,
+    /// but a stop rule that (q, u) has met (its coordinate on the other side of the rule's
+    /// value than at the scene's start), which would never stop a run that starts there: the
+    /// continued scene has none, and runs as long as the run that met it (t_end = 2t −
+    /// t_start).
     ///
     /// A report model's initial state (`[params.init]`) is set from q and u. A declared
     /// mechanism's fills become the bodies they generate, each dynamic body's `position`,
@@ -78,8 +82,19 @@ impl Scene {
             }
             (params, _) => report_at(params, q, u),
         };
-        let t_end = t + (self.t_end - self.t_start);
-        Ok(Scene { t_start: t, t_end, params, impulses, ..self.clone() })
+        // A stop rule that the run has met would never stop the continued run, which starts
+        // on its far side: the continued run is as long as the run was, without it.
+        let met = self.stop_at.as_ref().is_some_and(|rule| {
+            let (q0, _) = model.initial_state();
+            let index = model.coordinate_names().position(&rule.coordinate);
+            index.is_some_and(|i| (q0[i] < rule.value) != (q[i] < rule.value))
+        });
+        let (stop_at, t_end) = if met {
+            (None, t + (t - self.t_start))
+        } else {
+            (self.stop_at.clone(), t + (self.t_end - self.t_start))
+        };
+        Ok(Scene { t_start: t, t_end, stop_at, params, impulses, ..self.clone() })
     }
 }
 
