@@ -35,27 +35,29 @@ pub struct Crossing {
 /// The thickness of each dynamic body, computed once, for [`CrossingCheck::find`].
 #[derive(Clone, Debug)]
 pub struct CrossingCheck {
-    /// Per dynamic body, in coordinate order; `None` for a body without a bounded shape of
-    /// positive width (half-planes, segments), which the check leaves out.
-    thickness: Vec<Option<f64>>,
+    /// Per body: its first coordinate and its thickness, for a dynamic body with a bounded
+    /// shape of positive width; `None` for the others (fixed and driven bodies, bodies of
+    /// half-planes or segments only), which the check leaves out.
+    followed: Vec<Option<(usize, f64)>>,
+    /// Per body: its first coordinate, for a dynamic body.
+    coordinate: Vec<Option<usize>>,
 }
 
 impl Multibody {
     /// The check of this mechanism's bodies crossing shapes within a step.
     pub fn crossing_check(&self) -> CrossingCheck {
-        let thickness = self
-            .dynamic
-            .iter()
-            .map(|&b| {
-                let local = Pose::new(0.0, 0.0, 0.0);
-                let widths = self.bodies[b].shapes.iter().map(|s| s.aabb(&local)).filter_map(|a| {
-                    let w = (a.max[0] - a.min[0]).min(a.max[1] - a.min[1]);
-                    (a.is_finite() && w > 0.0).then_some(w)
-                });
-                widths.reduce(f64::min)
-            })
-            .collect();
-        CrossingCheck { thickness }
+        let mut followed = vec![None; self.bodies.len()];
+        let mut coordinate = vec![None; self.bodies.len()];
+        for (k, &b) in self.dynamic.iter().enumerate() {
+            coordinate[b] = Some(3 * k);
+            let local = Pose::new(0.0, 0.0, 0.0);
+            let widths = self.bodies[b].shapes.iter().map(|s| s.aabb(&local)).filter_map(|a| {
+                let w = (a.max[0] - a.min[0]).min(a.max[1] - a.min[1]);
+                (a.is_finite() && w > 0.0).then_some(w)
+            });
+            followed[b] = widths.reduce(f64::min).map(|w| (3 * k, w));
+        }
+        CrossingCheck { followed, coordinate }
     }
 
     /// The pairs of shapes (body a, shape, body o, shape) that a moving body (`moving[a]` or
@@ -108,29 +110,23 @@ impl CrossingCheck {
         (q_a, t_a): (&[f64], f64),
         (q_e, t_e): (&[f64], f64),
     ) -> Option<Crossing> {
-        // Each body's displacement and, for those moving by more than a quarter of their
-        // thickness, how many stations their path takes.
-        let mut moving = vec![false; mb.bodies.len()];
-        let mut stations = vec![0usize; mb.bodies.len()];
-        let mut moved = vec![0.0; mb.bodies.len()];
-        for (k, (&b, thickness)) in mb.dynamic.iter().zip(&self.thickness).enumerate() {
-            let Some(quarter) = thickness.map(|t| 0.25 * t) else { continue };
-            moved[b] = (q_e[3 * k] - q_a[3 * k]).hypot(q_e[3 * k + 1] - q_a[3 * k + 1]);
-            if moved[b] > quarter {
-                moving[b] = true;
-                stations[b] = ((moved[b] / quarter).ceil() as usize).clamp(2, MAX_STATIONS);
-            }
-        }
-        if !moving.contains(&true) {
+        let moved = |c: usize| (q_e[c] - q_a[c]).hypot(q_e[c + 1] - q_a[c + 1]);
+        let moves = |f: &Option<(usize, f64)>| f.is_some_and(|(c, w)| moved(c) > 0.25 * w);
+        if !self.followed.iter().any(moves) {
             return None;
         }
-        let coordinate: Vec<Option<usize>> = {
-            let mut c = vec![None; mb.bodies.len()];
-            for (k, &b) in mb.dynamic.iter().enumerate() {
-                c[b] = Some(3 * k);
-            }
-            c
-        };
+        // Each moving body's stations: its path in steps of at most a quarter of its thickness.
+        let stations: Vec<usize> = self
+            .followed
+            .iter()
+            .map(|f| match *f {
+                Some((c, w)) if moves(f) => {
+                    ((moved(c) / (0.25 * w)).ceil() as usize).clamp(2, MAX_STATIONS)
+                }
+                _ => 0,
+            })
+            .collect();
+        let moving: Vec<bool> = stations.iter().map(|&n| n > 0).collect();
         let mut q = q_a.to_vec();
         let mut points: Vec<ManifoldPoint> = Vec::new();
         let mut found: Option<Crossing> = None;
@@ -144,12 +140,12 @@ impl CrossingCheck {
             }
             // The pair is followed in the stations of its faster-moving body.
             let (b, other) = if stations[a] >= stations[o] { (a, o) } else { (o, a) };
-            let thickness = self.thickness[mb.dynamic.iter().position(|&d| d == b)?]?;
+            let Some((c_b, thickness)) = self.followed[b] else { continue };
             let n = stations[b];
             for j in 1..n {
                 let s = j as f64 / n as f64;
                 for body in [a, o] {
-                    if let Some(c) = coordinate[body] {
+                    if let Some(c) = self.coordinate[body] {
                         for i in c..c + 3 {
                             q[i] = q_a[i] + s * (q_e[i] - q_a[i]);
                         }
@@ -166,7 +162,7 @@ impl CrossingCheck {
                     found = Some(Crossing {
                         body: mb.bodies[b].name.clone(),
                         other: mb.bodies[other].name.clone(),
-                        moved: moved[b],
+                        moved: moved(c_b),
                         thickness,
                         gap,
                     });
