@@ -223,6 +223,44 @@ fn segments_meet(p0: V, p1: V, q0: V, q1: V) -> bool {
     on(p0, p1, q0, d1) || on(p0, p1, q1, d2) || on(q0, q1, p0, d3) || on(q0, q1, p1, d4)
 }
 
+/// Where the closed contour through `points` crosses or touches itself: of the pairs of
+/// segments i < j that are not neighbours and meet (segment i runs from point i to point
+/// i + 1, the last one back to point 0), the j of the first pair in the order of (i, j); `None`
+/// for a simple contour.
+///
+/// Only segments whose x-ranges overlap can meet, so the segments are swept in the order of
+/// their smallest x, each tested against those still open there: about n log n operations for
+/// a profile's samples rather than the n²/2 of every pair.
+fn first_crossing(points: &[[f64; 2]]) -> Option<usize> {
+    let n = points.len();
+    let p = |i: usize| V::from(points[i % n]);
+    let range = |i: usize| {
+        let (a, b) = (points[i], points[(i + 1) % n]);
+        ([a[0].min(b[0]), a[1].min(b[1])], [a[0].max(b[0]), a[1].max(b[1])])
+    };
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| range(a).0[0].total_cmp(&range(b).0[0]).then(a.cmp(&b)));
+    let mut open: Vec<usize> = Vec::new();
+    let mut first: Option<(usize, usize)> = None;
+    for &k in &order {
+        let (lo, hi) = range(k);
+        open.retain(|&m| range(m).1[0] >= lo[0]);
+        for &m in &open {
+            let (i, j) = (m.min(k), m.max(k));
+            // Neighbours share a point by construction; only the others count.
+            if j == i + 1 || (i == 0 && j == n - 1) || first.is_some_and(|f| f <= (i, j)) {
+                continue;
+            }
+            let (mlo, mhi) = range(m);
+            if mlo[1] <= hi[1] && lo[1] <= mhi[1] && segments_meet(p(i), p(i + 1), p(j), p(j + 1)) {
+                first = Some((i, j));
+            }
+        }
+        open.push(k);
+    }
+    first.map(|(_, j)| j)
+}
+
 impl Shape {
     /// The shape's name as in scene files: `disk`, `polygon`, `capsule`, `half_plane`,
     /// `polyline` or `profile`.
@@ -324,20 +362,10 @@ impl Shape {
                     let problem = "points run clockwise or enclose no area, signed area";
                     return Err(invalid(name, problem, Some(area), None));
                 }
-                let n = points.len();
-                let p = |i: usize| V::from(points[i % n]);
-                for i in 0..n {
-                    // Adjacent segments share a point by construction; only the others count.
-                    for j in i + 2..n {
-                        if i == 0 && j == n - 1 {
-                            continue;
-                        }
-                        if segments_meet(p(i), p(i + 1), p(j), p(j + 1)) {
-                            return Err(invalid(name, "the contour crosses itself", None, Some(j)));
-                        }
-                    }
+                match first_crossing(points) {
+                    Some(j) => Err(invalid(name, "the contour crosses itself", None, Some(j))),
+                    None => Ok(()),
                 }
-                Ok(())
             }
         }
     }
@@ -535,6 +563,70 @@ impl Shape {
                 }
                 aabb
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The first crossing by testing every pair of non-neighbouring segments in the order of
+    /// (i, j).
+    fn every_pair(points: &[[f64; 2]]) -> Option<usize> {
+        let n = points.len();
+        let p = |i: usize| V::from(points[i % n]);
+        (0..n)
+            .flat_map(|i| (i + 2..n).map(move |j| (i, j)))
+            .filter(|&(i, j)| !(i == 0 && j == n - 1))
+            .find(|&(i, j)| segments_meet(p(i), p(i + 1), p(j), p(j + 1)))
+            .map(|(_, j)| j)
+    }
+
+    /// A star-shaped contour: the point k at angle 2πk/n and radius r_k.
+    fn star(radii: &[f64]) -> Vec<[f64; 2]> {
+        let n = radii.len() as f64;
+        radii
+            .iter()
+            .enumerate()
+            .map(|(k, r)| {
+                let a = 2.0 * PI * k as f64 / n;
+                [r * a.cos(), r * a.sin()]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_sampled_circle_is_simple_and_a_folded_one_is_not() {
+        let circle = star(&[1.0; 20_000]);
+        assert_eq!(first_crossing(&circle), None);
+        // Point 10,000 (at (-1, 0)) moved across the circle to (1.5, 0.001): its two segments
+        // come back through the circle's right side, and the first pair they form is segment 2
+        // (from the angle 2 × 2π/20,000 to 3 × 2π/20,000) with segment 9,999.
+        let mut folded = circle.clone();
+        folded[10_000] = [1.5, 0.001];
+        assert_eq!(first_crossing(&folded), Some(9_999));
+        assert_eq!(every_pair(&folded), Some(9_999));
+    }
+
+    proptest! {
+        // Random contours (most cross themselves many times) and star-shaped ones with points
+        // on a coarse grid (so that segments touch, overlap and share points exactly): the
+        // sweep finds the same first crossing as the test of every pair.
+        #[test]
+        fn the_sweep_finds_the_first_crossing_of_every_pair(
+            points in prop::collection::vec((-4i32..=4, -4i32..=4), 3..24),
+            radii in prop::collection::vec(1u8..=4, 3..40),
+        ) {
+            let random: Vec<[f64; 2]> =
+                points.iter().map(|&(x, y)| [f64::from(x), f64::from(y)]).collect();
+            prop_assert_eq!(first_crossing(&random), every_pair(&random));
+            let star = star(&radii.iter().map(|&r| f64::from(r)).collect::<Vec<_>>());
+            let grid: Vec<[f64; 2]> =
+                star.iter().map(|p| [(2.0 * p[0]).round(), (2.0 * p[1]).round()]).collect();
+            prop_assert_eq!(first_crossing(&star), every_pair(&star));
+            prop_assert_eq!(first_crossing(&grid), every_pair(&grid));
         }
     }
 }
