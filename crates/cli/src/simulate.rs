@@ -640,7 +640,7 @@ fn write_end_scene(
         }
     };
     let next = scene.continued(t, &q, &u, impulses.filter(|i| !i.is_empty()))?;
-    let text = toml::to_string(&next).context("writing the end scene as TOML")?;
+    let text = next.to_toml_string()?;
     let (partial, mut w) = file.create_partial()?;
     writeln!(
         w,

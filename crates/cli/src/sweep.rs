@@ -7,7 +7,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use moreau_models::{AnyModel, Scene};
+use moreau_models::{AnyModel, ModelError, Scene};
 use rayon::prelude::*;
 
 use crate::error::CliError;
@@ -107,18 +107,21 @@ fn seconds(s: f64) -> String {
 
 /// The id of a sweep: a hash of the model, the base scene, the axes, the step limit and the
 /// program's version (see [`parts`]).
-pub fn sweep_id(base: &Scene, axes: &[Axis], max_steps: u64) -> String {
+///
+/// # Errors
+/// [`Scene::to_toml_string`]'s, for a base scene that TOML cannot hold.
+pub fn sweep_id(base: &Scene, axes: &[Axis], max_steps: u64) -> Result<String, ModelError> {
     let mut text = format!(
         "format {}\nmoreau {}\nmodel {}\nmax_steps {max_steps}\n{}\n",
         parts::FORMAT,
         env!("CARGO_PKG_VERSION"),
         base.kind(),
-        base.to_toml_string()
+        base.to_toml_string()?
     );
     for a in axes {
         text.push_str(&format!("axis {}\n", a.text()));
     }
-    format!("{:016x}", fnv64(text.as_bytes()))
+    Ok(format!("{:016x}", fnv64(text.as_bytes())))
 }
 
 /// What a sweep did.
@@ -392,7 +395,7 @@ pub fn run_with_warnings(
     }
     checking.clear();
     let identity = PartHeader {
-        id: sweep_id(&base, grid.axes(), max_steps),
+        id: sweep_id(&base, grid.axes(), max_steps)?,
         model: kind.name().to_owned(),
         members: grid.len(),
         shard,

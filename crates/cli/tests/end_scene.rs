@@ -167,7 +167,7 @@ fn a_settled_pile_goes_on_from_its_end_scene_as_the_run_of_the_whole() -> Result
     let mut cold = next.clone();
     cold.impulses = None;
     let cold_path = dir.path().join("cold.toml");
-    std::fs::write(&cold_path, cold.to_toml_string())?;
+    std::fs::write(&cold_path, cold.to_toml_string()?)?;
     let cold_csv = dir.path().join("cold.csv");
     run_to_csv(&options(cold_path, 0.5, None), &cold_csv, &mut |_| {})?;
     let (_, d) = record(&cold_csv)?;
@@ -188,7 +188,7 @@ fn impulses_the_mechanism_cannot_take_are_refused_by_name() -> Result<()> {
     ensure!(impulses.joints.len() == 2, "the hinge holds the swinging bob: {impulses:?}");
     impulses.joints.push(0.0);
     let bad = dir.path().join("bad.toml");
-    std::fs::write(&bad, scene.to_toml_string())?;
+    std::fs::write(&bad, scene.to_toml_string()?)?;
     let e = run_to_csv(&options(bad, 0.6, None), &dir.path().join("b.csv"), &mut |_| {})
         .expect_err("three joint impulses for two rows");
     ensure!(format!("{e:#}").contains("impulses: 3 joint impulses for 2 bilateral"), "{e:#}");

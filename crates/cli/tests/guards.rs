@@ -89,7 +89,7 @@ fn an_entry_set_by_index_and_by_name_or_whole_and_part_is_refused() -> Result<()
     // Two entries of one array, and one body's field by index after another's by name, are not
     // repeats.
     let s = scene(&declared("pendulum-wall.toml", &["gravity.0=1", "gravity.1=-5"]))?;
-    ensure!(s.to_toml_string().contains("gravity = [1.0, -5.0]"), "{}", s.to_toml_string());
+    ensure!(s.to_toml_string()?.contains("gravity = [1.0, -5.0]"), "{}", s.to_toml_string()?);
     scene(&declared("woodpecker.toml", &["bodies.2.mass=1", "bodies.sleeve.mass=3"]))?;
     // An option names itself when a `--set` repeats it.
     let e = scene(&SimulateOptions { tf: Some(0.01), ..ball(&["t_end=0.02"]) }).expect_err("tf");

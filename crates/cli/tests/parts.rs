@@ -49,7 +49,7 @@ fn merge_refuses_parts_of_other_sweeps() -> Result<()> {
     let scene = dir.path().join("heavy.toml");
     let mut heavy = moreau_models::Scene::report(moreau_models::ModelKind::Ball);
     heavy.set("m", "2")?;
-    std::fs::write(&scene, heavy.to_toml_string())?;
+    std::fs::write(&scene, heavy.to_toml_string()?)?;
     let mut o = options("0.1,0.3,0.5", Some("2/2"))?;
     o.scene = Some(scene);
     let c = dir.path().join("c2.csv");

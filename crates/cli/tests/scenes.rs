@@ -502,7 +502,7 @@ fn overrides_valid_only_together_are_taken_together() -> Result<()> {
     // In either order; a later override that breaks the scene is the one named.
     for sets in [[&position, &anchor], [&anchor, &position]] {
         let sets = sets.map(String::as_str);
-        ensure!(scene(&with(&sets))?.to_toml_string().contains("anchor_b = [0.29552020666133955"));
+        ensure!(scene(&with(&sets))?.to_toml_string()?.contains("anchor_b = [0.29552020666133955"));
         let e = scene(&with(&[sets[0], sets[1], "dt=-1"])).expect_err("dt < 0");
         ensure!(e.to_string() == "--set dt=-1", "{e:#}");
     }

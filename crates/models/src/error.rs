@@ -75,6 +75,13 @@ pub enum ModelError {
         /// Why it was rejected.
         reason: String,
     },
+    /// A scene that TOML cannot hold, such as an impulse's contact identity above
+    /// 2⁶³ − 1, TOML's largest integer.
+    #[error("the scene cannot be written as TOML: {message}")]
+    Unwritable {
+        /// The TOML writer's message.
+        message: String,
+    },
     /// The time-stepper refused the model or stopped the run.
     #[error(transparent)]
     Step(#[from] StepError),

@@ -62,7 +62,7 @@
 //! let first = sim.record.p_n.iter().position(|p| p[0] > 0.0).ok_or("no impact")?;
 //! assert!((sim.record.t[first] - 0.4284).abs() < 2e-3);
 //! // Scenes round-trip through TOML.
-//! let again = Scene::from_toml_str(&scene.to_toml_string())?;
+//! let again = Scene::from_toml_str(&scene.to_toml_string()?)?;
 //! assert_eq!(again, scene);
 //! # Ok(())
 //! # }

@@ -306,10 +306,14 @@ impl Scene {
         })
     }
 
-    /// The scene as TOML text that [`Self::from_toml_str`] reads back to an equal scene.
-    pub fn to_toml_string(&self) -> String {
-        toml::to_string(self)
-            .unwrap_or_else(|e| format!("# the scene cannot be written as TOML: {e}\n"))
+    /// The scene as TOML text that [`Self::from_toml_str`] reads back to an equal scene. The
+    /// table `[impulses]` comes last, its contacts one per line.
+    ///
+    /// # Errors
+    /// [`ModelError::Unwritable`] for a scene that TOML cannot hold (an impulse's contact
+    /// identity above TOML's largest integer).
+    pub fn to_toml_string(&self) -> Result<String, ModelError> {
+        file::to_toml(self).map_err(|e| ModelError::Unwritable { message: e.to_string() })
     }
 
     /// Checks the scene's own fields and builds the model once.

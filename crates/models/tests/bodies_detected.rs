@@ -395,9 +395,9 @@ fn the_contact_set_is_a_scene_field() {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies/ball.toml");
     let mut scene = Scene::from_path(&path).unwrap();
-    assert!(!scene.to_toml_string().contains("contact_set"), "the default is left out");
+    assert!(!scene.to_toml_string().unwrap().contains("contact_set"), "the default is left out");
     scene.set("contact_set", "detected").unwrap();
-    let text = scene.to_toml_string();
+    let text = scene.to_toml_string().unwrap();
     assert!(text.contains("contact_set = \"detected\""), "{text}");
     let again = Scene::from_toml_str(&text).unwrap();
     let model = again.build().unwrap();

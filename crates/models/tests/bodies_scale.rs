@@ -215,7 +215,7 @@ fn the_settling_scenes_name_their_inexact_residual_and_keep_it_through_set_and_t
     let mut s = scene("disk-column.toml");
     s.set("inexact_residual", "2e-4").unwrap();
     assert_eq!(s.stepper_options().inexact_residual, 2e-4);
-    let again = Scene::from_toml_str(&s.to_toml_string()).unwrap();
+    let again = Scene::from_toml_str(&s.to_toml_string().unwrap()).unwrap();
     assert_eq!(again, s);
     // A value the stepper would refuse is refused by the scene itself, naming the field, and
     // leaves the scene as it was.

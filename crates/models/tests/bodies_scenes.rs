@@ -40,11 +40,11 @@ fn the_pendulum_wall_scene_runs_and_rebounds_off_the_wall() {
 #[test]
 fn declared_scenes_round_trip_through_toml() {
     let scene = example();
-    let text = scene.to_toml_string();
+    let text = scene.to_toml_string().unwrap();
     assert!(text.contains("[[bodies]]") && !text.contains("[params]"), "{text}");
     assert_eq!(Scene::from_toml_str(&text).unwrap(), scene);
     let report = Scene::report(ModelKind::Declared);
-    assert_eq!(Scene::from_toml_str(&report.to_toml_string()).unwrap(), report);
+    assert_eq!(Scene::from_toml_str(&report.to_toml_string().unwrap()).unwrap(), report);
 }
 
 #[test]

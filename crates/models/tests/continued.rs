@@ -41,7 +41,7 @@ fn halves(mut scene: Scene, half: f64, warm: bool) -> (Scene, f64, f64) {
     let next = scene.continued(t, &q, &u, impulses).expect("continued");
     assert_eq!((next.t_start, next.t_end), (t, t + half));
     // The continued scene is a scene file like any other.
-    let text = next.to_toml_string();
+    let text = next.to_toml_string().unwrap();
     assert_eq!(Scene::from_toml_str(&text).expect("reads back"), next, "{text}");
     let (t2, q2, u2) = end(&next);
     scene.t_end = 2.0 * half;
@@ -101,7 +101,7 @@ fn a_linkage_with_a_motor_and_a_clearance_joint_continues_its_run() {
             max_diff(straight.q(), continued.q()).max(max_diff(straight.u(), continued.u()));
         assert!(apart <= 1e-13, "step {k}: {apart:e}");
     }
-    let text = next.to_toml_string();
+    let text = next.to_toml_string().unwrap();
     let doc: toml::Table = toml::from_str(&text).expect("TOML");
     assert_eq!(doc["t_start"].as_float(), Some(0.05), "{text}");
     let motor = doc["joints"]
@@ -132,10 +132,37 @@ fn generated_bodies_become_declared_ones_and_continue_their_run() {
     assert!(dq > 0.0, "cold, the first solve finds other bits");
     let (next, dq, du) = halves(scene, 0.2, true);
     assert!(dq == 0.0 && du == 0.0, "pyramid, warm: {dq:e}, {du:e}");
-    let text = next.to_toml_string();
+    let text = next.to_toml_string().unwrap();
     assert!(!text.contains("[[fill]]"), "{text}");
     let boxes = (0..6).filter(|k| text.contains(&format!("name = \"box{k}\""))).count();
     assert_eq!(boxes, 6, "{text}");
+    // The impulses come last, each contact on a line of its own: (identity, P_N, P_T).
+    let impulses = next.impulses.as_ref().expect("the last step's impulses");
+    let tail = &text[text.find("\n[impulses]\ncontacts = [\n").expect("the table")..];
+    let rows: Vec<&str> = tail.lines().filter(|l| l.starts_with("    [")).collect();
+    assert_eq!(rows.len(), impulses.contacts.len(), "{tail}");
+    assert!(rows.len() >= 6, "the boxes rest on the floor and on each other: {tail}");
+    let (id, p_n, p_t) = impulses.contacts[0];
+    assert_eq!(rows[0], format!("    [{id}, {p_n:?}, {p_t:?}],"), "{tail}");
+}
+
+#[test]
+fn a_scene_that_toml_cannot_hold_is_a_typed_error() {
+    // TOML's integers stop at 2⁶³ − 1; a contact identity above it cannot be written.
+    let scene = Scene {
+        impulses: Some(Impulses { contacts: vec![(u64::MAX, 1.0, 0.0)], joints: vec![] }),
+        ..Scene::report(ModelKind::Ball)
+    };
+    let e = scene.to_toml_string().unwrap_err();
+    assert!(matches!(e, ModelError::Unwritable { .. }), "{e:?}");
+    assert!(e.to_string().starts_with("the scene cannot be written as TOML"), "{e}");
+    // One below the limit is written and read back.
+    let largest = Scene {
+        impulses: Some(Impulses { contacts: vec![(i64::MAX as u64, 1.0, 0.0)], joints: vec![] }),
+        ..scene
+    };
+    let text = largest.to_toml_string().unwrap();
+    assert_eq!(Scene::from_toml_str(&text).unwrap(), largest, "{text}");
 }
 
 #[test]

@@ -64,7 +64,7 @@ fn scenes_round_trip_through_toml() {
         let mut scene = Scene::report(kind);
         scene.solver = SolverChoice::pgs_default();
         scene.record_every = 3;
-        let text = scene.to_toml_string();
+        let text = scene.to_toml_string().unwrap();
         assert_eq!(Scene::from_toml_str(&text).unwrap(), scene, "{kind}:\n{text}");
         assert_eq!(scene.kind(), kind);
     }
@@ -221,8 +221,10 @@ fn set_rejects_unknown_keys_and_bad_values() {
     }
     assert_eq!(scene, before, "a failed set must leave the scene unchanged");
     scene.set("inexact_residual", "1e-4").unwrap();
-    let text =
-        scene.to_toml_string().replace("inexact_residual = 0.0001", "inexact_residual = -0.5");
+    let text = scene
+        .to_toml_string()
+        .unwrap()
+        .replace("inexact_residual = 0.0001", "inexact_residual = -0.5");
     match Scene::from_toml_str(&text) {
         Err(ModelError::InvalidParameter { field, .. }) => assert_eq!(field, "inexact_residual"),
         other => panic!("inexact_residual = -0.5: expected it refused, got {other:?}"),

@@ -177,6 +177,28 @@ impl Serialize for Scene {
     }
 }
 
+/// The scene as TOML: its fields as serde writes them, then the table `[impulses]`, whose
+/// contacts (thousands in a settled pile) are written one per line so that a reader can find
+/// and edit one.
+pub(super) fn to_toml(scene: &Scene) -> Result<String, toml::ser::Error> {
+    let Some(impulses) = &scene.impulses else {
+        return toml::to_string(scene);
+    };
+    let mut text = toml::to_string(&Scene { impulses: None, ..scene.clone() })?;
+    text.push_str("\n[impulses]\n");
+    if !impulses.contacts.is_empty() {
+        text.push_str("contacts = [\n");
+        for &contact in &impulses.contacts {
+            text.push_str(&format!("    {},\n", toml::Value::try_from(contact)?));
+        }
+        text.push_str("]\n");
+    }
+    if !impulses.joints.is_empty() {
+        text.push_str(&format!("joints = {}\n", toml::Value::try_from(&impulses.joints)?));
+    }
+    Ok(text)
+}
+
 impl<'de> Deserialize<'de> for Scene {
     /// Reads either form: with a `params` table the report model's, otherwise the declared.
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {

@@ -201,7 +201,7 @@ impl Scene {
     /// edit.set("bodies.bob.position", "[0.0, -1.0]")?;
     /// edit.set("joints.hinge.anchor_b", "[0.0, 1.0]")?;
     /// let scene = edit.finish()?;
-    /// assert!(scene.to_toml_string().contains("anchor_b = [0.0, 1.0]"));
+    /// assert!(scene.to_toml_string()?.contains("anchor_b = [0.0, 1.0]"));
     /// # Ok(())
     /// # }
     /// ```
