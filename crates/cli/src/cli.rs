@@ -63,6 +63,11 @@ pub struct SweepArgs {
     /// --set 'bodies.bob.position=[..],[..]' --set '+joints.hinge.anchor_b=[..],[..]'.
     #[arg(long = "set", value_name = "KEY=V1,V2,...")]
     pub sets: Vec<String>,
+    /// Members listed in a CSV file: a header row of scene keys, then one row of values per
+    /// member (a value with a comma quoted, "[0,-9.81]"; # starts a comment line). The rows
+    /// are members in their order; --set axes multiply them, the rows outermost.
+    #[arg(long, value_name = "FILE")]
+    pub members: Option<PathBuf>,
     /// Scene file (TOML) to start from instead of the report's scene: a report model's or a
     /// declared mechanism's.
     #[arg(long)]
@@ -121,7 +126,8 @@ pub struct SolveArgs {
 pub enum Command {
     /// Run one model or scene file and write its record as CSV.
     Simulate(SimulateArgs),
-    /// Run the Cartesian product of parameter values in parallel; one CSV row per member.
+    /// Run the Cartesian product of parameter values (and the members a file lists) in
+    /// parallel; one CSV row per member.
     Sweep(SweepArgs),
     /// Join the CSV parts of a sharded sweep, sorted by member. The merged file is written in
     /// full; as `sweep`, the command then exits with status 1 when a member diverged or
@@ -201,6 +207,7 @@ impl SweepArgs {
             model: self.model,
             scene: self.scene,
             axes,
+            members: self.members,
             shard,
             max_steps: self.max_steps,
             resume: self.resume,

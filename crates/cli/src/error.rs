@@ -162,7 +162,7 @@ pub enum CliError {
     /// `--shard K/N`), named as it was typed.
     #[error("{option} {text}: {reason}")]
     BadOption {
-        /// The option: `--set` or `--shard`.
+        /// The option: `--set`, `--shard` or `--members`.
         option: &'static str,
         /// Its text as given.
         text: String,

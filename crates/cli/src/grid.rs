@@ -1,6 +1,6 @@
 //! Parameter grids for sweeps: `--set key=v1,v2` options (`--set +key=w1,w2` taking its
-//! values with the axis before), their Cartesian product enumerated lazily, shards, and the
-//! progress display of a batch of runs.
+//! values with the axis before) and the members listed in a file (`--members FILE`), their
+//! Cartesian product enumerated lazily, shards, and the progress display of a batch of runs.
 
 use std::io::IsTerminal;
 use std::sync::Mutex;
@@ -105,6 +105,71 @@ fn top_level_split(values: &str) -> Result<Vec<&str>, String> {
     }
     parts.push(&values[start..]);
     Ok(parts)
+}
+
+/// The axes of a file that lists a sweep's members (`--members FILE`): a CSV file whose header
+/// row names scene keys and whose other rows give one member's values each, in the columns'
+/// order. The columns become axes taking their values together (the first one plain, the
+/// others [`linked`](Axis::linked) to it), so that the file's rows are members in its order and
+/// further `--set` axes multiply them. Fields are trimmed; a value holding a comma (an array,
+/// `[0, -9.81]`) is quoted as CSV quotes it; lines starting with `#` are comments.
+///
+/// # Errors
+/// [`CliError::BadOption`] naming `--members` and the file: unreadable, not CSV, an empty key
+/// in the header, a row with another number of fields than the header, an empty value, or no
+/// member at all.
+pub fn members_file_axes(path: &std::path::Path) -> Result<Vec<Axis>> {
+    let bad = |reason: String| CliError::BadOption {
+        option: "--members",
+        text: path.display().to_string(),
+        reason,
+    };
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .comment(Some(b'#'))
+        .flexible(true)
+        .from_path(path)
+        .map_err(|e| bad(e.to_string()))?;
+    let keys = reader.headers().map_err(|e| bad(e.to_string()))?.clone();
+    if let Some(k) = keys.iter().position(str::is_empty) {
+        return Err(bad(format!("column {} of the header names no key", k + 1)).into());
+    }
+    let mut axes: Vec<Axis> = keys
+        .iter()
+        .enumerate()
+        .map(|(k, key)| Axis { key: key.to_owned(), values: Vec::new(), linked: k > 0 })
+        .collect();
+    for row in reader.records() {
+        let row = row.map_err(|e| bad(e.to_string()))?;
+        let line = row.position().map_or(0, csv::Position::line);
+        if row.len() != keys.len() {
+            // The CSV reader takes a quote as one only at a field's first character.
+            let hint = if row.len() > keys.len() {
+                " (a value holding a comma is quoted, the quote straight after the comma before \
+                 it: a,\"[0, -9.81]\")"
+            } else {
+                ""
+            };
+            return Err(bad(format!(
+                "line {line} has {} fields, and the header names {} keys{hint}",
+                row.len(),
+                keys.len()
+            ))
+            .into());
+        }
+        for (axis, value) in axes.iter_mut().zip(&row) {
+            if value.is_empty() {
+                return Err(bad(format!("line {line} gives `{}` no value", axis.key)).into());
+            }
+            axis.values.push(value.to_owned());
+        }
+    }
+    if axes.first().is_none_or(|a| a.values.is_empty()) {
+        return Err(
+            bad("lists no member: a header row of keys, then a row per member".into()).into()
+        );
+    }
+    Ok(axes)
 }
 
 /// A sweep's members: the Cartesian product of its axes, first axis outermost, an axis
@@ -385,6 +450,72 @@ mod tests {
             refusal(&["a=1,2,3", "+b=x,y"]),
             "--set +b=x,y: has 2 values, and `a`, with which it takes them, has 3 values"
         );
+        Ok(())
+    }
+
+    #[test]
+    fn a_members_file_lists_members_in_its_order() -> Result<()> {
+        let dir = std::env::temp_dir().join(format!("moreau-members-{}", std::process::id()));
+        std::fs::create_dir_all(&dir)?;
+        let file = |name: &str, text: &str| -> Result<std::path::PathBuf> {
+            let path = dir.join(name);
+            std::fs::write(&path, text)?;
+            Ok(path)
+        };
+        let path = file(
+            "ok.csv",
+            "# three releases\nbodies.bob.position, mu\n\"[-0.29, -0.95]\", 0.1\n\"[0,-1]\",0.3\n\
+             \"[-0.47,-0.87]\" , 0.5\n",
+        )?;
+        let mut axes = members_file_axes(&path)?;
+        assert_eq!(axes.len(), 2);
+        assert_eq!(axes[0].values, ["[-0.29, -0.95]", "[0,-1]", "[-0.47,-0.87]"]);
+        assert_eq!(axes[1].values, ["0.1", "0.3", "0.5"]);
+        assert!(!axes[0].linked && axes[1].linked);
+        // With an axis of --set after them: the file's rows outermost, 3 × 2 members.
+        axes.push(Axis::parse("eps_n=0,1")?);
+        let grid = Grid::new(axes)?;
+        assert_eq!(grid.len(), 6);
+        let values = |i| grid.member(i).into_iter().map(|(_, v)| v).collect::<Vec<_>>();
+        assert_eq!(values(3), ["[0,-1]", "0.3", "1"]);
+        assert_eq!(values(4), ["[-0.47,-0.87]", "0.5", "0"]);
+
+        let refusal = |name: &str, text: &str| -> Result<String> {
+            Ok(members_file_axes(&file(name, text)?).unwrap_err().to_string())
+        };
+        let at = |name: &str| dir.join(name).display().to_string();
+        assert_eq!(
+            refusal("ragged.csv", "mu,eps_n\n0.1,0.5\n0.2\n")?,
+            format!(
+                "--members {}: line 3 has 1 fields, and the header names 2 keys",
+                at("ragged.csv")
+            )
+        );
+        assert_eq!(
+            refusal("spaced_quote.csv", "mu,gravity\n0.1, \"[0, -9.81]\"\n")?,
+            format!(
+                "--members {}: line 2 has 3 fields, and the header names 2 keys (a value \
+                 holding a comma is quoted, the quote straight after the comma before it: \
+                 a,\"[0, -9.81]\")",
+                at("spaced_quote.csv")
+            )
+        );
+        assert_eq!(
+            refusal("empty_value.csv", "mu,eps_n\n0.1,\n")?,
+            format!("--members {}: line 2 gives `eps_n` no value", at("empty_value.csv"))
+        );
+        assert_eq!(
+            refusal("no_key.csv", "mu,,eps_n\n0.1,1,2\n")?,
+            format!("--members {}: column 2 of the header names no key", at("no_key.csv"))
+        );
+        assert!(
+            refusal("header_only.csv", "mu\n")?
+                .ends_with("lists no member: a header row of keys, then a row per member")
+        );
+        assert!(refusal("nothing.csv", "")?.contains("lists no member"));
+        let missing = members_file_axes(&dir.join("missing.csv")).unwrap_err().to_string();
+        assert!(missing.starts_with(&format!("--members {}: ", at("missing.csv"))), "{missing}");
+        std::fs::remove_dir_all(&dir)?;
         Ok(())
     }
 

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 use crate::error::CliError;
 use crate::failed::{self, failed_problem_path};
-use crate::grid::{Axis, Grid, Progress, Shard};
+use crate::grid::{self, Axis, Grid, Progress, Shard};
 use crate::guard::{self, DEFAULT_MAX_STEPS};
 use crate::keys;
 use crate::number;
@@ -41,6 +41,9 @@ pub struct SweepOptions {
     pub scene: Option<PathBuf>,
     /// The swept parameters (`key=v1,v2,...`), each scene entry at most once.
     pub axes: Vec<Axis>,
+    /// A CSV file listing members ([`grid::members_file_axes`]): its columns come before
+    /// `axes` in the product, its rows outermost.
+    pub members: Option<PathBuf>,
     /// Run only this part of the members.
     pub shard: Option<Shard>,
     /// The largest number of steps of a member; [`DEFAULT_MAX_STEPS`] when `None`.
@@ -56,6 +59,7 @@ impl SweepOptions {
             model: Some(model.to_owned()),
             scene: None,
             axes,
+            members: None,
             shard: None,
             max_steps: None,
             resume: false,
@@ -69,6 +73,7 @@ impl SweepOptions {
             model: None,
             scene: Some(scene.to_owned()),
             axes,
+            members: None,
             shard: None,
             max_steps: None,
             resume: false,
@@ -335,12 +340,18 @@ pub fn run_with_warnings(
 ) -> Result<SweepSummary> {
     // The output: not the scene file, not a file other than a regular one.
     let out_file = Output::new(out)?;
-    let inputs: Vec<&Path> = options.scene.iter().map(PathBuf::as_path).collect();
+    let inputs: Vec<&Path> =
+        options.scene.iter().chain(&options.members).map(PathBuf::as_path).collect();
     output::check_distinct(&inputs, &[&out_file])?;
     let base = base_scene(options.model.as_deref(), options.scene.as_deref())?;
     let kind = base.kind();
     let max_steps = options.max_steps.unwrap_or(DEFAULT_MAX_STEPS);
-    let grid = Grid::new(options.axes.clone())?;
+    let mut axes = match &options.members {
+        Some(path) => grid::members_file_axes(path)?,
+        None => Vec::new(),
+    };
+    axes.extend(options.axes.iter().cloned());
+    let grid = Grid::new(axes)?;
     let shard = options.shard.unwrap_or(Shard::all());
     let members = shard.count(grid.len());
     if members > MAX_MEMBERS {

@@ -304,3 +304,57 @@ fn a_sweep_over_the_number_of_bodies_fills_the_columns_it_shares_by_name() -> Re
     }
     Ok(())
 }
+
+#[test]
+fn a_members_file_sweeps_its_rows_as_linked_axes_would() -> Result<()> {
+    // The pendulum released from 0.3 and 0.5 rad: the bob's position and the hinge's anchor on
+    // it vary together, each row of the file one release, times two restitutions of the wall.
+    let dir = tempfile::tempdir()?;
+    let scene =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/bodies/pendulum-wall.toml");
+    let releases = [0.3f64, 0.5];
+    let position = |a: f64| format!("[{},{}]", -a.sin(), -a.cos());
+    let anchor = |a: f64| format!("[{},{}]", a.sin(), a.cos());
+    let mut text =
+        "# releases of the bob\nbodies.bob.position,joints.hinge.anchor_b,t_end\n".to_owned();
+    for a in releases {
+        text.push_str(&format!("\"{}\",\"{}\", 0.5\n", position(a), anchor(a)));
+    }
+    let members = dir.path().join("releases.csv");
+    std::fs::write(&members, text)?;
+    let eps = Axis::parse("contacts.hit.eps_n=0.2,0.8")?;
+    let from_file = dir.path().join("file.csv");
+    let options = SweepOptions {
+        members: Some(members.clone()),
+        ..SweepOptions::scene(&scene, vec![eps.clone()])
+    };
+    assert_eq!(run(&options, &from_file)?.rows, 4);
+    let join = |f: &dyn Fn(f64) -> String| releases.map(f).join(",");
+    let linked = vec![
+        Axis::parse(&format!("bodies.bob.position={}", join(&position)))?,
+        Axis::parse(&format!("+joints.hinge.anchor_b={}", join(&anchor)))?,
+        Axis::parse("+t_end=0.5,0.5")?,
+        eps,
+    ];
+    let from_sets = dir.path().join("sets.csv");
+    assert_eq!(run(&SweepOptions::scene(&scene, linked), &from_sets)?.rows, 4);
+    let (a, b) = (without_wall_time(&from_file)?, without_wall_time(&from_sets)?);
+    assert_eq!(a, b);
+    assert_eq!(
+        a[0][2..6],
+        ["bodies.bob.position", "joints.hinge.anchor_b", "t_end", "contacts.hit.eps_n"]
+    );
+    assert_eq!(a[3][2..6], [position(0.5), anchor(0.5), "0.5".into(), "0.2".into()]);
+    // The file is an input: the sweep does not write over it.
+    let e = run(&options, &members).unwrap_err();
+    ensure!(format!("{e:#}").contains("is the input"), "{e:#}");
+    ensure!(std::fs::read_to_string(&members)?.starts_with("# releases"), "the file is kept");
+    // A key of the file also given by --set is one entry set twice.
+    let twice = SweepOptions {
+        members: Some(members),
+        ..SweepOptions::scene(&scene, vec![Axis::parse("t_end=1")?])
+    };
+    let e = run(&twice, &dir.path().join("twice.csv")).unwrap_err();
+    ensure!(format!("{e:#}").contains("give each key once"), "{e:#}");
+    Ok(())
+}
