@@ -1,5 +1,6 @@
 //! The cost of contact detection: `collide` for a disk on a half-plane, a box on a half-plane,
-//! two boxes, a disk on a polyline of 100 segments, a box and a capsule on a cam profile of 96
+//! two boxes, a disk on a polyline of 100 segments and on one of 10,000 (with and without its
+//! index of runs), a box and a capsule on a cam profile of 96
 //! points (resting on it, and sunk into it past their middle), and the broad phase over 10³ and 10⁴
 //! disks of radius 5 mm, at random and in a column, beside parry2d-f64's refitted hierarchy on
 //! the same boxes.
@@ -10,7 +11,10 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Pose, Shape, SplitMix64, collide};
+use moreau_kinematics::{
+    Aabb, BroadPhase, ChainIndex, ManifoldPoint, Placement, Pose, Shape, SplitMix64, collide,
+    collide_indexed,
+};
 use parry2d_f64::bounding_volume::Aabb as ParryAabb;
 use parry2d_f64::math::Vector as ParryVector;
 use parry2d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
@@ -82,6 +86,47 @@ fn narrow(c: &mut Criterion) {
     bench_pair(c, "collide/box-in-profile-96", &square, Pose::new(0.34, 0.0, 0.0), &cam, origin);
     let in_tip = Pose::new(0.3, 0.0, 0.0);
     bench_pair(c, "collide/capsule-in-profile-96", &capsule, in_tip, &cam, origin);
+    long_floor(c);
+}
+
+/// A grain of radius 5 mm resting 0.1 mm deep on a wavy floor 10 m long of 10,000 segments,
+/// margin 1 mm, without and with the floor's [`ChainIndex`] (the same points, bit for bit).
+fn long_floor(c: &mut Criterion) {
+    let points: Vec<[f64; 2]> = (0..=10_000)
+        .map(|k| {
+            let x = k as f64 * 1e-3;
+            [x, 0.05 * (3.0 * x).sin()]
+        })
+        .collect();
+    let floor = Shape::Polyline { points };
+    let index = ChainIndex::new(&floor).expect("a long floor is indexed");
+    let grain = Shape::Disk { center: [0.0, 0.0], radius: 0.005 };
+    let at = Placement::new(&Pose::new(5.0, 0.05 * 15f64.sin() + 0.0049, 0.0));
+    let origin = Placement::new(&Pose::default());
+    let mut out: Vec<ManifoldPoint> = Vec::with_capacity(8);
+    collide_indexed(&grain, &at, &floor, &origin, Some(&index), 1e-3, &mut out).expect("a pair");
+    assert_eq!(out.len(), 1, "the grain rests on one segment");
+    for (name, index) in [
+        ("collide/disk-polyline-10000", None),
+        ("collide/disk-polyline-10000 (indexed)", Some(&index)),
+    ] {
+        c.bench_function(name, |bench| {
+            bench.iter(|| {
+                out.clear();
+                collide_indexed(
+                    black_box(&grain),
+                    black_box(&at),
+                    black_box(&floor),
+                    &origin,
+                    index,
+                    1e-3,
+                    &mut out,
+                )
+                .expect("supported pair");
+                black_box(out.len())
+            })
+        });
+    }
 }
 
 /// n disks of radius 5 mm at random in a square of side √n / 100 m (10⁴ in 1 m²), margin 1 mm:

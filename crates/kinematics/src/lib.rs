@@ -17,7 +17,8 @@
 //!   polygons, capsules, half-planes, polylines and sampled profiles ([`Shape`]) placed by a
 //!   body [`Pose`], their contact points with normals, gaps and persistent feature ids
 //!   ([`collide`], [`ManifoldPoint`], [`max_points`]; [`collide_placed`] from a [`Placement`]
-//!   whose sine and cosine are computed once per body), and a broad phase ([`BroadPhase`]) over
+//!   whose sine and cosine are computed once per body, [`collide_indexed`] with a long chain's
+//!   [`ChainIndex`]), and a broad phase ([`BroadPhase`]) over
 //!   their bounding boxes ([`Aabb`]); each point's gap changes at the rate of the normal
 //!   relative velocity of its two material points, from which w_N follows.
 //!
@@ -135,7 +136,8 @@ pub use planar::{
 };
 pub use sample::{SampleOptions, SplitMix64, sample_states};
 pub use shapes::{
-    Aabb, BroadPhase, ManifoldPoint, Placement, Pose, Shape, collide, collide_placed, max_points,
+    Aabb, BroadPhase, ChainIndex, ManifoldPoint, Placement, Pose, Shape, collide, collide_indexed,
+    collide_placed, max_points,
 };
 
 /// Kinematic quantities of one contact at `(q, t)`, besides its force directions.

@@ -1,9 +1,9 @@
 //! The narrow phase: which method each pair of shapes gets, and the ids of its points.
 
 use super::convex::{Core, CorePoint, Feature, point_contact, polygon_contacts};
-use super::nonconvex::{convex_chain, half_plane_chain};
+use super::nonconvex::{Chain, convex_chain, half_plane_chain};
 use super::shape::{ENDS_COINCIDE, Placement, V, bad_normal, invalid, normal_scales, too_few};
-use super::{ManifoldPoint, Pose, Shape};
+use super::{ChainIndex, ManifoldPoint, Pose, Shape};
 use crate::KinematicsError;
 
 /// The upper bound of the number of points of the pair (a, b) and of their `feature` + 1, a
@@ -117,6 +117,25 @@ pub fn collide_placed(
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) -> Result<(), KinematicsError> {
+    collide_indexed(a, place_a, b, place_b, None, margin, out)
+}
+
+/// [`collide_placed`] with the [`ChainIndex`] of whichever of `a` and `b` is a polyline or a
+/// profile (at most one is): the same points, bit for bit, visiting only the runs of segments
+/// near the other shape. An index built for another chain (of another length or kind) is not
+/// used.
+///
+/// # Errors
+/// As [`collide`].
+pub fn collide_indexed(
+    a: &Shape,
+    place_a: &Placement,
+    b: &Shape,
+    place_b: &Placement,
+    index: Option<&ChainIndex>,
+    margin: f64,
+    out: &mut Vec<ManifoldPoint>,
+) -> Result<(), KinematicsError> {
     if !(margin >= 0.0) {
         return Err(KinematicsError::InvalidOption { name: "margin", value: margin });
     }
@@ -125,7 +144,7 @@ pub fn collide_placed(
     usable(a)?;
     usable(b)?;
     let start = out.len();
-    let found = dispatch(a, place_a, b, place_b, margin, out);
+    let found = dispatch(a, place_a, b, place_b, index, margin, out);
     // Drop what overflow or a non-finite pose left: a gap of ±∞ or a NaN, a NaN normal.
     let mut kept = start;
     for k in start..out.len() {
@@ -140,12 +159,22 @@ pub fn collide_placed(
     found
 }
 
+/// `index` if it was built for the chain through `points`.
+fn fitting<'a>(
+    index: Option<&'a ChainIndex>,
+    points: &[[f64; 2]],
+    closed: bool,
+) -> Option<&'a ChainIndex> {
+    index.filter(|ix| ix.fits(points, closed))
+}
+
 /// The points of a pair of usable shapes, by the method of the pair.
 fn dispatch(
     a: &Shape,
     place_a: &Placement,
     b: &Shape,
     place_b: &Placement,
+    index: Option<&ChainIndex>,
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) -> Result<(), KinematicsError> {
@@ -165,33 +194,19 @@ fn dispatch(
         }
         (Polyline { points }, convex) | (Profile { points }, convex) => {
             let closed = matches!(a, Profile { .. });
+            let chain =
+                Chain { points, closed, frame: place_a, index: fitting(index, points, closed) };
             with_core(convex, place_b, |x| {
-                convex_chain(
-                    x,
-                    convex.aabb_placed(place_b),
-                    points,
-                    closed,
-                    place_a,
-                    false,
-                    margin,
-                    out,
-                )
+                convex_chain(x, convex.aabb_placed(place_b), &chain, false, margin, out)
             });
             Ok(())
         }
         (convex, Polyline { points }) | (convex, Profile { points }) => {
             let closed = matches!(b, Profile { .. });
+            let chain =
+                Chain { points, closed, frame: place_b, index: fitting(index, points, closed) };
             with_core(convex, place_a, |x| {
-                convex_chain(
-                    x,
-                    convex.aabb_placed(place_a),
-                    points,
-                    closed,
-                    place_b,
-                    true,
-                    margin,
-                    out,
-                )
+                convex_chain(x, convex.aabb_placed(place_a), &chain, true, margin, out)
             });
             Ok(())
         }

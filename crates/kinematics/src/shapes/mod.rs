@@ -57,13 +57,15 @@
 //! * Glocker, Ch. (2001). *Set-Valued Force Laws: Dynamics of Non-Smooth Systems*. Springer.
 
 mod broad;
+mod chain_index;
 mod collide;
 mod convex;
 mod nonconvex;
 mod shape;
 
 pub use broad::BroadPhase;
-pub use collide::{collide, collide_placed, max_points};
+pub use chain_index::ChainIndex;
+pub use collide::{collide, collide_indexed, collide_placed, max_points};
 pub use shape::{Placement, Shape};
 
 use serde::{Deserialize, Serialize};

@@ -30,23 +30,48 @@ use super::convex::{
     polygon_contacts, reference_contacts, solid_segment_contacts,
 };
 use super::shape::{Placement, V};
-use super::{Aabb, ManifoldPoint};
+use super::{Aabb, ChainIndex, ManifoldPoint};
 
 /// The slope, relative to a segment's length, below which two chain points count as level.
 const LEVEL: f64 = 1e-9;
 
-/// A convex shape `x` (its world box `x_box`) against the chain through `points` (closed for a
-/// profile) at `frame`; `x_is_a` tells which of A and B the convex shape is.
+/// A polyline's or a profile's points, closed for a profile, placed at `frame`, with the
+/// index of its runs of segments when it has one.
+pub(crate) struct Chain<'a> {
+    pub points: &'a [[f64; 2]],
+    pub closed: bool,
+    pub frame: &'a Placement,
+    pub index: Option<&'a ChainIndex>,
+}
+
+impl<'a> Chain<'a> {
+    /// The chain's segments k (from point k to point k + 1) in runs whose world box `keep`
+    /// accepts, in increasing order: every segment, in one run, without an index.
+    fn runs<F: Fn(&Aabb) -> bool + 'a>(
+        &self,
+        keep: F,
+    ) -> impl Iterator<Item = std::ops::Range<usize>> + use<'a, F> {
+        let p = self.points.len();
+        let m = if self.closed { p } else { p - 1 };
+        let (indexed, whole) = match self.index {
+            Some(ix) => (Some(ix.runs(self.frame, keep)), None),
+            None => (None, Some(0..m)),
+        };
+        indexed.into_iter().flatten().chain(whole)
+    }
+}
+
+/// A convex shape `x` (its world box `x_box`) against `chain`; `x_is_a` tells which of A and B
+/// the convex shape is.
 pub(crate) fn convex_chain(
     x: &Core<'_>,
     x_box: Aabb,
-    points: &[[f64; 2]],
-    closed: bool,
-    frame: &Placement,
+    chain: &Chain<'_>,
     x_is_a: bool,
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) {
+    let (points, closed, frame) = (chain.points, chain.closed, chain.frame);
     let p = points.len();
     let m = if closed { p } else { p - 1 };
     let n_x = x.len();
@@ -57,7 +82,7 @@ pub(crate) fn convex_chain(
     let vertex_id = |v: usize| m * n_x + v % p;
     let flip = !x_is_a;
 
-    if closed && n_x == 1 && inside(x.vertex(0), frame, points) {
+    if closed && n_x == 1 && inside(x.vertex(0), chain) {
         // A disk whose centre has entered the solid: one point, on the nearest segment, with
         // the direction reversed so that the gap −(d + r) grows as the disk comes out.
         let c = x.vertex(0);
@@ -96,76 +121,83 @@ pub(crate) fn convex_chain(
     let mut taken = [(usize::MAX, None); 4];
     let mut next_taken = 0;
     let mut climbed: Option<Climb> = None;
-    let mut p1 = point(0);
-    for k in 0..m {
-        let p0 = p1;
-        p1 = point(k + 1);
-        // Segments off the convex shape's box (grown by the margin) are passed over. Vertex 0
-        // lies in that box, so those above or below it or to its left cannot cross the ray
-        // from vertex 0 towards +x: only the few in its band of heights count for the parity.
-        let grow = margin + 1e-12;
-        if p0.y.max(p1.y) < x_box.min[1] - grow
-            || p0.y.min(p1.y) > x_box.max[1] + grow
-            || p0.x.max(p1.x) < x_box.min[0] - grow
-        {
-            continue;
-        }
-        if solid && (p0.y > c0.y) != (p1.y > c0.y) && crosses(c0, p0, p1) {
-            odd = !odd;
-        }
-        if p0.x.min(p1.x) > x_box.max[0] + grow {
-            continue;
-        }
-        let ends = [points[k], points[(k + 1) % p]];
-        let seg = Core::new(&ends, *frame, 0.0, closed);
-        let mut emit = |cp: CorePoint| emit_point(x, &cp, k, &point, p, closed, start, flip, out);
-        if n_x == 1 {
-            if let Some(cp) =
-                super::convex::point_contact(x.vertex(0), x.radius, &seg, true, margin)
-            {
-                emit(cp);
+    // Segments off the convex shape's box (grown by the margin) are passed over. Vertex 0
+    // lies in that box, so those above or below it or to its left cannot cross the ray from
+    // vertex 0 towards +x: only the few in its band of heights count for the parity. An
+    // indexed chain passes over the runs of segments whose box fails the same test, and,
+    // where no parity is counted, the runs wholly to the right of the shape's box too.
+    let grow = margin + 1e-12;
+    let off = |lo: [f64; 2], hi: [f64; 2]| {
+        hi[1] < x_box.min[1] - grow || lo[1] > x_box.max[1] + grow || hi[0] < x_box.min[0] - grow
+    };
+    let right = |lo: [f64; 2]| lo[0] > x_box.max[0] + grow;
+    for run in chain.runs(|b| !off(b.min, b.max) && (solid || !right(b.min))) {
+        let mut p1 = point(run.start);
+        for k in run {
+            let p0 = p1;
+            p1 = point(k + 1);
+            if off([p0.x.min(p1.x), p0.y.min(p1.y)], [p0.x.max(p1.x), p0.y.max(p1.y)]) {
+                continue;
             }
-        } else if closed {
-            // Across the segment (the core crossing it: no face separating them and a vertex
-            // on or in front of its line; or a core that has entered the solid reaching it by
-            // its radius), the shape meets the solid around it: the reference is found from
-            // there ([`way_out_near`]) in place of the segment's own.
-            let mut across: Option<(Across, bool)> = None;
-            let mut backs = |sep: f64, back: bool| {
-                let line = Across::of(p0, p1);
-                let reach = |h: f64| (0..n_x).any(|i| line.height(x.vertex(i)) >= h);
-                let front = sep <= 0.0 && reach(0.0);
-                if front
-                    || sep <= x.radius
-                        && reach(-x.radius)
-                        && entered(x, &line, &mut parity, frame, points) == Backs::Drop
+            if solid && (p0.y > c0.y) != (p1.y > c0.y) && crosses(c0, p0, p1) {
+                odd = !odd;
+            }
+            if right([p0.x.min(p1.x), p0.y.min(p1.y)]) {
+                continue;
+            }
+            let ends = [points[k], points[(k + 1) % p]];
+            let seg = Core::new(&ends, *frame, 0.0, closed);
+            let mut emit =
+                |cp: CorePoint| emit_point(x, &cp, k, &point, p, closed, start, flip, out);
+            if n_x == 1 {
+                if let Some(cp) =
+                    super::convex::point_contact(x.vertex(0), x.radius, &seg, true, margin)
                 {
-                    across = Some((line, front));
-                    Backs::Drop
-                } else if back {
-                    entered(x, &line, &mut parity, frame, points)
-                } else {
-                    Backs::Count
+                    emit(cp);
                 }
-            };
-            solid_segment_contacts(x, &seg, margin, &mut backs, &mut emit);
-            if let Some((line, front)) = across {
-                // The core crosses the segment if a vertex lies on or in front of its line.
-                crossed = crossed || front || (0..n_x).any(|i| line.height(x.vertex(i)) >= 0.0);
-                let way = way_out_near(x, k, line, &point, m, &mut climbed);
-                if !taken.contains(&way) {
-                    taken[next_taken % taken.len()] = way;
-                    next_taken += 1;
-                    let (j, face) = way;
-                    let ends = [points[j], points[(j + 1) % p]];
-                    let seg = Core::new(&ends, *frame, 0.0, true);
-                    let mut emit =
-                        |cp: CorePoint| emit_point(x, &cp, j, &point, p, closed, start, flip, out);
-                    reference_contacts(x, &seg, face, margin, &mut emit);
+            } else if closed {
+                // Across the segment (the core crossing it: no face separating them and a vertex
+                // on or in front of its line; or a core that has entered the solid reaching it by
+                // its radius), the shape meets the solid around it: the reference is found from
+                // there ([`way_out_near`]) in place of the segment's own.
+                let mut across: Option<(Across, bool)> = None;
+                let mut backs = |sep: f64, back: bool| {
+                    let line = Across::of(p0, p1);
+                    let reach = |h: f64| (0..n_x).any(|i| line.height(x.vertex(i)) >= h);
+                    let front = sep <= 0.0 && reach(0.0);
+                    if front
+                        || sep <= x.radius
+                            && reach(-x.radius)
+                            && entered(x, &line, &mut parity, chain) == Backs::Drop
+                    {
+                        across = Some((line, front));
+                        Backs::Drop
+                    } else if back {
+                        entered(x, &line, &mut parity, chain)
+                    } else {
+                        Backs::Count
+                    }
+                };
+                solid_segment_contacts(x, &seg, margin, &mut backs, &mut emit);
+                if let Some((line, front)) = across {
+                    // The core crosses the segment if a vertex lies on or in front of its line.
+                    crossed = crossed || front || (0..n_x).any(|i| line.height(x.vertex(i)) >= 0.0);
+                    let way = way_out_near(x, k, line, &point, m, &mut climbed);
+                    if !taken.contains(&way) {
+                        taken[next_taken % taken.len()] = way;
+                        next_taken += 1;
+                        let (j, face) = way;
+                        let ends = [points[j], points[(j + 1) % p]];
+                        let seg = Core::new(&ends, *frame, 0.0, true);
+                        let mut emit = |cp: CorePoint| {
+                            emit_point(x, &cp, j, &point, p, closed, start, flip, out)
+                        };
+                        reference_contacts(x, &seg, face, margin, &mut emit);
+                    }
                 }
+            } else {
+                polygon_contacts(x, &seg, margin, &mut emit);
             }
-        } else {
-            polygon_contacts(x, &seg, margin, &mut emit);
         }
     }
     if solid && odd && !crossed {
@@ -260,14 +292,14 @@ struct Parity {
 }
 
 impl Parity {
-    fn inside(&mut self, i: usize, c: V, frame: &Placement, points: &[[f64; 2]]) -> bool {
+    fn inside(&mut self, i: usize, c: V, chain: &Chain<'_>) -> bool {
         if i >= 64 {
-            return inside(c, frame, points);
+            return inside(c, chain);
         }
         let bit = 1u64 << i;
         if self.known & bit == 0 {
             self.known |= bit;
-            if inside(c, frame, points) {
+            if inside(c, chain) {
                 self.inside |= bit;
             }
         }
@@ -282,16 +314,10 @@ impl Parity {
 /// (the segment may still be the way out from a segment the core crosses, [`way_out_near`]).
 /// Otherwise (the core outside, behind a segment of a thin part of the solid, or resting on a
 /// sharp corner) the face counts as any other.
-fn entered(
-    x: &Core<'_>,
-    line: &Across,
-    parity: &mut Parity,
-    frame: &Placement,
-    points: &[[f64; 2]],
-) -> Backs {
+fn entered(x: &Core<'_>, line: &Across, parity: &mut Parity, chain: &Chain<'_>) -> Backs {
     let entered = (0..x.len()).any(|i| {
         let v = x.vertex(i);
-        line.height(v) < 0.0 && parity.inside(i, v, frame, points)
+        line.height(v) < 0.0 && parity.inside(i, v, chain)
     });
     if entered { Backs::Drop } else { Backs::Count }
 }
@@ -509,18 +535,23 @@ fn on_face(
         })
 }
 
-/// Whether the world point `c` lies inside the closed chain through `points` at `frame`, by
-/// the parity of the crossings of a ray towards +x.
-fn inside(c: V, frame: &Placement, points: &[[f64; 2]]) -> bool {
+/// Whether the world point `c` lies inside the closed `chain`, by the parity of the crossings
+/// of a ray towards +x: of the segments whose heights span c's and that reach to its right
+/// (on an indexed chain, in the runs whose box does).
+fn inside(c: V, chain: &Chain<'_>) -> bool {
+    let (points, frame) = (chain.points, chain.frame);
     let p = points.len();
     let mut odd = false;
-    let mut a = frame.point(points[p - 1]);
-    for q in points {
-        let b = frame.point(*q);
-        if (a.y > c.y) != (b.y > c.y) && crosses(c, a, b) {
-            odd = !odd;
+    let spans = |b: &Aabb| b.min[1] <= c.y && c.y <= b.max[1] && c.x <= b.max[0];
+    for run in chain.runs(spans) {
+        let mut a = frame.point(points[run.start]);
+        for k in run {
+            let b = frame.point(points[(k + 1) % p]);
+            if (a.y > c.y) != (b.y > c.y) && crosses(c, a, b) {
+                odd = !odd;
+            }
+            a = b;
         }
-        a = b;
     }
     odd
 }

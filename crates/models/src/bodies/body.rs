@@ -1,6 +1,6 @@
 //! Built bodies: where each body is at (q, t), and how a point of it moves with q and t.
 
-use moreau_kinematics::{Placement, Pose, Shape};
+use moreau_kinematics::{ChainIndex, Placement, Pose, Shape};
 
 use super::spec::{DrivenState, Motion};
 
@@ -25,6 +25,10 @@ pub(crate) struct Body {
     pub pose0: [f64; 3],
     /// The shapes, in the body frame.
     pub shapes: Vec<Shape>,
+    /// Per shape: the index of its runs of segments, for a long polyline or profile
+    /// ([`ChainIndex::new`]), which makes its narrow phase visit only the runs near the other
+    /// shape.
+    pub chains: Vec<Option<ChainIndex>>,
     /// Collision group and mask bits.
     pub group: u32,
     pub mask: u32,
@@ -183,6 +187,18 @@ impl Kind {
 }
 
 impl Body {
+    /// The index of the runs of segments of shape `k` (a long polyline or profile), or, when
+    /// it has none, of shape `other_k` of `other`: the index of the pair's chain, if any.
+    #[inline]
+    pub fn chain_of_pair<'a>(
+        &'a self,
+        k: usize,
+        other: &'a Body,
+        other_k: usize,
+    ) -> Option<&'a ChainIndex> {
+        self.chains[k].as_ref().or(other.chains[other_k].as_ref())
+    }
+
     /// The body's frame at (q, t).
     #[inline]
     pub fn frame(&self, q: &[f64], t: f64) -> Frame {

@@ -1,6 +1,7 @@
 //! [`SystemSpec::build`]: validation of a declaration and its translation into a
 //! [`Multibody`], with errors that name the offending field by its `--set` path.
 
+use moreau_kinematics::ChainIndex;
 use moreau_lcp::MAX_ENTRY;
 use moreau_setvalued::ContactLaw;
 
@@ -57,6 +58,7 @@ pub(crate) fn resolve(
             kind: Kind::fixed([0.0; 3]),
             pose0: [0.0; 3],
             shapes: Vec::new(),
+            chains: Vec::new(),
             group: 0,
             mask: 0,
         });
@@ -215,6 +217,7 @@ fn body(spec: &BodySpec, dof: usize) -> Result<Body, ModelError> {
         kind,
         pose0: [spec.position[0], spec.position[1], spec.angle],
         shapes: spec.shapes.clone(),
+        chains: spec.shapes.iter().map(ChainIndex::new).collect(),
         group: spec.group,
         mask: spec.mask,
     })

@@ -11,7 +11,7 @@
 
 use std::cell::RefCell;
 
-use moreau_kinematics::{Aabb, ManifoldPoint, Shape, collide, collide_placed, max_points};
+use moreau_kinematics::{Aabb, ManifoldPoint, Shape, collide, collide_indexed, max_points};
 use moreau_setvalued::ContactLaw;
 
 use super::body::{Body, Frame, Kind};
@@ -377,7 +377,9 @@ impl Multibody {
             points.clear();
             // A pair was accepted at build time, so the narrow phase cannot refuse it; should it
             // still fail, the gaps are not numbers and the stepper stops with a typed error.
-            if collide_placed(sa, &pa, sb, &pb, pair.margin, &mut points).is_err() {
+            let chain =
+                self.bodies[pair.a].chain_of_pair(pair.shape_a, &self.bodies[pair.b], pair.shape_b);
+            if collide_indexed(sa, &pa, sb, &pb, chain, pair.margin, &mut points).is_err() {
                 let failed = SlotGeometry { gap: f64::NAN, ..SlotGeometry::default() };
                 (0..pair.count).for_each(|k| emit(k, failed));
                 return;

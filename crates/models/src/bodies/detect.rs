@@ -14,7 +14,7 @@
 
 use std::cell::RefCell;
 
-use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Shape, collide_placed, max_points};
+use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Shape, collide_indexed, max_points};
 use moreau_setvalued::ContactLaw;
 use moreau_stepper::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
 use rayon::prelude::*;
@@ -204,10 +204,20 @@ impl Multibody {
         let Some((law, flipped)) = detector.law(&self.bodies, x, y) else { return };
         let ((a, sa), (b, sb)) = if flipped { (y, x) } else { (x, y) };
         let (fa, fb) = (&frames[a], &frames[b]);
-        let (shape_a, shape_b) = (&self.bodies[a].shapes[sa], &self.bodies[b].shapes[sb]);
+        let (body_a, body_b) = (&self.bodies[a], &self.bodies[b]);
+        let (shape_a, shape_b) = (&body_a.shapes[sa], &body_b.shapes[sb]);
+        let chain = body_a.chain_of_pair(sa, body_b, sb);
         points.clear();
-        if collide_placed(shape_a, &fa.placement(), shape_b, &fb.placement(), margin, points)
-            .is_err()
+        if collide_indexed(
+            shape_a,
+            &fa.placement(),
+            shape_b,
+            &fb.placement(),
+            chain,
+            margin,
+            points,
+        )
+        .is_err()
         {
             // The pairs were checked at build time; a margin that is not a number gives a gap
             // that is not one, and the stepper stops with a typed error.
@@ -281,10 +291,12 @@ impl Multibody {
         let (_, flipped) = detector.law(&self.bodies, x, y)?;
         let ((a, sa), (b, sb)) = if flipped { (y, x) } else { (x, y) };
         let (fa, fb) = (self.frame(a, q, t), self.frame(b, q, t));
-        let (shape_a, shape_b) = (&self.bodies[a].shapes[sa], &self.bodies[b].shapes[sb]);
+        let (body_a, body_b) = (&self.bodies[a], &self.bodies[b]);
+        let (shape_a, shape_b) = (&body_a.shapes[sa], &body_b.shapes[sb]);
+        let chain = body_a.chain_of_pair(sa, body_b, sb);
         let mut points = Vec::new();
-        collide_placed(shape_a, &fa.placement(), shape_b, &fb.placement(), margin, &mut points)
-            .ok()?;
+        let (pa, pb) = (fa.placement(), fb.placement());
+        collide_indexed(shape_a, &pa, shape_b, &pb, chain, margin, &mut points).ok()?;
         let p = points.iter().find(|p| p.feature == feature && p.gap <= margin)?;
         let geometry =
             SlotGeometry { point_a: p.point_a, point_b: p.point_b, normal: p.normal, gap: p.gap };
