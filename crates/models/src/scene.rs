@@ -438,6 +438,12 @@ impl Scene {
     /// The run steps the model's own type (a [`Stepper`] of [`crate::Ball`], say), so that a
     /// scene-built model costs what the concrete type costs.
     ///
+    /// It stops on the stepper's errors only (a state that is not finite, an island no solver
+    /// solves): the `moreau` command's guards against a run that diverges while staying finite
+    /// (energy growth, states beyond their bounds, contacts sunk deeper than the bodies'
+    /// sizes, bodies carried through thin shapes) are `moreau_cli::guard::run_guarded`, which
+    /// runs a scene under them.
+    ///
     /// # Errors
     /// The errors of [`Self::stepper`] and every [`moreau_stepper::StepError`] of the run.
     pub fn run(&self) -> Result<Simulation, ModelError> {
