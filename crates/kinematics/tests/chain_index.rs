@@ -1,6 +1,7 @@
 //! A chain's index of runs of segments changes no point: disks, boxes and capsules placed on,
-//! near and deep inside long polylines and profiles (turned and moved, far from the origin)
-//! meet them in the same points, bit for bit, with the index and without.
+//! near and deep inside long polylines and profiles (turned and moved, far from the origin),
+//! and half-planes cutting them, meet them in the same points, bit for bit, with the index and
+//! without.
 
 use moreau_kinematics::{
     ChainIndex, ManifoldPoint, Placement, Pose, Shape, SplitMix64, collide_indexed, collide_placed,
@@ -103,6 +104,33 @@ fn shapes_on_and_in_long_chains_meet_the_same_points_with_the_index() {
     }
     // The placements touch the chains often enough for the comparison to mean something.
     assert!(found[0] > 1000 && found[1] > 1000, "points found: {found:?}");
+}
+
+#[test]
+fn half_planes_through_long_chains_meet_the_same_points_with_the_index() {
+    // Floors and walls of every slope cutting profiles and polylines at every depth: the
+    // points at the local minima of the height, kept bit for bit and in the same order.
+    let mut rng = SplitMix64::new(5);
+    let mut found = 0;
+    for case in 0..60 {
+        let n = 65 + (rng.next_f64() * 2000.0) as usize;
+        let far = [0.0, 3e3][case % 2];
+        let frame = Pose::new(far + 0.5, -far, [0.0, 1.1, -0.4][case % 3]);
+        let chain = if case % 2 == 0 {
+            Shape::Profile { points: star(n, 1.0, [0.0, 0.0], &mut rng) }
+        } else {
+            Shape::Polyline { points: floor(n, 2.0 / n as f64, -1.0, &mut rng) }
+        };
+        let centre = Placement::new(&frame).pose();
+        for _ in 0..20 {
+            let a = std::f64::consts::TAU * rng.next_f64();
+            let depth = 1.6 * rng.next_f64() - 0.8;
+            let plane = Shape::HalfPlane { point: [0.0, 0.0], normal: [a.cos(), a.sin()] };
+            let at = Pose::new(centre.x - depth * a.cos(), centre.y - depth * a.sin(), 0.0);
+            found += same_points(&plane, at, &chain, frame, 0.01);
+        }
+    }
+    assert!(found > 2000, "points found: {found}");
 }
 
 #[test]

@@ -185,11 +185,11 @@ fn dispatch(
         (Polyline { .. } | Profile { .. }, Polyline { .. } | Profile { .. }) => Err(unsupported()),
         _ if thin(a) && thin(b) => Err(KinematicsError::NoThickness { a: a.name(), b: b.name() }),
         (HalfPlane { point, normal }, other) => {
-            half_plane(point, normal, place_a, other, place_b, true, margin, out);
+            half_plane(point, normal, place_a, (other, place_b, index), true, margin, out);
             Ok(())
         }
         (other, HalfPlane { point, normal }) => {
-            half_plane(point, normal, place_b, other, place_a, false, margin, out);
+            half_plane(point, normal, place_b, (other, place_a, index), false, margin, out);
             Ok(())
         }
         (Polyline { points }, convex) | (Profile { points }, convex) => {
@@ -299,13 +299,13 @@ fn convex_pair(a: &Core<'_>, b: &Core<'_>, margin: f64, out: &mut Vec<ManifoldPo
 }
 
 /// A half-plane (boundary through `point`, outward `normal`, body at `frame`) against `other`
-/// at `other_frame`; `plane_is_a` tells which of A and B the half-plane is.
+/// at `other_frame` (with its index, for a chain); `plane_is_a` tells which of A and B the
+/// half-plane is.
 fn half_plane(
     point: &[f64; 2],
     normal: &[f64; 2],
     frame: &Placement,
-    other: &Shape,
-    other_frame: &Placement,
+    (other, other_frame, index): (&Shape, &Placement, Option<&ChainIndex>),
     plane_is_a: bool,
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
@@ -331,7 +331,9 @@ fn half_plane(
     match other {
         Shape::Polyline { points } | Shape::Profile { points } => {
             let closed = matches!(other, Shape::Profile { .. });
-            half_plane_chain(origin, n, points, closed, other_frame, plane_is_a, margin, out);
+            let index = fitting(index, points, closed);
+            let chain = Chain { points, closed, frame: other_frame, index };
+            half_plane_chain(origin, n, &chain, plane_is_a, margin, out);
         }
         // A disk is its placed centre grown by its radius, without a core.
         Shape::Disk { center, radius } => vertex(0, other_frame.point(*center), *radius),

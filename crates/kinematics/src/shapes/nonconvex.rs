@@ -563,42 +563,53 @@ fn crosses(c: V, a: V, b: V) -> bool {
     c.x < a.x + (c.y - a.y) / (b.y - a.y) * (b.x - a.x)
 }
 
-/// A half-plane (boundary through `origin`, unit outward normal `n`) against the chain through
-/// `points` at `frame`: each point at most `margin` above the boundary that lies on it
+/// A half-plane (boundary through `origin`, unit outward normal `n`) against `chain`: each
+/// point at most `margin` above the boundary that lies on it
 /// ([`on_face`]): a local minimum of the height along the chain (every point of a flat run),
 /// or the far end of the chord lying on the boundary there.
 pub(crate) fn half_plane_chain(
     origin: V,
     n: V,
-    points: &[[f64; 2]],
-    closed: bool,
-    frame: &Placement,
+    chain: &Chain<'_>,
     plane_is_a: bool,
     margin: f64,
     out: &mut Vec<ManifoldPoint>,
 ) {
+    let (points, closed, frame) = (chain.points, chain.closed, chain.frame);
     let p = points.len();
     let point = |v: usize| frame.point(points[v % p]);
     let height = |v: usize| n.dot(&(point(v) - origin));
     let neighbours = |w: usize| neighbours(w, p, closed);
     // The rise of point w over point `from` above the boundary, per unit length.
     let rise = |from: usize, w: usize| (height(w) - height(from)) / (point(w) - point(from)).norm();
-    for v in 0..p {
-        let h = height(v);
-        if h > margin {
-            continue;
-        }
-        if on_face(v, neighbours(v), &neighbours, &rise) {
-            let w = frame.point(points[v]);
-            let cp = CorePoint {
-                on_a: Feature::Edge(0),
-                on_b: Feature::Vertex(v),
-                point_a: w - h * n,
-                point_b: w,
-                normal: n,
-                gap: h,
-            };
-            out.push(manifold_point(&cp, v, !plane_is_a));
+    // On an indexed chain, the runs whose box lies wholly above the margin are passed over:
+    // the lowest height in a box is its centre's less the half-widths along |n|. The
+    // vertices of a run of segments k0..k1 are k0..k1, and the last point too on a polyline.
+    let low = |b: &Aabb| {
+        let c = V::new(0.5 * (b.min[0] + b.max[0]), 0.5 * (b.min[1] + b.max[1]));
+        let w = [0.5 * (b.max[0] - b.min[0]), 0.5 * (b.max[1] - b.min[1])];
+        let size = c.x.abs().max(c.y.abs()) + origin.x.abs().max(origin.y.abs()) + w[0] + w[1];
+        n.dot(&(c - origin)) - n.x.abs() * w[0] - n.y.abs() * w[1] <= margin + 1e-10 * size
+    };
+    for run in chain.runs(low) {
+        let vertices = if !closed && run.end == p - 1 { run.start..p } else { run };
+        for v in vertices {
+            let h = height(v);
+            if h > margin {
+                continue;
+            }
+            if on_face(v, neighbours(v), &neighbours, &rise) {
+                let w = frame.point(points[v]);
+                let cp = CorePoint {
+                    on_a: Feature::Edge(0),
+                    on_b: Feature::Vertex(v),
+                    point_a: w - h * n,
+                    point_b: w,
+                    normal: n,
+                    gap: h,
+                };
+                out.push(manifold_point(&cp, v, !plane_is_a));
+            }
         }
     }
 }
