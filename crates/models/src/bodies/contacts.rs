@@ -34,6 +34,9 @@ pub(crate) struct Pair {
     pub count: usize,
     /// The world boxes of shapes a and b when their bodies are fixed, computed once.
     pub fixed_boxes: [Option<Aabb>; 2],
+    /// Whether one of the two shapes is a chain with an index of its runs
+    /// ([`super::body::Body::chains`]), looked up only then.
+    pub chained: bool,
 }
 
 thread_local! {
@@ -315,7 +318,18 @@ pub(crate) fn pairs(
         let index = pairs.len();
         let fixed = |i: usize, bx: Aabb| matches!(bodies[i].kind, Kind::Fixed(_)).then_some(bx);
         let fixed_boxes = [fixed(a, ba), fixed(b, bb)];
-        pairs.push(Pair { a, shape_a, b, shape_b, margin, first: slots.len(), count, fixed_boxes });
+        let chained = bodies[a].chain_of_pair(shape_a, &bodies[b], shape_b).is_some();
+        pairs.push(Pair {
+            a,
+            shape_a,
+            b,
+            shape_b,
+            margin,
+            first: slots.len(),
+            count,
+            fixed_boxes,
+            chained,
+        });
         for k in 0..count {
             slots.push(Slot::Pair { pair: index, feature: k });
             laws.push(contact_law);
@@ -377,8 +391,9 @@ impl Multibody {
             points.clear();
             // A pair was accepted at build time, so the narrow phase cannot refuse it; should it
             // still fail, the gaps are not numbers and the stepper stops with a typed error.
+            let (a, b) = (&self.bodies[pair.a], &self.bodies[pair.b]);
             let chain =
-                self.bodies[pair.a].chain_of_pair(pair.shape_a, &self.bodies[pair.b], pair.shape_b);
+                if pair.chained { a.chain_of_pair(pair.shape_a, b, pair.shape_b) } else { None };
             if collide_indexed(sa, &pa, sb, &pb, chain, pair.margin, &mut points).is_err() {
                 let failed = SlotGeometry { gap: f64::NAN, ..SlotGeometry::default() };
                 (0..pair.count).for_each(|k| emit(k, failed));
