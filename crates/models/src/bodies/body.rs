@@ -196,7 +196,13 @@ impl Body {
         other: &'a Body,
         other_k: usize,
     ) -> Option<&'a ChainIndex> {
-        self.chains[k].as_ref().or(other.chains[other_k].as_ref())
+        // The shape, which the narrow phase reads next, says whether there is an index to
+        // read: a pair of disks does not touch the bodies' lists of indexes.
+        let chain = |body: &'a Body, k: usize| match body.shapes[k] {
+            Shape::Polyline { .. } | Shape::Profile { .. } => body.chains[k].as_ref(),
+            _ => None,
+        };
+        chain(self, k).or_else(|| chain(other, other_k))
     }
 
     /// The body's frame at (q, t).

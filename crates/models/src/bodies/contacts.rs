@@ -34,9 +34,6 @@ pub(crate) struct Pair {
     pub count: usize,
     /// The world boxes of shapes a and b when their bodies are fixed, computed once.
     pub fixed_boxes: [Option<Aabb>; 2],
-    /// Whether one of the two shapes is a chain with an index of its runs
-    /// ([`super::body::Body::chains`]), looked up only then.
-    pub chained: bool,
 }
 
 thread_local! {
@@ -318,18 +315,7 @@ pub(crate) fn pairs(
         let index = pairs.len();
         let fixed = |i: usize, bx: Aabb| matches!(bodies[i].kind, Kind::Fixed(_)).then_some(bx);
         let fixed_boxes = [fixed(a, ba), fixed(b, bb)];
-        let chained = bodies[a].chain_of_pair(shape_a, &bodies[b], shape_b).is_some();
-        pairs.push(Pair {
-            a,
-            shape_a,
-            b,
-            shape_b,
-            margin,
-            first: slots.len(),
-            count,
-            fixed_boxes,
-            chained,
-        });
+        pairs.push(Pair { a, shape_a, b, shape_b, margin, first: slots.len(), count, fixed_boxes });
         for k in 0..count {
             slots.push(Slot::Pair { pair: index, feature: k });
             laws.push(contact_law);
@@ -392,8 +378,7 @@ impl Multibody {
             // A pair was accepted at build time, so the narrow phase cannot refuse it; should it
             // still fail, the gaps are not numbers and the stepper stops with a typed error.
             let (a, b) = (&self.bodies[pair.a], &self.bodies[pair.b]);
-            let chain =
-                if pair.chained { a.chain_of_pair(pair.shape_a, b, pair.shape_b) } else { None };
+            let chain = a.chain_of_pair(pair.shape_a, b, pair.shape_b);
             if collide_indexed(sa, &pa, sb, &pb, chain, pair.margin, &mut points).is_err() {
                 let failed = SlotGeometry { gap: f64::NAN, ..SlotGeometry::default() };
                 (0..pair.count).for_each(|k| emit(k, failed));
