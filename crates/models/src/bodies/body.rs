@@ -187,22 +187,15 @@ impl Kind {
 }
 
 impl Body {
-    /// The index of the runs of segments of shape `k` (a long polyline or profile), or, when
-    /// it has none, of shape `other_k` of `other`: the index of the pair's chain, if any.
+    /// The index of the runs of segments of shape `k`, for a long polyline or profile. The
+    /// shape, which the narrow phase reads next, says whether there is one to read: a pair of
+    /// disks does not touch the bodies' lists of indexes.
     #[inline]
-    pub fn chain_of_pair<'a>(
-        &'a self,
-        k: usize,
-        other: &'a Body,
-        other_k: usize,
-    ) -> Option<&'a ChainIndex> {
-        // The shape, which the narrow phase reads next, says whether there is an index to
-        // read: a pair of disks does not touch the bodies' lists of indexes.
-        let chain = |body: &'a Body, k: usize| match body.shapes[k] {
-            Shape::Polyline { .. } | Shape::Profile { .. } => body.chains[k].as_ref(),
+    pub fn chain(&self, k: usize) -> Option<&ChainIndex> {
+        match self.shapes[k] {
+            Shape::Polyline { .. } | Shape::Profile { .. } => self.chains[k].as_ref(),
             _ => None,
-        };
-        chain(self, k).or_else(|| chain(other, other_k))
+        }
     }
 
     /// The body's frame at (q, t).

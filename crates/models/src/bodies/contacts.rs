@@ -11,7 +11,9 @@
 
 use std::cell::RefCell;
 
-use moreau_kinematics::{Aabb, ManifoldPoint, Shape, collide, collide_indexed, max_points};
+use moreau_kinematics::{
+    Aabb, KinematicsError, ManifoldPoint, Placement, Shape, collide, collide_indexed, max_points,
+};
 use moreau_setvalued::ContactLaw;
 
 use super::body::{Body, Frame, Kind};
@@ -347,6 +349,27 @@ pub(crate) fn pairs(
 }
 
 impl Multibody {
+    /// The narrow phase of shape `sa` of body `a` placed at `pa` with shape `sb` of body `b`
+    /// placed at `pb`, the pair's chain (if one is) with its index of runs: the points within
+    /// `margin` appended to `out`.
+    ///
+    /// # Errors
+    /// Those of [`collide_indexed`], for a pair or a margin the narrow phase refuses.
+    // Always inlined: a call of its own cost the declared woodpecker 1.3 % of its instructions
+    // per step (callgrind), and the ball 11 of its 1,178.
+    #[inline(always)]
+    pub(crate) fn collide_shapes(
+        &self,
+        (a, sa, pa): (usize, usize, &Placement),
+        (b, sb, pb): (usize, usize, &Placement),
+        margin: f64,
+        out: &mut Vec<ManifoldPoint>,
+    ) -> Result<(), KinematicsError> {
+        let (body_a, body_b) = (&self.bodies[a], &self.bodies[b]);
+        let chain = body_a.chain(sa).or_else(|| body_b.chain(sb));
+        collide_indexed(&body_a.shapes[sa], pa, &body_b.shapes[sb], pb, chain, margin, out)
+    }
+
     /// Calls `emit(feature, geometry)` for every slot of a pair at the bodies' frames: the
     /// narrow phase's points, and for the features it does not find, the margin (or the
     /// bounding boxes' distance) as the gap with a zero normal, which gives zero force
@@ -377,9 +400,8 @@ impl Multibody {
             points.clear();
             // A pair was accepted at build time, so the narrow phase cannot refuse it; should it
             // still fail, the gaps are not numbers and the stepper stops with a typed error.
-            let (a, b) = (&self.bodies[pair.a], &self.bodies[pair.b]);
-            let chain = a.chain_of_pair(pair.shape_a, b, pair.shape_b);
-            if collide_indexed(sa, &pa, sb, &pb, chain, pair.margin, &mut points).is_err() {
+            let (a, b) = ((pair.a, pair.shape_a, &pa), (pair.b, pair.shape_b, &pb));
+            if self.collide_shapes(a, b, pair.margin, &mut points).is_err() {
                 let failed = SlotGeometry { gap: f64::NAN, ..SlotGeometry::default() };
                 (0..pair.count).for_each(|k| emit(k, failed));
                 return;

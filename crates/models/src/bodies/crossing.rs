@@ -9,7 +9,7 @@
 //! step overlap; not a half-plane, which has no far side and whose penetration the depth
 //! tells) overlapping it at a station by more than a quarter of its thickness.
 
-use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Pose, Shape, collide_indexed};
+use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Pose, Shape};
 
 use super::multibody::Multibody;
 
@@ -154,8 +154,7 @@ impl CrossingCheck {
                 let t = t_a + s * (t_e - t_a);
                 let (pa, po) = (mb.frame(a, &q, t).placement(), mb.frame(o, &q, t).placement());
                 points.clear();
-                let chain = mb.bodies[a].chain_of_pair(sa, &mb.bodies[o], so);
-                if collide_indexed(shape_a, &pa, shape_o, &po, chain, 0.0, &mut points).is_err() {
+                if mb.collide_shapes((a, sa, &pa), (o, so, &po), 0.0, &mut points).is_err() {
                     continue;
                 }
                 let Some(gap) = points.iter().map(|p| p.gap).reduce(f64::min) else { continue };

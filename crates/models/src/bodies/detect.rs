@@ -14,7 +14,7 @@
 
 use std::cell::RefCell;
 
-use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Shape, collide_indexed, max_points};
+use moreau_kinematics::{Aabb, BroadPhase, ManifoldPoint, Shape, max_points};
 use moreau_setvalued::ContactLaw;
 use moreau_stepper::{BodyBilateral, BodyContact, BodyStructure, NO_BODY};
 use rayon::prelude::*;
@@ -204,21 +204,9 @@ impl Multibody {
         let Some((law, flipped)) = detector.law(&self.bodies, x, y) else { return };
         let ((a, sa), (b, sb)) = if flipped { (y, x) } else { (x, y) };
         let (fa, fb) = (&frames[a], &frames[b]);
-        let (body_a, body_b) = (&self.bodies[a], &self.bodies[b]);
-        let (shape_a, shape_b) = (&body_a.shapes[sa], &body_b.shapes[sb]);
-        let chain = body_a.chain_of_pair(sa, body_b, sb);
         points.clear();
-        if collide_indexed(
-            shape_a,
-            &fa.placement(),
-            shape_b,
-            &fb.placement(),
-            chain,
-            margin,
-            points,
-        )
-        .is_err()
-        {
+        let (pa, pb) = (fa.placement(), fb.placement());
+        if self.collide_shapes((a, sa, &pa), (b, sb, &pb), margin, points).is_err() {
             // The pairs were checked at build time; a margin that is not a number gives a gap
             // that is not one, and the stepper stops with a typed error.
             let failed = ManifoldPoint {
@@ -291,12 +279,9 @@ impl Multibody {
         let (_, flipped) = detector.law(&self.bodies, x, y)?;
         let ((a, sa), (b, sb)) = if flipped { (y, x) } else { (x, y) };
         let (fa, fb) = (self.frame(a, q, t), self.frame(b, q, t));
-        let (body_a, body_b) = (&self.bodies[a], &self.bodies[b]);
-        let (shape_a, shape_b) = (&body_a.shapes[sa], &body_b.shapes[sb]);
-        let chain = body_a.chain_of_pair(sa, body_b, sb);
         let mut points = Vec::new();
         let (pa, pb) = (fa.placement(), fb.placement());
-        collide_indexed(shape_a, &pa, shape_b, &pb, chain, margin, &mut points).ok()?;
+        self.collide_shapes((a, sa, &pa), (b, sb, &pb), margin, &mut points).ok()?;
         let p = points.iter().find(|p| p.feature == feature && p.gap <= margin)?;
         let geometry =
             SlotGeometry { point_a: p.point_a, point_b: p.point_b, normal: p.normal, gap: p.gap };
