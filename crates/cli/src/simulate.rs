@@ -645,7 +645,7 @@ fn write_end_scene(
     writeln!(
         w,
         "# The end state of a run at t = {t} s, continued: run it for as long again, or \
-         change t_end. The impulses of its last step, by contact identity, start it warm.\n\
+         change t_end. The impulses of its last step, by contact, start it warm.\n\
          {text}"
     )
     .with_context(|| format!("writing {}", partial.display()))?;

@@ -187,8 +187,12 @@ fn impulses_the_mechanism_cannot_take_are_refused_by_name() -> Result<()> {
     let impulses = scene.impulses.get_or_insert_with(Default::default);
     ensure!(impulses.joints.len() == 2, "the hinge holds the swinging bob: {impulses:?}");
     impulses.joints.push(0.0);
+    // Named row by row, the scene file cannot hold the third.
+    let e = scene.to_toml_string().expect_err("no third row to name");
+    ensure!(e.to_string().contains("3 joint impulses for the mechanism's 2 joint rows"), "{e}");
+    // Given as plain numbers, row by row, the stepper refuses them.
     let bad = dir.path().join("bad.toml");
-    std::fs::write(&bad, scene.to_toml_string()?)?;
+    std::fs::write(&bad, toml::to_string(&scene)?)?;
     let e = run_to_csv(&options(bad, 0.6, None), &dir.path().join("b.csv"), &mut |_| {})
         .expect_err("three joint impulses for two rows");
     ensure!(format!("{e:#}").contains("impulses: 3 joint impulses for 2 bilateral"), "{e:#}");

@@ -8,6 +8,7 @@
 
 mod continued;
 mod file;
+mod labels;
 mod set;
 mod tree;
 
@@ -124,12 +125,20 @@ pub struct Scene {
     pub inexact_residual: f64,
     /// The model and its parameters (the table `[params]`, or the declaration).
     pub params: ModelParams,
-    /// The impulses of the step that reached the initial state (key `impulses`: the table's
-    /// `contacts`, each `[identity, P_N, P_T]` in N s, and `joints`, one Λ_B per bilateral
-    /// constraint), taken as the first step's warm start and as the contacts closed before
+    /// The impulses of the step that reached the initial state, by contact identity
+    /// ([`Impulses`]), taken as the first step's warm start and as the contacts closed before
     /// it ([`Stepper::set_impulses`]); `None` (the default) starts from zero impulses. A scene
     /// written at the end of a run has them, so that a settled pile goes on resting without
     /// a cold start.
+    ///
+    /// In a scene file they are the table `[impulses]`: `contacts`, each `[contact, P_N, P_T]`
+    /// in N s, and `joints`, each `[row, Λ_B]`. A declared mechanism's contact is named by its
+    /// two shapes and the pair's feature, `"<body>.<shape>/<body>.<shape>/<feature>"`, or by
+    /// its slot's name on the fixed contact set, and a joint row as the record names it
+    /// (`"hinge.Lx"`): read, the names find each contact's identity in the mechanism as the
+    /// file declares it, so that bodies added or removed before others keep every contact's
+    /// impulses its own. A report model's contacts, and a declared mechanism's given as
+    /// numbers, are identities as they stand (and its joints' plain numbers Λ_B row by row).
     pub impulses: Option<Impulses>,
 }
 
@@ -258,7 +267,9 @@ impl Scene {
     /// # Errors
     /// [`ModelError::Parse`] with the TOML reader's message and the offending field for bad
     /// syntax, an unknown field or a wrong type; [`ModelError::InvalidParameter`] naming the
-    /// field for a value out of range.
+    /// field for a value out of range; [`ModelError::BadValue`] (key `impulses.contacts.<k>`
+    /// or `impulses.joints.<k>`) for an impulse whose name the declared mechanism does not
+    /// have (see [`Self::impulses`]).
     pub fn from_toml_str(text: &str) -> Result<Scene, ModelError> {
         let table: toml::Table = toml::from_str(text).map_err(|e| parse_error(text, &e))?;
         if table.is_empty() {
@@ -284,7 +295,7 @@ impl Scene {
                 .map_err(|e| declared_parse_error(text, &table, &e))?;
             DeclaredFile::deserialize(value())
                 .map_err(|e| declared_parse_error(text, &table, &e))?;
-            file.into()
+            file.into_scene()?
         };
         scene.validate()?;
         Ok(scene)
@@ -307,13 +318,16 @@ impl Scene {
     }
 
     /// The scene as TOML text that [`Self::from_toml_str`] reads back to an equal scene. The
-    /// table `[impulses]` comes last, its contacts one per line.
+    /// table `[impulses]` comes last, its contacts and joint rows one per line, a declared
+    /// mechanism's by name (see [`Self::impulses`]).
     ///
     /// # Errors
     /// [`ModelError::Unwritable`] for a scene that TOML cannot hold (an impulse's contact
-    /// identity above TOML's largest integer).
+    /// identity above TOML's largest integer) and for a declared mechanism's impulses that name
+    /// no contact or joint row of it; the errors of [`Self::build`] for a declared mechanism
+    /// with impulses, whose names are taken from it.
     pub fn to_toml_string(&self) -> Result<String, ModelError> {
-        file::to_toml(self).map_err(|e| ModelError::Unwritable { message: e.to_string() })
+        file::to_toml(self)
     }
 
     /// Checks the scene's own fields and builds the model once.

@@ -120,6 +120,40 @@ fn a_linkage_with_a_motor_and_a_clearance_joint_continues_its_run() {
 }
 
 #[test]
+fn joint_impulses_follow_their_rows_when_joints_are_listed_in_another_order() {
+    // The four-bar's joints' impulses are written by row name; read back with the motor
+    // listed first, each row keeps its own impulse, at its new place.
+    let mut scene = scene_file("bodies/four-bar-clearance.toml");
+    scene.t_end = 0.05;
+    let (t, q, u, impulses) = end_with_impulses(&scene);
+    let next = scene.continued(t, &q, &u, impulses).expect("continued");
+    let text = next.to_toml_string().unwrap();
+    assert!(text.contains("joints = [\n    [\"A.Lx\", "), "{text}");
+    let mut doc: toml::Table = toml::from_str(&text).unwrap();
+    let joints = doc.get_mut("joints").and_then(toml::Value::as_array_mut).unwrap();
+    let motor = joints.iter().position(|j| j["name"].as_str() == Some("motor")).unwrap();
+    let m = joints.remove(motor);
+    joints.insert(0, m);
+    let turned = Scene::from_toml_str(&toml::to_string(&doc).unwrap()).expect("reads");
+    let rows = |s: &Scene| {
+        let Ok(moreau_models::AnyModel::Declared(mb)) = s.build() else { panic!("declared") };
+        let values = &s.impulses.as_ref().expect("impulses").joints;
+        let mut named: Vec<(String, f64)> =
+            mb.bilateral_names().into_iter().zip(values.iter().copied()).collect();
+        named.sort_by(|a, b| a.0.cmp(&b.0));
+        (mb.bilateral_names(), named)
+    };
+    let ((order, before), (turned_order, after)) = (rows(&next), rows(&turned));
+    assert_ne!(order, turned_order, "the rows moved");
+    assert_eq!(before, after);
+    assert!(before.iter().any(|(_, l)| *l != 0.0), "{before:?}");
+    // A row the mechanism does not have is refused, naming the entry.
+    let bad = text.replacen("[\"A.Lx\", ", "[\"A.Lz\", ", 1);
+    let e = Scene::from_toml_str(&bad).unwrap_err();
+    assert!(matches!(&e, ModelError::BadValue { key, .. } if key == "impulses.joints.0"), "{e:?}");
+}
+
+#[test]
 fn generated_bodies_become_declared_ones_and_continue_their_run() {
     // A pyramid of 6 boxes (base 3) dropped 2 mm onto the floor, on detected contacts solved
     // by Gauss-Seidel to 1e-10: the halves differ by the second half's first solve, which
@@ -136,14 +170,86 @@ fn generated_bodies_become_declared_ones_and_continue_their_run() {
     assert!(!text.contains("[[fill]]"), "{text}");
     let boxes = (0..6).filter(|k| text.contains(&format!("name = \"box{k}\""))).count();
     assert_eq!(boxes, 6, "{text}");
-    // The impulses come last, each contact on a line of its own: (identity, P_N, P_T).
+    // The impulses come last, each contact on a line of its own, named by its two shapes
+    // and its feature: (name, P_N, P_T). The floor is the first body, box0 its first box.
     let impulses = next.impulses.as_ref().expect("the last step's impulses");
     let tail = &text[text.find("\n[impulses]\ncontacts = [\n").expect("the table")..];
     let rows: Vec<&str> = tail.lines().filter(|l| l.starts_with("    [")).collect();
     assert_eq!(rows.len(), impulses.contacts.len(), "{tail}");
     assert!(rows.len() >= 6, "the boxes rest on the floor and on each other: {tail}");
-    let (id, p_n, p_t) = impulses.contacts[0];
-    assert_eq!(rows[0], format!("    [{id}, {p_n:?}, {p_t:?}],"), "{tail}");
+    let (_, p_n, p_t) = impulses.contacts[0];
+    assert_eq!(rows[0], format!("    [\"floor.0/box0.0/0\", {p_n:?}, {p_t:?}],"), "{tail}");
+}
+
+/// The pyramid of six boxes settled for 0.2 s, as the scene continued from there.
+fn settled_pyramid() -> Scene {
+    let mut scene = scene_file("scale/pyramid.toml");
+    scene.set("fill.box.base", "3").expect("base 3");
+    scene.t_end = 0.2;
+    let (t, q, u, impulses) = end_with_impulses(&scene);
+    scene.continued(t, &q, &u, impulses).expect("continued")
+}
+
+/// `text` with `edit` applied to its list of bodies, read as a scene.
+fn with_bodies(text: &str, edit: impl FnOnce(&mut Vec<toml::Value>)) -> Result<Scene, ModelError> {
+    let mut doc: toml::Table = toml::from_str(text).expect("TOML");
+    edit(doc.get_mut("bodies").and_then(toml::Value::as_array_mut).expect("bodies"));
+    Scene::from_toml_str(&toml::to_string(&doc).expect("TOML"))
+}
+
+#[test]
+fn impulses_follow_their_contacts_when_a_body_comes_before_the_others() {
+    // A fixed marker far from the pyramid declared first moves every shape one place on in
+    // the list of colliders, and so every contact's identity. The file names the contacts by
+    // their shapes: the continued run is the same to the bit with and without the marker.
+    let next = settled_pyramid();
+    let text = next.to_toml_string().unwrap();
+    let marker: toml::Value = toml::from_str::<toml::Table>(
+        "name = 'marker'\ntype = 'fixed'\nposition = [100.0, 100.0]\n\
+         shapes = [{ type = 'disk', center = [0.0, 0.0], radius = 0.01 }]",
+    )
+    .unwrap()
+    .into();
+    let edited = with_bodies(&text, |b| b.insert(0, marker.clone())).expect("reads");
+    assert_ne!(edited.impulses, next.impulses, "the identities moved");
+    let (_, q1, u1) = end(&next);
+    let (_, q2, u2) = end(&edited);
+    assert!(q1 == q2 && u1 == u2, "{:e}, {:e}", max_diff(&q1, &q2), max_diff(&u1, &u2));
+    // The same file with the impulses by identity, as the scene keeps them in memory, starts
+    // the marked pyramid's contacts from other contacts' impulses, and its run departs.
+    let by_id = toml::to_string(&next).expect("TOML");
+    assert!(by_id.contains("impulses"), "{by_id}");
+    let mislabelled = with_bodies(&by_id, |b| b.insert(0, marker)).expect("reads");
+    let (_, q3, u3) = end(&mislabelled);
+    assert!(max_diff(&q1, &q3) > 0.0 || max_diff(&u1, &u3) > 0.0, "the test can tell");
+}
+
+#[test]
+fn impulses_that_name_a_body_gone_or_turned_round_are_refused() {
+    let text = settled_pyramid().to_toml_string().unwrap();
+    let name = |b: &toml::Value| b["name"].as_str().unwrap_or("").to_owned();
+    // box5 rests on box3 and box4: its contacts' lines remain.
+    let e = with_bodies(&text, |b| b.retain(|b| name(b) != "box5")).unwrap_err();
+    assert!(
+        matches!(&e, ModelError::BadValue { key, .. } if key.starts_with("impulses.contacts."))
+    );
+    assert!(e.to_string().contains("names the body `box5`, which the scene does not have"), "{e}");
+    // box3, which rests on box0, declared before it: the pair's feature would number the
+    // points the other way round. (box0 and box1 stand apart: swapped, they still read.)
+    let swap = |x: &str, y: &str| {
+        with_bodies(&text, |b| {
+            let at = |n: &str| b.iter().position(|b| name(b) == n).unwrap();
+            let (i, j) = (at(x), at(y));
+            b.swap(i, j);
+        })
+    };
+    swap("box0", "box1").expect("no pair turns round");
+    let e = swap("box0", "box3").unwrap_err();
+    assert!(e.to_string().contains("which the scene now declares after"), "{e}");
+    // A name that is not a contact's.
+    let bad = text.replacen("\"floor.0/box0.0/0\"", "\"floor/box0.0/0\"", 1);
+    let e = Scene::from_toml_str(&bad).unwrap_err();
+    assert!(e.to_string().contains("is not a detected contact's name"), "{e}");
 }
 
 #[test]

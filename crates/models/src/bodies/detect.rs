@@ -29,7 +29,7 @@ use crate::ModelError;
 
 /// Colliders are numbered in 24 bits and features in 16 within a contact's identity.
 const COLLIDER_BITS: u32 = 24;
-const FEATURE_BITS: u32 = 16;
+pub(crate) const FEATURE_BITS: u32 = 16;
 
 /// The contact rules and colliders of a mechanism whose contacts are detected at each step.
 #[derive(Clone, Debug, PartialEq)]
@@ -82,6 +82,13 @@ thread_local! {
 /// A contact's identity from its two colliders (i < j) and its feature.
 pub(crate) fn contact_id(i: usize, j: usize, feature: u32) -> u64 {
     ((i as u64) << (COLLIDER_BITS + FEATURE_BITS)) | ((j as u64) << FEATURE_BITS) | feature as u64
+}
+
+/// The two colliders and the feature of a contact's identity ([`contact_id`]'s inverse).
+pub(crate) fn split_id(id: u64) -> (usize, usize, u32) {
+    let low = |bits: u32, v: u64| (v & ((1 << bits) - 1)) as usize;
+    let i = (id >> (COLLIDER_BITS + FEATURE_BITS)) as usize;
+    (i, low(COLLIDER_BITS, id >> FEATURE_BITS), low(FEATURE_BITS, id) as u32)
 }
 
 impl Detector {
@@ -271,10 +278,7 @@ impl Multibody {
         t: f64,
         margin: f64,
     ) -> Option<([usize; 2], SlotGeometry)> {
-        let low = |bits: u32, v: u64| (v & ((1 << bits) - 1)) as usize;
-        let i = (id >> (COLLIDER_BITS + FEATURE_BITS)) as usize;
-        let j = low(COLLIDER_BITS, id >> FEATURE_BITS);
-        let feature = low(FEATURE_BITS, id) as u32;
+        let (i, j, feature) = split_id(id);
         let (&x, &y) = (detector.colliders.get(i)?, detector.colliders.get(j)?);
         let (_, flipped) = detector.law(&self.bodies, x, y)?;
         let ((a, sa), (b, sb)) = if flipped { (y, x) } else { (x, y) };

@@ -76,7 +76,7 @@ mod builder;
 mod contact_spec;
 mod contacts;
 mod crossing;
-mod detect;
+pub(crate) mod detect;
 mod draw;
 mod fill;
 mod forces;

@@ -4,12 +4,13 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::labels::{self, FileImpulses};
 use super::{Scene, StopRule};
 use crate::bodies::{
     AutoContacts, BodySpec, ContactSet, ContactSpec, FillSpec, ForceSpec, JointSpec, SystemSpec,
 };
 use crate::{
-    BallParams, CamParams, ModelError, ModelKind, ModelParams, PainleveParams,
+    AnyModel, BallParams, CamParams, ModelError, ModelKind, ModelParams, PainleveParams,
     SliderCrankIdealParams, SliderCrankParams, WoodpeckerParams,
 };
 use moreau_stepper::{Impulses, SolverChoice};
@@ -90,7 +91,7 @@ pub(super) struct DeclaredFile {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     fill: Vec<FillSpec>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    impulses: Option<Impulses>,
+    impulses: Option<FileImpulses>,
 }
 
 impl From<BuiltinFile> for Scene {
@@ -110,30 +111,44 @@ impl From<BuiltinFile> for Scene {
     }
 }
 
-impl From<DeclaredFile> for Scene {
-    fn from(f: DeclaredFile) -> Self {
+impl DeclaredFile {
+    /// The scene, with the impulses that the file names resolved against the mechanism it
+    /// declares ([`labels`]).
+    ///
+    /// # Errors
+    /// The errors of [`FileImpulses::resolve`].
+    pub(super) fn into_scene(mut self) -> Result<Scene, ModelError> {
+        let named = self.impulses.take();
         let spec = SystemSpec {
-            gravity: f.gravity,
-            bodies: f.bodies,
-            joints: f.joints,
-            forces: f.forces,
-            contacts: f.contacts,
-            contacts_auto: f.contacts_auto,
-            contact_set: f.contact_set,
-            fill: f.fill,
+            gravity: self.gravity,
+            bodies: self.bodies,
+            joints: self.joints,
+            forces: self.forces,
+            contacts: self.contacts,
+            contacts_auto: self.contacts_auto,
+            contact_set: self.contact_set,
+            fill: self.fill,
         };
-        Scene {
-            dt: f.dt,
-            t_start: f.t_start,
-            t_end: f.t_end,
-            record_every: f.record_every,
-            solver: f.solver,
-            stop_at: f.stop_at,
-            projection: f.projection,
-            inexact_residual: f.inexact_residual,
+        let mut scene = Scene {
+            dt: self.dt,
+            t_start: self.t_start,
+            t_end: self.t_end,
+            record_every: self.record_every,
+            solver: self.solver,
+            stop_at: self.stop_at,
+            projection: self.projection,
+            inexact_residual: self.inexact_residual,
             params: ModelParams::Declared(Box::new(spec)),
-            impulses: f.impulses,
+            impulses: None,
+        };
+        if let Some(named) = named {
+            let impulses = named.resolve(|| match scene.build()? {
+                AnyModel::Declared(mb) => Ok(Some(mb)),
+                _ => Ok(None),
+            })?;
+            scene.impulses = Some(impulses);
         }
+        Ok(scene)
     }
 }
 
@@ -157,7 +172,7 @@ impl Serialize for Scene {
                 contacts_auto: spec.contacts_auto.clone(),
                 contact_set: spec.contact_set,
                 fill: spec.fill.clone(),
-                impulses: self.impulses.clone(),
+                impulses: self.impulses.as_ref().map(FileImpulses::of_ids),
             }
             .serialize(serializer),
             params => BuiltinFile {
@@ -178,23 +193,44 @@ impl Serialize for Scene {
 }
 
 /// The scene as TOML: its fields as serde writes them, then the table `[impulses]`, whose
-/// contacts (thousands in a settled pile) are written one per line so that a reader can find
-/// and edit one.
-pub(super) fn to_toml(scene: &Scene) -> Result<String, toml::ser::Error> {
+/// contacts (thousands in a settled pile) and joint rows are written one per line so that a
+/// reader can find and edit one; a declared mechanism's by name ([`labels`]), so that they
+/// still name their contacts when bodies come or go before others.
+///
+/// # Errors
+/// [`ModelError::Unwritable`] for what TOML cannot hold; a declared mechanism's impulses that
+/// name no contact of its own, or the errors of building it.
+pub(super) fn to_toml(scene: &Scene) -> Result<String, ModelError> {
+    let unwritable = |e: toml::ser::Error| ModelError::Unwritable { message: e.to_string() };
     let Some(impulses) = &scene.impulses else {
-        return toml::to_string(scene);
+        return toml::to_string(scene).map_err(unwritable);
     };
-    let mut text = toml::to_string(&Scene { impulses: None, ..scene.clone() })?;
+    let file = match &scene.params {
+        ModelParams::Declared(_) => match scene.build()? {
+            AnyModel::Declared(mb) => labels::named(&mb, impulses)?,
+            _ => unreachable!("a declaration builds a declared mechanism"),
+        },
+        _ => FileImpulses::of_ids(impulses),
+    };
+    let mut text =
+        toml::to_string(&Scene { impulses: None, ..scene.clone() }).map_err(unwritable)?;
     text.push_str("\n[impulses]\n");
-    if !impulses.contacts.is_empty() {
+    fn value<T: Serialize>(v: &T) -> Result<toml::Value, ModelError> {
+        toml::Value::try_from(v).map_err(|e| ModelError::Unwritable { message: e.to_string() })
+    }
+    if !file.contacts.is_empty() {
         text.push_str("contacts = [\n");
-        for &contact in &impulses.contacts {
-            text.push_str(&format!("    {},\n", toml::Value::try_from(contact)?));
+        for contact in &file.contacts {
+            text.push_str(&format!("    {},\n", value(contact)?));
         }
         text.push_str("]\n");
     }
-    if !impulses.joints.is_empty() {
-        text.push_str(&format!("joints = {}\n", toml::Value::try_from(&impulses.joints)?));
+    if !file.joints.is_empty() {
+        text.push_str("joints = [\n");
+        for row in &file.joints {
+            text.push_str(&format!("    {},\n", value(row)?));
+        }
+        text.push_str("]\n");
     }
     Ok(text)
 }
@@ -207,7 +243,8 @@ impl<'de> Deserialize<'de> for Scene {
         if value.get("params").is_some() {
             BuiltinFile::deserialize(value).map(Scene::from).map_err(D::Error::custom)
         } else {
-            DeclaredFile::deserialize(value).map(Scene::from).map_err(D::Error::custom)
+            let file = DeclaredFile::deserialize(value).map_err(D::Error::custom)?;
+            file.into_scene().map_err(D::Error::custom)
         }
     }
 }
