@@ -41,8 +41,8 @@ pub enum Divergence {
         /// The depth max(0, −g_N) of the deepest contact (the model's length unit: m for a
         /// report model).
         depth: f64,
-        /// The deepest penetration the guard accepts (the model's size, see
-        /// [`crate::guard::Scales`]).
+        /// The deepest penetration the guard accepts (the thickness of what the model's
+        /// contacts join, see [`crate::guard::contact_depth`]).
         bound: f64,
         /// Where the gap was taken: `the step's midpoint` (where the step's contacts are
         /// chosen) or `the run's end`.
@@ -89,8 +89,9 @@ impl std::fmt::Display for Divergence {
             Self::Penetration { depth, bound, at } => write!(
                 f,
                 "a contact penetrates {depth:.6e} deep at {at}, deeper than the bound \
-                 {bound:.3e} (the guards' length ℓ: 1 m, or a declared mechanism's size): a \
-                 body has passed through another, the time step is too long for the contacts"
+                 {bound:.3e} (the thickness of what the contact joins, or a declared \
+                 mechanism's size): a body has passed through another, the time step is too \
+                 long for the contacts"
             ),
             Self::Crossed { body, other, moved, thickness, gap } => write!(
                 f,

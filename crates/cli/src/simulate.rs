@@ -530,7 +530,7 @@ pub fn run_to_csv(
     // The problem an earlier run of the same output stopped on is not this run's.
     let failed_path = failed_problem_path(out_file.target());
     output::remove_stale(&failed_path)?;
-    let warnings = guard::gap_warnings(&model, scene.t_start);
+    let warnings = guard::gap_warnings(&model, scene.t_start, scene.projection);
     for w in &warnings {
         warn(w);
     }

@@ -383,7 +383,7 @@ pub fn run_with_warnings(
             .map(|&i| {
                 let scene = member_scene(&base, &grid, i, max_steps)?;
                 let model = scene.build()?;
-                let mut warnings = guard::gap_warnings(&model, scene.t_start);
+                let mut warnings = guard::gap_warnings(&model, scene.t_start, scene.projection);
                 if keys::columns_of(&model) != key_columns {
                     warnings.push(
                         "its bodies or contacts differ from the base scene's: its row gives the \

@@ -196,18 +196,39 @@ fn a_body_carried_through_its_contact_stops_the_run() -> Result<()> {
         .expect_err("one step through the floor");
     let (depth, bound, at, step) = penetration(&e).context(format!("{e:#}"))?;
     // y = 1 - 10 · 98.1 / 2 = -489.5, the gap y - r = -489.6.
-    ensure!((depth - 489.6).abs() < 1e-9 && bound == 1.0 && step == 0, "{e:#}");
+    // The bound is the ball's diameter, 0.2 m.
+    ensure!((depth - 489.6).abs() < 1e-9 && bound == 0.2 && step == 0, "{e:#}");
     ensure!(at == "the run's end", "{e:#}");
     // Steps of 1 s: the second step's midpoint lies 8.91 m deep.
     let e = run(&SimulateOptions { dt: Some(1.0), tf: Some(10.0), ..ball(&[]) })
         .expect_err("through the floor");
     let (depth, _, at, step) = penetration(&e).context(format!("{e:#}"))?;
     ensure!((depth - 8.91).abs() < 1e-9 && at == "the step's midpoint" && step == 1, "{e:#}");
-    // Steps of 0.1 s sink the ball 0.17 m into the floor (its centre at y = -0.074 m) and
-    // bounce: a coarse run, kept.
-    let coarse = run(&SimulateOptions { dt: Some(0.1), tf: Some(10.0), ..ball(&[]) })?;
+    // Steps of 0.1 s take the ball wholly below its floor at the midpoint of its 20th step
+    // (0.348 m deep, past its diameter); steps of 0.04 s sink it by 0.06 m at most (its
+    // centre at y = 0.0401 m) and bounce: a coarse run, kept.
+    let e = run(&SimulateOptions { dt: Some(0.1), tf: Some(10.0), ..ball(&[]) })
+        .expect_err("through the floor at a midpoint");
+    let (depth, _, at, step) = penetration(&e).context(format!("{e:#}"))?;
+    ensure!((depth - 0.347832).abs() < 1e-6 && at == "the step's midpoint" && step == 20);
+    let coarse = run(&SimulateOptions { dt: Some(0.04), tf: Some(10.0), ..ball(&[]) })?;
     let lowest = coarse.record().q.column(0).fold(f64::INFINITY, f64::min);
-    ensure!((lowest + 0.0739007).abs() < 1e-6, "{lowest}");
+    ensure!((lowest - 0.0401103).abs() < 1e-6, "{lowest}");
+    // The report's cam turned at 5e4 rad/s (the report's 20.94) drives its follower into
+    // the cam, deeper than its base radius r_b = 3 mm (0.13 m, which the 1 m of every report
+    // model let pass); turned at 20.94 rad/s its lift stays above -0.24 mm (the follower's
+    // impacts on the cam, stepped at the velocity level), and the run is kept.
+    let cam = |omega: &str| SimulateOptions {
+        model: Some("cam".into()),
+        sets: vec![format!("omega={omega}")],
+        ..SimulateOptions::default()
+    };
+    let e = run(&cam("5e4")).expect_err("the follower inside the cam");
+    let (depth, bound, ..) = penetration(&e).context(format!("{e:#}"))?;
+    ensure!(depth > 3e-3 && bound == 3e-3, "{e:#}");
+    let report = run(&cam("20.94"))?;
+    let lowest = report.record().q.column(0).fold(f64::INFINITY, f64::min);
+    ensure!(lowest > -2.4e-4 && lowest < 0.0, "{lowest}");
     // A ball that starts 1.1 m deep (with a warning) is measured from there.
     run(&SimulateOptions { tf: Some(0.01), ..ball(&["init.y0=-1"]) })?;
     // The declared ball with its contact detected, in one step: its size is 0.17 m.
@@ -304,7 +325,7 @@ fn streamed_records_equal_the_kept_ones() -> Result<()> {
 fn initial_gaps_near_zero_or_negative_are_warned_about() -> Result<()> {
     let warnings = |y0: &str| -> Result<Vec<String>> {
         let s = scene(&ball(&[&format!("init.y0={y0}")]))?;
-        Ok(guard::gap_warnings(&s.build()?, 0.0))
+        Ok(guard::gap_warnings(&s.build()?, 0.0, s.projection))
     };
     ensure!(warnings("1")?.is_empty());
     // r = 0.1: gaps of +2.8e-17 and −1.4e-17 m (round-off) are both reported as touching.
@@ -316,13 +337,19 @@ fn initial_gaps_near_zero_or_negative_are_warned_about() -> Result<()> {
     ensure!(w.len() == 1 && w[0].contains("penetrating") && w[0].contains("-1.1"), "{w:?}");
     // A report model's contacts are numbered from 1, as its columns `PN1`, `PT1`, `A1`.
     ensure!(w[0].starts_with("contact 1 (floor)"), "{w:?}");
+    // Without the position projection (the report's scheme) the penetration stays; with it,
+    // the first step moves the ball out without an impulse.
+    ensure!(w[0].contains("leaves a penetration in place"), "{w:?}");
+    let s = scene(&ball(&["init.y0=-1", "projection=true"]))?;
+    let w = guard::gap_warnings(&s.build()?, 0.0, s.projection);
+    ensure!(w.len() == 1 && w[0].contains("the position projection moves the bodies out"), "{w:?}");
     // The woodpecker's sleeve at y = 0 puts its lower edge 8.8e-7 m into the pole: PN2.
     let s = scene(&SimulateOptions {
         model: Some("woodpecker".into()),
         sets: vec!["init.y=0".into()],
         ..SimulateOptions::default()
     })?;
-    let w = guard::gap_warnings(&s.build()?, 0.0);
+    let w = guard::gap_warnings(&s.build()?, 0.0, s.projection);
     let lower = "contact 2 (lower sleeve edge) starts penetrating: g_N = -8.800000e-7";
     ensure!(w.len() == 1 && w[0].starts_with(lower), "{w:?}");
     // 1e-6 m above the floor is a gap, not a touch.
@@ -466,21 +493,21 @@ fn a_declared_mechanism_is_guarded_alike_in_any_units() -> Result<()> {
             ensure!(close(*v, v0 * unit), "{s} {m}: u bound {j}: {v} vs {v0}");
         }
         // The gaps of the contacts that a fixed contact set lists at the start.
-        let w = guard::gap_warnings(&springs_in_units("fixed", 5.0, s, m, 1e-6)?, 0.0);
+        let w = guard::gap_warnings(&springs_in_units("fixed", 5.0, s, m, 1e-6)?, 0.0, true);
         ensure!(w.is_empty(), "{s} {m}: {w:?}");
         let touching = springs_in_units("fixed", 5.0, s, m, 1e-12)?;
-        let w = guard::gap_warnings(&touching, 0.0);
+        let w = guard::gap_warnings(&touching, 0.0, true);
         // A declared contact is named as its columns are (`floor.0-probe.0.PN`).
         let name = w.first().and_then(|w| w.split_once(" starts touching")).map(|p| p.0);
         ensure!(w.len() == 1 && name == Some("contact `floor.0-probe.0`"), "{w:?}");
         // The same with a detected contact set: the contacts that detection finds at the start,
         // counted and named by their bodies.
-        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-6)?, 0.0);
+        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-6)?, 0.0, true);
         ensure!(w.is_empty(), "{s} {m}: {w:?}");
-        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-12)?, 0.0);
+        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, 1e-12)?, 0.0, true);
         let named = w.len() == 1 && w[0].starts_with("1 detected contact starts touching");
         ensure!(named && w[0].contains("`probe`"), "{s} {m}: {w:?}");
-        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, -1e-3)?, 0.0);
+        let w = guard::gap_warnings(&springs_in_units("detected", 5.0, s, m, -1e-3)?, 0.0, true);
         let named = w.len() == 1 && w[0].starts_with("1 detected contact starts penetrating");
         ensure!(named && w[0].contains("`probe`"), "{s} {m}: {w:?}");
         let g = format!("g_N = {:.6e}", -1e-3 * s);
