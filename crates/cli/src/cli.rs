@@ -220,6 +220,12 @@ impl SweepArgs {
                 s.rows
             );
         } else {
+            if s.dropped_damaged_row {
+                eprintln!(
+                    "warning: the unfinished run's last row was damaged (cut off while written, \
+                     or altered): it was dropped and its member run again"
+                );
+            }
             println!(
                 "wrote {} to {} ({} run now, {} diverged, {} failed)",
                 members(s.rows),

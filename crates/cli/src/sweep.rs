@@ -131,6 +131,7 @@ pub fn sweep_id(base: &Scene, axes: &[Axis], max_steps: u64) -> Result<String, M
 
 /// What a sweep did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct SweepSummary {
     /// Rows in the output (members of the shard).
     pub rows: u64,
@@ -144,6 +145,9 @@ pub struct SweepSummary {
     /// Whether the output held this sweep's finished part already (with `resume`): nothing
     /// was left to run, and the file was left as it was.
     pub finished_before: bool,
+    /// Whether resuming dropped the unfinished part's damaged last line (a row cut off while
+    /// it was written, or altered since), whose member was run again.
+    pub dropped_damaged_row: bool,
 }
 
 impl SweepSummary {
@@ -161,6 +165,7 @@ impl SweepSummary {
             diverged: count("diverged"),
             failed: count("failed"),
             finished_before: false,
+            dropped_damaged_row: false,
         }
     }
 
@@ -451,6 +456,7 @@ pub fn run_with_warnings(
         });
     }
     let mut kept: Vec<Vec<String>> = Vec::new();
+    let mut dropped_damaged_row = false;
     if partial.exists() {
         if !options.resume {
             let reason = partial_reason(&partial, &identity);
@@ -468,6 +474,7 @@ pub fn run_with_warnings(
             }
             .into());
         }
+        dropped_damaged_row = part.dropped_tail;
         kept = part.rows.into_iter().map(|(_, r)| r).collect();
     } else {
         // The problems an earlier sweep's members stopped on are not this sweep's.
@@ -526,7 +533,8 @@ pub fn run_with_warnings(
     );
     parts::write_part(target, &identity, &columns, &rows)?;
     std::fs::remove_file(&partial).with_context(|| format!("removing {}", partial.display()))?;
-    Ok(SweepSummary::of_rows(&columns, &rows, ran.into_inner().unwrap_or_else(|p| p.into_inner())))
+    let ran = ran.into_inner().unwrap_or_else(|p| p.into_inner());
+    Ok(SweepSummary { dropped_damaged_row, ..SweepSummary::of_rows(&columns, &rows, ran) })
 }
 
 #[cfg(test)]

@@ -171,8 +171,8 @@ fn an_interrupted_sweep_resumes_without_rerunning_its_members() -> Result<()> {
     // Another sweep does not resume it.
     let other = SweepOptions { resume: true, ..options("0.1,0.3,0.6", None)? };
     ensure!(run(&other, &out).is_err());
-    let s = run(&SweepOptions { resume: true, ..o }, &out)?;
-    ensure!(s.ran == 3 && s.rows == 6, "{s:?}");
+    let s = run(&SweepOptions { resume: true, ..o.clone() }, &out)?;
+    ensure!(s.ran == 3 && s.rows == 6 && s.dropped_damaged_row, "{s:?}");
     let strip = |t: &str| -> Vec<String> {
         // Without wall_seconds and the check, which covers it.
         t.lines()
@@ -187,6 +187,21 @@ fn an_interrupted_sweep_resumes_without_rerunning_its_members() -> Result<()> {
     // Resuming a finished part runs nothing.
     let again = run(&SweepOptions { resume: true, ..options("0.1,0.3,0.5", None)? }, &out)?;
     ensure!(again.ran == 0 && again.rows == 6, "{again:?}");
+    // Cut between two rows, nothing is dropped; the command says when a row was.
+    let clean = format!("{}\n", lines[..5].join("\n"));
+    std::fs::write(partial_path(&out), &clean)?;
+    std::fs::remove_file(&out)?;
+    let s = run(&SweepOptions { resume: true, ..o.clone() }, &out)?;
+    ensure!(s.ran == 3 && !s.dropped_damaged_row, "{s:?}");
+    std::fs::write(partial_path(&out), &partial)?;
+    std::fs::remove_file(&out)?;
+    let resumed = std::process::Command::new(env!("CARGO_BIN_EXE_moreau"))
+        .args(["sweep", "ball", "--set", "eps_n=0.1,0.3,0.5", "--set", "t_end=0.5,1"])
+        .args(["--resume", "--out"])
+        .arg(&out)
+        .output()?;
+    let stderr = String::from_utf8_lossy(&resumed.stderr);
+    ensure!(stderr.contains("last row was damaged"), "{stderr}");
     Ok(())
 }
 
