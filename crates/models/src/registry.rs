@@ -362,6 +362,10 @@ impl Mechanism for AnyModel {
         dispatch!(self, m => m.potential_energy(q, t))
     }
     #[inline]
+    fn damping_forces(&self, q: &[f64], u: &[f64], t: f64, h_d: &mut [f64]) -> bool {
+        dispatch!(self, m => m.damping_forces(q, u, t, h_d))
+    }
+    #[inline]
     fn constant_mass_matrix(&self) -> bool {
         dispatch!(self, m => m.constant_mass_matrix())
     }

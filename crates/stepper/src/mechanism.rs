@@ -37,6 +37,19 @@ pub trait Mechanism: ContactKinematics {
         None
     }
 
+    /// Writes the dampers' part h_D(q, u, t) of `h` (viscous forces, already included in
+    /// [`Self::forces`]) into `h_d` (length `f`, handed over filled with zeros), and returns
+    /// whether the mechanism has dampers; the default has none and writes nothing.
+    ///
+    /// Only the energy balance reads it: the [`crate::Recorder`] counts the work the dampers
+    /// take out of a step, −(Δt/2) h_D(q_M, u_A, t_M)ᵀ (u_A + u_E), with the impulses' in
+    /// [`crate::Record::cumulative_dissipation`], so that kinetic plus potential energy plus
+    /// the dissipation stays at its start (to the midpoint rule's error on the springs).
+    fn damping_forces(&self, q: &[f64], u: &[f64], t: f64, h_d: &mut [f64]) -> bool {
+        let _ = (q, u, t, h_d);
+        false
+    }
+
     /// Whether M does not depend on `q` and `t`, so that the stepper may factorise it once.
     fn constant_mass_matrix(&self) -> bool {
         false

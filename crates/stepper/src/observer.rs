@@ -107,13 +107,15 @@ pub struct Record {
     pub kinetic: Vec<f64>,
     /// Potential energy V(q, t) (J); zero when the mechanism defines none.
     pub potential: Vec<f64>,
-    /// Energy removed by the impulses of contacts and joints from the recorder's first row up
-    /// to this row (J), the sum of [`StepReport::impulse_dissipation`]: cumulative, 0 at row 0.
-    /// The energy removed by the steps of row k is
-    /// `cumulative_dissipation[k] − cumulative_dissipation[k − 1]`. Under constant smooth
-    /// forces (gravity) kinetic + potential + cumulative dissipation stays at its initial
-    /// value to round-off (without the projection, which moves q alone), under other
-    /// conservative forces to within the scheme's error.
+    /// Energy removed by the impulses of contacts and joints and by the dampers from the
+    /// recorder's first row up to this row (J): the sum of [`StepReport::impulse_dissipation`]
+    /// and of the dampers' work taken out of each step (see [`Mechanism::damping_forces`],
+    /// counted from [`Recorder::push_initial`]); cumulative, 0 at row 0. The energy removed by
+    /// the steps of row k is `cumulative_dissipation[k] − cumulative_dissipation[k − 1]`.
+    /// Under constant smooth forces (gravity) and linear dampers, kinetic + potential +
+    /// cumulative dissipation stays at its initial value to round-off (without the
+    /// projection, which moves q alone), under other conservative forces to within the
+    /// scheme's error. Work done by drives and applied loads is not counted.
     pub cumulative_dissipation: Vec<f64>,
     /// Every impact, in the order of the steps (see [`ContactReport::impact`]): the steps in
     /// which a contact closed with a negative normal relative velocity γ_N,A. A closing at a
@@ -206,8 +208,11 @@ pub struct Recorder {
     sum_joints: Vec<f64>,
     /// The contacts' states of the row being written.
     states: Vec<ContactState>,
-    /// Energy removed by the impulses since the first row (J).
+    /// Energy removed by the impulses and the dampers since the first row (J).
     sum_dissipated: f64,
+    /// For a mechanism with dampers, the state the observed step starts from and buffers for
+    /// their work; `None` otherwise.
+    damped: Option<Damped>,
     /// The impulses of the run's last step, once it has finished.
     last_impulses: Option<Impulses>,
 }
@@ -239,6 +244,7 @@ impl Recorder {
             sum_joints: Vec::new(),
             states: Vec::new(),
             sum_dissipated: 0.0,
+            damped: None,
             last_impulses: None,
         }
     }
@@ -265,6 +271,14 @@ impl Recorder {
         self.sum_joints.resize(mechanism.num_bilaterals(), 0.0);
         let contacts = vec![ContactReport::default(); n];
         self.push_row(mechanism, t, q, u, &contacts, 0, 0);
+        let mut h_d = vec![0.0; q.len()];
+        self.damped = mechanism.damping_forces(q, u, t, &mut h_d).then(|| Damped {
+            t,
+            q: q.to_vec(),
+            u: u.to_vec(),
+            q_mid: vec![0.0; q.len()],
+            h_d,
+        });
     }
 
     fn resize(&mut self, n: usize) {
@@ -328,6 +342,37 @@ impl Recorder {
     }
 }
 
+/// The start (t_A, q_A, u_A) of the step a [`Recorder`] observes next, for the dampers' work.
+#[derive(Clone, Debug)]
+struct Damped {
+    t: f64,
+    q: Vec<f64>,
+    u: Vec<f64>,
+    q_mid: Vec<f64>,
+    h_d: Vec<f64>,
+}
+
+impl Damped {
+    /// The energy the dampers took out of the step `report` ends, −(Δt/2) h_Dᵀ (u_A + u_E)
+    /// with h_D at the midpoint (q_M, u_A, t_M), where the step evaluates h: the part of the
+    /// midpoint rule's change of kinetic energy, ½ (u_E − u_A)ᵀ M (u_E + u_A), that the
+    /// dampers did; then the step's end becomes the next one's start.
+    fn step<M: Mechanism + ?Sized>(&mut self, mechanism: &M, report: &StepReport<'_>) -> f64 {
+        let half = 0.5 * (report.t - self.t);
+        for ((m, q), u) in self.q_mid.iter_mut().zip(&self.q).zip(&self.u) {
+            *m = q + half * u;
+        }
+        self.h_d.fill(0.0);
+        mechanism.damping_forces(&self.q_mid, &self.u, self.t + half, &mut self.h_d);
+        let work: f64 =
+            self.h_d.iter().zip(&self.u).zip(report.u).map(|((h, a), e)| h * (a + e)).sum();
+        self.t = report.t;
+        self.q.copy_from_slice(report.q);
+        self.u.copy_from_slice(report.u);
+        -half * work
+    }
+}
+
 impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
     fn observe(&mut self, mechanism: &M, report: &StepReport<'_>) -> ControlFlow<()> {
         let by_id = mechanism.body_structure().is_some();
@@ -357,6 +402,9 @@ impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
             *s += l;
         }
         self.sum_dissipated += report.impulse_dissipation();
+        if let Some(d) = &mut self.damped {
+            self.sum_dissipated += d.step(mechanism, report);
+        }
         self.pending += 1;
         if self.pending >= self.every {
             self.push_step(mechanism, report);

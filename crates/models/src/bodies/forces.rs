@@ -80,6 +80,38 @@ impl Force {
         t: f64,
         h: &mut [f64],
     ) {
+        self.add::<false>(bodies, frame, u, t, h);
+    }
+
+    /// Whether the element damps: a spring or torsion spring with a damping coefficient c ≠ 0.
+    pub fn damps(&self) -> bool {
+        matches!(self, Force::Spring { c, .. } | Force::Torsion { c, .. } if *c != 0.0)
+    }
+
+    /// Adds the element's damping force alone (c times the rate of its length or angle) to
+    /// h_D at (q, u, t), as [`Self::add_to`] adds it with the rest.
+    pub fn add_damping_to(
+        &self,
+        bodies: &[Body],
+        frame: impl Fn(usize) -> Frame,
+        u: &[f64],
+        t: f64,
+        h_d: &mut [f64],
+    ) {
+        self.add::<true>(bodies, frame, u, t, h_d);
+    }
+
+    /// [`Self::add_to`], or with `DAMPING` the dampers' part only.
+    #[inline]
+    fn add<const DAMPING: bool>(
+        &self,
+        bodies: &[Body],
+        frame: impl Fn(usize) -> Frame,
+        u: &[f64],
+        t: f64,
+        h: &mut [f64],
+    ) {
+        let stiff = |k: f64, stretch: f64| if DAMPING { 0.0 } else { k * stretch };
         match self {
             Force::Spring { a, ra, b, rb, k, rest, c } => {
                 let (fa, fb) = (frame(*a), frame(*b));
@@ -98,7 +130,7 @@ impl Force {
                         bodies[*a].point_velocity(&fa, u, pa),
                     ),
                 );
-                let tension = k * (length - rest) + c * rate;
+                let tension = stiff(*k, length - rest) + c * rate;
                 apply(h, &fa, scale(e, tension), pa);
                 apply(h, &fb, scale(e, -tension), pb);
             }
@@ -106,10 +138,11 @@ impl Force {
                 let (fa, fb) = (frame(*a), frame(*b));
                 let rate =
                     bodies[*b].angular_velocity(&fb, u) - bodies[*a].angular_velocity(&fa, u);
-                let torque = k * (fb.theta - fa.theta - rest) + c * rate;
+                let torque = stiff(*k, fb.theta - fa.theta - rest) + c * rate;
                 apply_torque(h, &fa, torque);
                 apply_torque(h, &fb, -torque);
             }
+            Force::Point { .. } | Force::Torque { .. } if DAMPING => {}
             Force::Point { body, r, fx, fy } => {
                 let f = frame(*body);
                 apply(h, &f, [fx.at(t), fy.at(t)], f.point(*r));

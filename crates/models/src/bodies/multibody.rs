@@ -462,6 +462,18 @@ impl Mechanism for Multibody {
         Some(gravity + springs)
     }
 
+    fn damping_forces(&self, q: &[f64], u: &[f64], t: f64, h_d: &mut [f64]) -> bool {
+        if !self.forces.iter().any(Force::damps) {
+            return false;
+        }
+        self.with_frames(q, t, |frames| {
+            for force in self.forces.iter().filter(|f| f.damps()) {
+                force.add_damping_to(&self.bodies, |b| frames[b], u, t, h_d);
+            }
+        });
+        true
+    }
+
     fn constant_mass_matrix(&self) -> bool {
         self.constant_mass
     }
