@@ -637,6 +637,10 @@ mod tests {
             err,
             KinematicsError::NonFinite { what: "w_T", contact: Some(1), sample: Some(0) }
         );
+        let text = err.to_string();
+        assert!(text.starts_with("non-finite w_T at contact 1, sample state 0: an entry left"));
+        let q = KinematicsError::NonFinite { what: "q", contact: None, sample: Some(2) };
+        assert_eq!(q.to_string(), "non-finite q at sample state 2");
     }
 
     #[test]

@@ -27,7 +27,7 @@ pub enum KinematicsError {
         len: usize,
     },
     /// A NaN or infinite value in an input or in a value returned by the kinematics.
-    #[error("non-finite {what} (contact {contact:?}, sample {sample:?})")]
+    #[error("non-finite {what}{}", non_finite_where(what, *contact, *sample))]
     NonFinite {
         /// Which quantity is not finite (`q`, `t`, `g_N`, `w_T`, ...).
         what: &'static str,
@@ -132,4 +132,21 @@ fn the_value(value: Option<f64>) -> String {
 /// The " at index i" suffix of a shape error, or nothing.
 fn at_index(index: Option<usize>) -> String {
     index.map(|i| format!(" (at index {i})")).unwrap_or_default()
+}
+
+/// Where a [`KinematicsError::NonFinite`] value was found, and for a force direction what is
+/// most likely wrong.
+fn non_finite_where(what: &str, contact: Option<usize>, sample: Option<usize>) -> String {
+    let at: Vec<String> = [("contact", contact), ("sample state", sample)]
+        .into_iter()
+        .filter_map(|(name, i)| i.map(|i| format!("{name} {i}")))
+        .collect();
+    let mut text = if at.is_empty() { String::new() } else { format!(" at {}", at.join(", ")) };
+    if matches!(what, "w_N" | "w_T") {
+        text.push_str(
+            ": an entry left unwritten (the checks hand the directions over filled with NaN, \
+             and `contact` must write every entry) or a value computed as NaN or infinite",
+        );
+    }
+    text
 }

@@ -257,6 +257,37 @@ impl Scene {
         }
     }
 
+    /// The scene of the declared mechanism `spec` (a [`crate::bodies::MultibodyBuilder`]'s
+    /// [`spec`](crate::bodies::MultibodyBuilder::spec), or a declaration read elsewhere),
+    /// stepped by Δt = `dt` (s) from t = 0 to `t_end` (s), with a scene file's defaults for
+    /// the rest: every step recorded, the `auto` solver, the position projection on, no stop
+    /// rule, no start impulses.
+    ///
+    /// ```
+    /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+    /// use moreau_models::Scene;
+    /// use moreau_models::bodies::{BodySpec, JointSpec, MultibodyBuilder};
+    ///
+    /// let mut builder = MultibodyBuilder::new([0.0, -9.81]);
+    /// builder.add_body(BodySpec::dynamic("bob", 1.0, 1e-6, [0.5, 0.0], 0.0));
+    /// builder.add_joint(JointSpec::revolute("hinge", "ground", [0.0, 0.0], "bob", [-0.5, 0.0]));
+    /// let scene = Scene::declared(builder.spec().clone(), 1e-3, 0.1);
+    /// let run = scene.run()?;
+    /// assert_eq!(run.steps, 100);
+    /// // The same scene as a file: `moreau simulate --scene pendulum.toml` runs it.
+    /// assert_eq!(Scene::from_toml_str(&scene.to_toml_string()?)?, scene);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn declared(spec: crate::bodies::SystemSpec, dt: f64, t_end: f64) -> Scene {
+        Scene {
+            dt,
+            t_end,
+            params: ModelParams::Declared(Box::new(spec)),
+            ..Scene::report(ModelKind::Declared)
+        }
+    }
+
     /// Which model the scene runs.
     pub fn kind(&self) -> ModelKind {
         self.params.kind()

@@ -156,6 +156,15 @@ fn set_accepts_scene_and_model_keys() {
     assert!(scene.keys().contains(&"solver.tolerance".to_string()));
     scene.set("solver.tolerance", "1e-8").unwrap();
     assert!(matches!(scene.solver, SolverChoice::Pgs { tolerance, .. } if tolerance == 1e-8));
+    // The scene file's table form, whole.
+    scene
+        .set("solver", "{ kind = \"pgs\", tolerance = 1e-9, omega = 1.2, max_iterations = 500 }")
+        .unwrap();
+    assert!(matches!(scene.solver, SolverChoice::Pgs { tolerance, .. } if tolerance == 1e-9));
+    let e = scene.set("solver", "{ kind = \"newton\" }").unwrap_err().to_string();
+    assert!(e.contains("not a solver table"), "{e}");
+    let e = scene.set("solver", "newton").unwrap_err().to_string();
+    assert!(e.contains("or a table as in a scene file"), "{e}");
 
     // A last key part sets every matching key: all three woodpecker contacts.
     let mut wp = Scene::report(ModelKind::Woodpecker);

@@ -8,6 +8,11 @@ use moreau_lcp::{Method, Status};
 use crate::dense::{half_bilinear, half_quadratic};
 
 /// Whether a contact is open, sticking or slipping at the end of a step.
+///
+/// The state describes the tangential velocity γ_T,E after the step, not the branch of the
+/// friction law: under tangential restitution ε_T > 0, an impact that sticks in Newton's
+/// tangential law (ξ_T = γ_T,E + ε_T γ_T,A = 0 with |P_T| < μ P_N) leaves the contact
+/// with γ_T,E = −ε_T γ_T,A ≠ 0, reversing its sliding, and is reported as [`Self::Slip`].
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
 )]

@@ -11,7 +11,11 @@
 //! |r_T,i| <= μ_i r_N,i,  r_T,i = -μ_i r_N,i sign(u_T,i) if u_T,i != 0   (Coulomb)
 //! ```
 //!
-//! W (the Delassus matrix) is symmetric positive semidefinite and stored by 2x2 blocks:
+//! W (the Delassus matrix) is symmetric positive semidefinite and stored by 2x2 blocks (a
+//! problem is checked for what its solvers rely on: finite entries, blocks in range, and
+//! diagonal blocks that are symmetric positive semidefinite; the symmetry of the
+//! off-diagonal blocks, W_ji = W_ijᵀ, is the caller's to keep, as a Delassus matrix
+//! W = H M⁻¹ Hᵀ has it by construction):
 //! block (i, j) is nonzero only when contacts i and j share a body, so a granular problem
 //! of thousands of contacts stores a few blocks per contact ([`Fc2d`], [`Fc2dRef`],
 //! [`Fc2dBuilder`]). Bilateral (equality) rows with free multipliers, for joints, live in

@@ -585,6 +585,16 @@ impl Fc2d {
         self.q.len()
     }
 
+    /// Number of groups (contacts, then bilateral groups).
+    pub fn n_groups(&self) -> usize {
+        self.view().n_groups()
+    }
+
+    /// Number of bilateral rows n_b.
+    pub fn n_bilateral(&self) -> usize {
+        self.n_rows() - 2 * self.n_contacts
+    }
+
     /// Number of stored blocks.
     pub fn n_blocks(&self) -> usize {
         self.blocks.len()

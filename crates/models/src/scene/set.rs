@@ -213,7 +213,19 @@ impl Scene {
     fn assigned(&self, key: &str, value: &str) -> Result<Scene, ModelError> {
         let bad = |reason: String| bad_value(key, value, reason);
         if key == "solver" {
-            let solver = value.trim().parse().map_err(|e: UnknownSolver| bad(e.to_string()))?;
+            // A name (`pgs`, with its defaults), or the scene file's table
+            // (`{ kind = "pgs", omega = 1.2 }`).
+            let solver = if value.trim_start().starts_with('{') {
+                let table: toml::Table = toml::from_str(&format!("solver = {value}"))
+                    .map_err(|e| bad(format!("not a solver table: {}", reason_of(&e))))?;
+                table["solver"].clone().try_into().map_err(|e: toml::de::Error| {
+                    bad(format!("not a solver table: {}", reason_of(&e)))
+                })?
+            } else {
+                value.trim().parse().map_err(|e: UnknownSolver| {
+                    bad(format!("{e}, or a table as in a scene file: {{ kind = \"pgs\", ... }}"))
+                })?
+            };
             return Ok(Scene { solver, ..self.clone() });
         }
         let targets = self.targets(key)?;
