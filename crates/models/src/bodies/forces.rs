@@ -70,40 +70,16 @@ pub(crate) fn gravity_potential(body: &Body, frame: &Frame, gravity: [f64; 2]) -
 }
 
 impl Force {
-    /// Adds the element's generalised force to h at (q, u, t); `frame(i)` gives body i's frame.
-    #[inline]
-    pub fn add_to(
-        &self,
-        bodies: &[Body],
-        frame: impl Fn(usize) -> Frame,
-        u: &[f64],
-        t: f64,
-        h: &mut [f64],
-    ) {
-        self.add::<false>(bodies, frame, u, t, h);
-    }
-
     /// Whether the element damps: a spring or torsion spring with a damping coefficient c ≠ 0.
     pub fn damps(&self) -> bool {
         matches!(self, Force::Spring { c, .. } | Force::Torsion { c, .. } if *c != 0.0)
     }
 
-    /// Adds the element's damping force alone (c times the rate of its length or angle) to
-    /// h_D at (q, u, t), as [`Self::add_to`] adds it with the rest.
-    pub fn add_damping_to(
-        &self,
-        bodies: &[Body],
-        frame: impl Fn(usize) -> Frame,
-        u: &[f64],
-        t: f64,
-        h_d: &mut [f64],
-    ) {
-        self.add::<true>(bodies, frame, u, t, h_d);
-    }
-
-    /// [`Self::add_to`], or with `DAMPING` the dampers' part only.
+    /// Adds the element's generalised force to h at (q, u, t), or with `DAMPERS_ONLY` its
+    /// damping force alone (c times the rate of its length or angle: its part of h_D);
+    /// `frame(i)` gives body i's frame.
     #[inline]
-    fn add<const DAMPING: bool>(
+    pub fn add_to<const DAMPERS_ONLY: bool>(
         &self,
         bodies: &[Body],
         frame: impl Fn(usize) -> Frame,
@@ -111,7 +87,7 @@ impl Force {
         t: f64,
         h: &mut [f64],
     ) {
-        let stiff = |k: f64, stretch: f64| if DAMPING { 0.0 } else { k * stretch };
+        let stiff = |k: f64, stretch: f64| if DAMPERS_ONLY { 0.0 } else { k * stretch };
         match self {
             Force::Spring { a, ra, b, rb, k, rest, c } => {
                 let (fa, fb) = (frame(*a), frame(*b));
@@ -142,7 +118,7 @@ impl Force {
                 apply_torque(h, &fa, torque);
                 apply_torque(h, &fb, -torque);
             }
-            Force::Point { .. } | Force::Torque { .. } if DAMPING => {}
+            Force::Point { .. } | Force::Torque { .. } if DAMPERS_ONLY => {}
             Force::Point { body, r, fx, fy } => {
                 let f = frame(*body);
                 apply(h, &f, [fx.at(t), fy.at(t)], f.point(*r));

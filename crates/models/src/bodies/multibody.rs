@@ -323,7 +323,7 @@ impl Multibody {
             blocks.iter_mut().zip(&self.dynamic).for_each(body);
         }
         for force in &self.forces {
-            force.add_to(&self.bodies, |b| frames[b], u, t, h);
+            force.add_to::<false>(&self.bodies, |b| frames[b], u, t, h);
         }
     }
 
@@ -468,7 +468,7 @@ impl Mechanism for Multibody {
         }
         self.with_frames(q, t, |frames| {
             for force in self.forces.iter().filter(|f| f.damps()) {
-                force.add_damping_to(&self.bodies, |b| frames[b], u, t, h_d);
+                force.add_to::<true>(&self.bodies, |b| frames[b], u, t, h_d);
             }
         });
         true
