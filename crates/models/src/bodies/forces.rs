@@ -2,6 +2,7 @@
 //! and the potential energy V(q) of the conservative ones.
 
 use super::body::{Body, Frame, Kind, cross, dot, scale, sub};
+use super::multibody::Multibody;
 use super::spec::TimeFunction;
 
 /// A built force element (bodies by index).
@@ -142,4 +143,24 @@ impl Force {
             Force::Point { .. } | Force::Torque { .. } => 0.0,
         }
     }
+}
+
+/// `Mechanism::damping_forces` of a declared mechanism: the dampers' part of h at (q, u, t)
+/// into `h_d`, and whether it has dampers. Each force's bodies' frames are computed anew, as
+/// for the potential energy: only the record's energy balance reads this, once per step.
+#[inline(never)]
+pub(crate) fn damping_forces(
+    mb: &Multibody,
+    q: &[f64],
+    u: &[f64],
+    t: f64,
+    h_d: &mut [f64],
+) -> bool {
+    if !mb.forces.iter().any(Force::damps) {
+        return false;
+    }
+    for force in mb.forces.iter().filter(|f| f.damps()) {
+        force.add_to::<true>(&mb.bodies, |b| mb.bodies[b].frame(q, t), u, t, h_d);
+    }
+    true
 }

@@ -463,15 +463,7 @@ impl Mechanism for Multibody {
     }
 
     fn damping_forces(&self, q: &[f64], u: &[f64], t: f64, h_d: &mut [f64]) -> bool {
-        if !self.forces.iter().any(Force::damps) {
-            return false;
-        }
-        self.with_frames(q, t, |frames| {
-            for force in self.forces.iter().filter(|f| f.damps()) {
-                force.add_to::<true>(&self.bodies, |b| frames[b], u, t, h_d);
-            }
-        });
-        true
+        super::forces::damping_forces(self, q, u, t, h_d)
     }
 
     fn constant_mass_matrix(&self) -> bool {
