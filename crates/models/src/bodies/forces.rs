@@ -156,11 +156,10 @@ pub(crate) fn damping_forces(
     t: f64,
     h_d: &mut [f64],
 ) -> bool {
-    if !mb.forces.iter().any(Force::damps) {
-        return false;
-    }
+    let mut damped = false;
     for force in mb.forces.iter().filter(|f| f.damps()) {
         force.add_to::<true>(&mb.bodies, |b| mb.bodies[b].frame(q, t), u, t, h_d);
+        damped = true;
     }
-    true
+    damped
 }

@@ -216,11 +216,9 @@ impl Scene {
             // A name (`pgs`, with its defaults), or the scene file's table
             // (`{ kind = "pgs", omega = 1.2 }`).
             let solver = if value.trim_start().starts_with('{') {
-                let table: toml::Table = toml::from_str(&format!("solver = {value}"))
-                    .map_err(|e| bad(format!("not a solver table: {}", reason_of(&e))))?;
-                table["solver"].clone().try_into().map_err(|e: toml::de::Error| {
-                    bad(format!("not a solver table: {}", reason_of(&e)))
-                })?
+                toml::from_str(&format!("solver = {value}"))
+                    .and_then(|table: toml::Table| table["solver"].clone().try_into())
+                    .map_err(|e| bad(format!("not a solver table: {}", reason_of(&e))))?
             } else {
                 value.trim().parse().map_err(|e: UnknownSolver| {
                     bad(format!("{e}, or a table as in a scene file: {{ kind = \"pgs\", ... }}"))
