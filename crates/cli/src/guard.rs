@@ -206,8 +206,8 @@ pub fn plan_steps(scene: &Scene, max_steps: u64) -> Result<u64, CliError> {
 pub fn gap_warnings(model: &AnyModel, t0: f64, projection: bool) -> Vec<String> {
     let stays = if projection {
         "the position projection moves the bodies out of it, down to its tolerance, at the \
-         first step: a move that no impulse makes, whose change of potential energy the \
-         record's dissipation does not count"
+         first step: a move that no impulse makes, whose change of energy the record's \
+         `projected` column counts"
     } else {
         "the scheme acts on velocities and leaves a penetration in place"
     };

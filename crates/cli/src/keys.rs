@@ -333,6 +333,9 @@ pub struct DeclaredKeys {
     /// Energy removed by the impulses of contacts and joints over the run (J): the last row's
     /// `cumulative_dissipation` of the record.
     pub dissipated: f64,
+    /// Energy the position projection added over the run (J): the last row's
+    /// `cumulative_projection` of the record; 0 without the projection.
+    pub projected: f64,
     /// The coordinates q at the last row, by name.
     pub q_end: Vec<(String, f64)>,
 }
@@ -371,6 +374,7 @@ pub fn declared(run: &RunResult) -> DeclaredKeys {
         contacts,
         energy_end,
         dissipated: r.cumulative_dissipation.last().copied().unwrap_or(0.0),
+        projected: r.cumulative_projection.last().copied().unwrap_or(0.0),
         q_end,
     }
 }
@@ -378,7 +382,7 @@ pub fn declared(run: &RunResult) -> DeclaredKeys {
 /// Names of the key-number columns of a sweep over a declared mechanism: for each contact
 /// `<contact>.impacts`, `<contact>.first_impact_t`, `<contact>.first_impact_gamma_pre`,
 /// `<contact>.first_impact_gamma_post` and `<contact>.first_impact_p_n`; then `energy_end`,
-/// `dissipated`, and `<coordinate>.end` for each coordinate (`bob.x.end`, ...).
+/// `dissipated`, `projected`, and `<coordinate>.end` for each coordinate (`bob.x.end`, ...).
 pub fn declared_columns(model: &AnyModel) -> Vec<String> {
     let mut out = Vec::new();
     for c in model.contact_names() {
@@ -392,7 +396,7 @@ pub fn declared_columns(model: &AnyModel) -> Vec<String> {
             out.push(format!("{c}.{k}"));
         }
     }
-    out.extend(["energy_end".to_owned(), "dissipated".to_owned()]);
+    out.extend(["energy_end", "dissipated", "projected"].map(str::to_owned));
     out.extend(model.coordinate_names().iter().map(|q| format!("{q}.end")));
     out
 }
@@ -419,7 +423,7 @@ fn declared_row(run: &RunResult) -> Vec<Option<f64>> {
             f.map(|i| i.p_n),
         ]);
     }
-    out.extend([Some(k.energy_end), Some(k.dissipated)]);
+    out.extend([Some(k.energy_end), Some(k.dissipated), Some(k.projected)]);
     out.extend(k.q_end.iter().map(|(_, x)| Some(*x)));
     out
 }

@@ -280,12 +280,13 @@ pub fn run(options: &SimulateOptions) -> Result<RunResult> {
 /// `<contact>.active` for each contact, in the order of the contact list. Last come the
 /// joints' impulses Λ_B summed over the row's steps, one per bilateral constraint: named
 /// after the joints for a declared mechanism (`<joint>.Lx`, `<joint>.Ly`, `<joint>.Ltheta`,
-/// `<joint>.Ln`, see `Multibody::bilateral_names`), `L1, L2, ...` otherwise. The last three
-/// columns are the energies at the row (J, or the scene's units of energy): `T`, the kinetic
-/// energy ½ uᵀ M u; `V`, the potential energy of gravity and springs; and `dissipated`, the
-/// energy the impulses of contacts and joints removed since row 0
-/// (`Record::cumulative_dissipation`): under gravity and without the projection,
-/// T + V + dissipated stays at its row-0 value to round-off.
+/// `<joint>.Ln`, see `Multibody::bilateral_names`), `L1, L2, ...` otherwise. The last
+/// four columns are the energies at the row (J, or the scene's units of energy): `T`, the
+/// kinetic energy ½ uᵀ M u; `V`, the potential energy of gravity and springs; `dissipated`,
+/// the energy the impulses of contacts and joints and the dampers removed since row 0
+/// (`Record::cumulative_dissipation`); and `projected`, the energy the position projection's
+/// moves of q added since row 0 (`Record::cumulative_projection`): under gravity and
+/// dampers, T + V + dissipated − projected stays at its row-0 value to round-off.
 pub fn header(model: &AnyModel) -> Vec<String> {
     let mut h = vec!["t".to_owned()];
     h.extend(model.coordinate_names().iter().map(str::to_owned));
@@ -310,7 +311,7 @@ pub fn header(model: &AnyModel) -> Vec<String> {
         AnyModel::Declared(m) => h.extend(m.bilateral_names()),
         _ => h.extend((1..=model.num_bilaterals()).map(|i| format!("L{i}"))),
     }
-    h.extend(["T", "V", "dissipated"].map(str::to_owned));
+    h.extend(["T", "V", "dissipated", "projected"].map(str::to_owned));
     h
 }
 
@@ -333,7 +334,8 @@ fn write_rows(w: &mut impl Write, r: &Record, rows: std::ops::Range<usize>) -> R
         for &x in r.joint_impulses.get(k).unwrap_or(&[]) {
             number::write_next(w, x)?;
         }
-        for x in [r.kinetic[k], r.potential[k], r.cumulative_dissipation[k]] {
+        let projected = r.cumulative_projection.get(k).copied().unwrap_or(0.0);
+        for x in [r.kinetic[k], r.potential[k], r.cumulative_dissipation[k], projected] {
             number::write_next(w, x)?;
         }
         writeln!(w)?;

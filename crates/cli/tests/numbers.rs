@@ -43,12 +43,13 @@ fn tiny_numbers_are_written_with_an_exponent_and_read_back() -> Result<()> {
         out_s,
     ])?;
     let text = std::fs::read_to_string(&out)?;
-    // The last columns are T = ½ (k 1e-33)², V = m g y = 1e-30 and nothing dissipated.
+    // The last columns are T = ½ (k 1e-33)², V = m g y = 1e-30, nothing dissipated and
+    // nothing projected.
     let expected = "t,ball.x,ball.y,ball.theta,ball.vx,ball.vy,ball.omega,floor.PN,floor.PT,\
-                    floor.active,T,V,dissipated\n0,0,1,0,0,0,0,0,0,0,0,1e-30,0\n\
-                    0.001,0,1,0,0,-1e-33,0,0,0,0,5.0000000000000005e-67,1e-30,0\n\
-                    0.002,0,1,0,0,-2e-33,0,0,0,0,2.0000000000000002e-66,1e-30,0\n\
-                    0.003,0,1,0,0,-3e-33,0,0,0,0,4.5000000000000003e-66,1e-30,0\n";
+                    floor.active,T,V,dissipated,projected\n0,0,1,0,0,0,0,0,0,0,0,1e-30,0,0\n\
+                    0.001,0,1,0,0,-1e-33,0,0,0,0,5.0000000000000005e-67,1e-30,0,0\n\
+                    0.002,0,1,0,0,-2e-33,0,0,0,0,2.0000000000000002e-66,1e-30,0,0\n\
+                    0.003,0,1,0,0,-3e-33,0,0,0,0,4.5000000000000003e-66,1e-30,0,0\n";
     ensure!(text == expected, "{text}");
     // A sweep's key numbers, resumed and merged.
     let part = d.join("part.csv");

@@ -121,7 +121,8 @@ fn simulate_writes_named_columns() -> Result<()> {
             "A3",
             "T",
             "V",
-            "dissipated"
+            "dissipated",
+            "projected"
         ]
     );
     let rows: Vec<csv::StringRecord> = r.records().collect::<Result<_, _>>()?;

@@ -113,10 +113,18 @@ pub struct Record {
     /// counted from [`Recorder::push_initial`]); cumulative, 0 at row 0. The energy removed by
     /// the steps of row k is `cumulative_dissipation[k] − cumulative_dissipation[k − 1]`.
     /// Under constant smooth forces (gravity) and linear dampers, kinetic + potential +
-    /// cumulative dissipation stays at its initial value to round-off (without the
-    /// projection, which moves q alone), under other conservative forces to within the
-    /// scheme's error. Work done by drives and applied loads is not counted.
+    /// cumulative dissipation minus [`Self::cumulative_projection`] stays at its initial
+    /// value to round-off, under other conservative forces to within the scheme's error. Work
+    /// done by drives and applied loads is not counted.
     pub cumulative_dissipation: Vec<f64>,
+    /// Energy the position projection ([`crate::StepperOptions::projection`]) added from the
+    /// recorder's first row up to this row (J): over the steps whose projection moved q_E,
+    /// the sum of [T + V](q_E, u_E, t_E) − [T + V](q_E before the projection, u_E, t_E)
+    /// ([`StepReport::q_unprojected`]). The projection moves q alone; pushing a body out of
+    /// the floor against gravity adds energy, which this counts. Cumulative, 0 at row 0 and
+    /// without the projection.
+    #[serde(default)]
+    pub cumulative_projection: Vec<f64>,
     /// Every impact, in the order of the steps (see [`ContactReport::impact`]): the steps in
     /// which a contact closed with a negative normal relative velocity γ_N,A. A closing at a
     /// speed below what the smooth forces give in a step or two (γ_N,A of the order of
@@ -147,9 +155,13 @@ impl Record {
     /// length grows no buffer. The tables of q, u and the contacts take their widths from
     /// the first row, so reserve after it for them to be reserved too.
     pub fn reserve(&mut self, additional: usize) {
-        for v in
-            [&mut self.t, &mut self.kinetic, &mut self.potential, &mut self.cumulative_dissipation]
-        {
+        for v in [
+            &mut self.t,
+            &mut self.kinetic,
+            &mut self.potential,
+            &mut self.cumulative_dissipation,
+            &mut self.cumulative_projection,
+        ] {
             v.reserve(additional);
         }
         self.lcp_size.reserve(additional);
@@ -210,6 +222,8 @@ pub struct Recorder {
     states: Vec<ContactState>,
     /// Energy removed by the impulses and the dampers since the first row (J).
     sum_dissipated: f64,
+    /// Energy added by the position projection since the first row (J).
+    sum_projected: f64,
     /// For a mechanism with dampers, the state the observed step starts from and buffers for
     /// their work; `None` otherwise.
     damped: Option<Damped>,
@@ -244,6 +258,7 @@ impl Recorder {
             sum_joints: Vec::new(),
             states: Vec::new(),
             sum_dissipated: 0.0,
+            sum_projected: 0.0,
             damped: None,
             last_impulses: None,
         }
@@ -289,6 +304,40 @@ impl Recorder {
         }
     }
 
+    /// The kinetic energy ½ uᵀ M(q, t) u.
+    fn kinetic<M: Mechanism + ?Sized>(
+        &mut self,
+        mechanism: &M,
+        q: &[f64],
+        u: &[f64],
+        t: f64,
+    ) -> f64 {
+        match mechanism.body_structure() {
+            Some(structure) => {
+                self.blocks.resize(structure.num_bodies(), [0.0; 9]);
+                structure.mass_blocks(q, t, &mut self.blocks);
+                MassView::Blocks(&self.blocks).half_quadratic(u)
+            }
+            None => {
+                let f = q.len();
+                self.mass.resize(f * f, 0.0);
+                mechanism.mass_matrix(q, t, &mut self.mass);
+                half_quadratic(&self.mass, f, u)
+            }
+        }
+    }
+
+    /// T + V at (q, u, t), V taken as 0 where the mechanism defines none.
+    fn energy<M: Mechanism + ?Sized>(
+        &mut self,
+        mechanism: &M,
+        q: &[f64],
+        u: &[f64],
+        t: f64,
+    ) -> f64 {
+        self.kinetic(mechanism, q, u, t) + mechanism.potential_energy(q, t).unwrap_or(0.0)
+    }
+
     fn push_row<M: Mechanism + ?Sized>(
         &mut self,
         mechanism: &M,
@@ -299,22 +348,10 @@ impl Recorder {
         lcp_size: usize,
         iterations: usize,
     ) {
-        let f = q.len();
-        let kinetic = match mechanism.body_structure() {
-            Some(structure) => {
-                self.blocks.resize(structure.num_bodies(), [0.0; 9]);
-                structure.mass_blocks(q, t, &mut self.blocks);
-                MassView::Blocks(&self.blocks).half_quadratic(u)
-            }
-            None => {
-                self.mass.resize(f * f, 0.0);
-                mechanism.mass_matrix(q, t, &mut self.mass);
-                half_quadratic(&self.mass, f, u)
-            }
-        };
+        let kinetic = self.kinetic(mechanism, q, u, t);
         let r = &mut self.record;
         if r.is_empty() {
-            r.set_widths(f, self.sum_p_n.len(), self.sum_joints.len());
+            r.set_widths(q.len(), self.sum_p_n.len(), self.sum_joints.len());
         }
         r.t.push(t);
         r.q.push(q);
@@ -335,6 +372,7 @@ impl Recorder {
         r.kinetic.push(kinetic);
         r.potential.push(mechanism.potential_energy(q, t).unwrap_or(0.0));
         r.cumulative_dissipation.push(self.sum_dissipated);
+        r.cumulative_projection.push(self.sum_projected);
         self.sum_p_n.fill(0.0);
         self.sum_p_t.fill(0.0);
         self.any_active.fill(false);
@@ -404,6 +442,11 @@ impl<M: Mechanism + ?Sized> Observer<M> for Recorder {
         self.sum_dissipated += report.impulse_dissipation();
         if let Some(d) = &mut self.damped {
             self.sum_dissipated += d.step(mechanism, report);
+        }
+        if let Some(q_unprojected) = report.q_unprojected {
+            let (u, t) = (report.u, report.t);
+            self.sum_projected += self.energy(mechanism, report.q, u, t)
+                - self.energy(mechanism, q_unprojected, u, t);
         }
         self.pending += 1;
         if self.pending >= self.every {

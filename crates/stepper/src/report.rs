@@ -126,6 +126,12 @@ pub struct StepReport<'a> {
     /// The largest |g_B| of the bilateral constraints at the step's midpoint q_M (m or rad):
     /// how far the positions have drifted off the joints; 0 without joints.
     pub joint_drift: f64,
+    /// The end positions q_E as the midpoint rule gave them, before the position projection
+    /// ([`crate::StepperOptions::projection`]) moved them to [`Self::q`]; `None` when the
+    /// projection is off or left q_E as it was. The projection moves q alone: the energy it
+    /// adds is [T + V](q, u_E, t_E) − [T + V](this, u_E, t_E), which
+    /// [`crate::Record::cumulative_projection`] sums.
+    pub q_unprojected: Option<&'a [f64]>,
     /// The joints' impulses Λ_B of the step, one per bilateral constraint in the order of
     /// [`crate::Mechanism::bilaterals`] (N s for a constraint on a distance, N m s on an
     /// angle; Λ_B / Δt is the mean reaction over the step), on the bodies as W_B Λ_B: the

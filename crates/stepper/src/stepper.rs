@@ -165,6 +165,10 @@ struct Workspace {
     penetration: f64,
     /// The largest |g_B| at the last midpoint (m or rad).
     joint_drift: f64,
+    /// q_E as the midpoint rule gave it, before the position projection moved it, and
+    /// whether the last step's projection moved it.
+    q_unprojected: Vec<f64>,
+    projected: bool,
     /// Buffers of the optional position projection.
     proj_active: Vec<usize>,
     proj_w: Vec<f64>,
@@ -310,6 +314,8 @@ impl<M: Mechanism> Stepper<M> {
             tmp: vec![0.0; f],
             u_start: vec![0.0; f],
             q_start: vec![0.0; if mechanism.num_bilaterals() > 0 { f } else { 0 }],
+            q_unprojected: vec![0.0; if options.projection { f } else { 0 }],
+            projected: false,
             u_unconstrained: vec![0.0; f],
             joint_impulses: vec![0.0; if body.is_some() { 0 } else { mechanism.num_bilaterals() }],
             chol: Cholesky::for_mass_matrix(f),

@@ -203,6 +203,23 @@ fn projection_removes_the_penetration_and_keeps_energy_from_growing() {
         let e = b.total_energy();
         let gain = e.iter().map(|x| x - e[0]).fold(f64::NEG_INFINITY, f64::max);
         assert!(gain <= 1e-12, "eps = {eps}: projected energy grows by {gain}");
+        // The lift out of the floor, m g δy per correction, is counted apart from the
+        // impulses' dissipation: with it, T + V + dissipated − projected stays at E₀.
+        let last = b.len() - 1;
+        let projected = b.cumulative_projection[last];
+        let balance = |r: &moreau_stepper::Record, k: usize| {
+            e[0] - (r.kinetic[k] + r.potential[k] + r.cumulative_dissipation[k])
+                + r.cumulative_projection[k]
+        };
+        let worst = (0..b.len()).map(|k| balance(&b, k).abs()).fold(0.0, f64::max);
+        assert!(worst <= 1e-12, "eps = {eps}: T + V + dissipated − projected departs by {worst:e}");
+        assert!(a.cumulative_projection.iter().all(|&p| p == 0.0));
+        if eps < 1.0 {
+            // Each impact's penetration, at most v Δt at the impact's speed v (deepest
+            // above), lifted by m g (m = 1 kg): the impacts' speeds v₁ εᵏ sum to v₁ / (1 − ε).
+            let bound = G * dt * v1 / (1.0 - eps);
+            assert!(projected > 0.1 * bound && projected <= bound, "eps = {eps}: {projected:e}");
+        }
     }
 }
 

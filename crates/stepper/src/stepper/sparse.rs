@@ -47,6 +47,10 @@ pub(super) struct BodyPath {
     u_free: Vec<f64>,
     u_e: Vec<f64>,
     q_e: Vec<f64>,
+    /// q_E as the midpoint rule gave it, before the position projection moved it, and
+    /// whether the last step's projection moved it.
+    q_unprojected: Vec<f64>,
+    projected: bool,
     /// The contacts detected at the midpoint (then at q_E, by the projection), in id order.
     detected: Vec<BodyContact>,
     /// The bilateral rows at the midpoint (then at q_E), and their groups.
@@ -262,6 +266,8 @@ impl BodyPath {
             u_free: vec![0.0; f],
             u_e: vec![0.0; f],
             q_e: vec![0.0; f],
+            q_unprojected: Vec::new(),
+            projected: false,
             detected: Vec::new(),
             rows: vec![BodyBilateral::default(); n_bilaterals],
             groups: Vec::with_capacity(n_bilaterals),
@@ -311,6 +317,7 @@ impl BodyPath {
             lcp: self.info,
             penetration: self.penetration,
             joint_drift: self.joint_drift,
+            q_unprojected: self.projected.then_some(&self.q_unprojected[..]),
             islands: self.islands_solved,
             times: self.times,
             mass: MassView::Blocks(&self.mass),
@@ -594,7 +601,11 @@ impl Core {
 
         let t_e = self.t0 + step_count_as_f64(self.step + 1) * dt;
         if self.options.projection {
-            self.project_bodies(structure, b, t_e)?;
+            b.q_unprojected.clear();
+            b.q_unprojected.extend_from_slice(&self.q);
+            let projected = self.project_bodies(structure, b, t_e);
+            b.projected = self.q != b.q_unprojected;
+            projected?;
         }
         let end = Instant::now();
         b.times = PhaseTimes {

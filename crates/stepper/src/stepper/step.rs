@@ -31,6 +31,7 @@ impl Core {
             lcp: if self.ws.lcp_size > 0 { self.ws.lcp_info } else { None },
             penetration: self.ws.penetration,
             joint_drift: self.ws.joint_drift,
+            q_unprojected: self.ws.projected.then_some(&self.ws.q_unprojected[..]),
             islands: 0,
             times: crate::report::PhaseTimes::default(),
             mass: crate::report::MassView::Dense(&self.ws.mass),
@@ -166,7 +167,10 @@ impl Core {
 
         if self.options.projection {
             let t_e = self.t0 + step_count_as_f64(self.step + 1) * dt;
-            if let Err(e) = self.project(mech, t_e) {
+            self.ws.q_unprojected[..f].copy_from_slice(&self.q[..f]);
+            let projected = self.project(mech, t_e);
+            self.ws.projected = self.q[..f] != self.ws.q_unprojected[..f];
+            if let Err(e) = projected {
                 // The joints' evaluation at the end is not that of the next step's start.
                 self.ws.joints.moved();
                 return Err(e);
