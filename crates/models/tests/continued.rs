@@ -225,6 +225,28 @@ fn impulses_follow_their_contacts_when_a_body_comes_before_the_others() {
 }
 
 #[test]
+fn impulses_follow_their_contacts_through_a_change_that_adds_a_shape() {
+    // A second shape on the floor, declared first, far from the pyramid: `Scene::set`
+    // renumbers every box's contacts, and the impulses follow them by name, so that the
+    // continued run is the same to the bit.
+    let next = settled_pyramid();
+    let mut edited = next.clone();
+    let shapes = "[{ type = 'half_plane', point = [0.0, 0.0], normal = [0.0, 1.0] }, \
+                  { type = 'disk', center = [100.0, 100.0], radius = 0.01 }]";
+    edited.set("bodies.floor.shapes", shapes).expect("two shapes");
+    assert_ne!(edited.impulses, next.impulses, "the identities moved");
+    let (a, b) = (next.impulses.as_ref().unwrap(), edited.impulses.as_ref().unwrap());
+    assert_eq!(a.contacts.len(), b.contacts.len());
+    let (_, q1, u1) = end(&next);
+    let (_, q2, u2) = end(&edited);
+    assert!(q1 == q2 && u1 == u2, "{:e}, {:e}", max_diff(&q1, &q2), max_diff(&u1, &u2));
+    // A change that removes the boxes' floor leaves impulses whose contact is gone.
+    let mut gone = next.clone();
+    let e = gone.set("bodies.floor.shapes", "[]").unwrap_err();
+    assert!(e.to_string().contains("impulses.contacts."), "{e}");
+}
+
+#[test]
 fn impulses_that_name_a_body_gone_or_turned_round_are_refused() {
     let text = settled_pyramid().to_toml_string().unwrap();
     let name = |b: &toml::Value| b["name"].as_str().unwrap_or("").to_owned();

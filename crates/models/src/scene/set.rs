@@ -2,10 +2,11 @@
 //! `--set key=value`: the keys a scene accepts, the entries a key reaches and the change of
 //! one value, with the scene validated again.
 
-use moreau_stepper::UnknownSolver;
+use moreau_stepper::{Impulses, UnknownSolver};
 
+use super::labels::{self, FileImpulses};
 use super::{Scene, tree};
-use crate::{ModelError, ModelKind};
+use crate::{AnyModel, ModelError, ModelKind, ModelParams};
 
 impl Scene {
     /// The keys the scene writes, which [`Self::set`] accepts: the scene's keys (`dt`,
@@ -206,7 +207,17 @@ impl Scene {
     /// # }
     /// ```
     pub fn edit(self) -> SceneEdit {
-        SceneEdit { scene: self, count: 0, invalid: None }
+        let named = self.named_impulses();
+        SceneEdit { scene: self, count: 0, invalid: None, named }
+    }
+
+    /// A declared mechanism's impulses as they are, and by the names of its contacts and
+    /// joint rows; `None` for a scene without impulses or whose names cannot be had.
+    fn named_impulses(&self) -> Option<(Impulses, FileImpulses)> {
+        let impulses = self.impulses.as_ref()?;
+        let ModelParams::Declared(_) = &self.params else { return None };
+        let AnyModel::Declared(mb) = self.build().ok()? else { return None };
+        Some((impulses.clone(), labels::named(&mb, impulses).ok()?))
     }
 
     /// The scene with `key` set to `value`, read again but not validated.
@@ -258,6 +269,10 @@ pub struct SceneEdit {
     /// The change after which the scene became invalid, counted from 0, and why, when the
     /// scene has not become valid again since.
     invalid: Option<(usize, ModelError)>,
+    /// A declared mechanism's impulses before the changes, by identity and by name: a change
+    /// that adds or removes shapes renumbers the contacts after them, whose impulses then
+    /// follow their names.
+    named: Option<(Impulses, FileImpulses)>,
 }
 
 impl SceneEdit {
@@ -303,14 +318,32 @@ impl SceneEdit {
 
     /// The changed scene, when it is valid.
     ///
+    /// A declared mechanism's impulses (a scene continued from a run's end) are taken by the
+    /// names of their contacts and joint rows in the scene as it was, and given to the same
+    /// names in the changed scene: a change that adds a shape to one body renumbers the
+    /// contacts of the bodies after it, and their impulses follow them. A change of the
+    /// impulses themselves is kept as it is made.
+    ///
     /// # Errors
-    /// When it is not, the refusal of the scene as the change [`Self::invalid_since`] names
-    /// left it.
+    /// When the scene is not valid, the refusal of the scene as the change
+    /// [`Self::invalid_since`] names left it; [`ModelError::BadValue`] (key
+    /// `impulses.contacts.<k>` or `impulses.joints.<k>`) for an impulse whose contact or
+    /// joint row the changes removed.
     pub fn finish(self) -> Result<Scene, ModelError> {
-        match self.invalid {
-            None => Ok(self.scene),
-            Some((_, refusal)) => Err(refusal),
+        if let Some((_, refusal)) = self.invalid {
+            return Err(refusal);
         }
+        let mut scene = self.scene;
+        if let Some((ids, named)) = self.named {
+            if scene.impulses.as_ref() == Some(&ids) {
+                let impulses = named.resolve(|| match scene.build()? {
+                    AnyModel::Declared(mb) => Ok(Some(mb)),
+                    _ => Ok(None),
+                })?;
+                scene.impulses = Some(impulses);
+            }
+        }
+        Ok(scene)
     }
 }
 
