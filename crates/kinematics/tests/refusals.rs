@@ -262,3 +262,53 @@ fn shapes_too_far_apart_to_square_their_distance_give_no_point() {
         assert!(!p.is_empty() && p.iter().all(|q| q.gap.is_finite()), "{p:?}");
     }
 }
+
+#[test]
+fn a_capsule_axis_or_chain_segment_too_short_to_measure_is_refused_where_it_lost_every_point() {
+    // A capsule of radius 0.1 whose ends are 1e-170 apart, its axis at height 0.05, against a
+    // disk of radius 0.5 centred at (0, 0.5): they overlap by 0.15. |b − a|² underflows to 0,
+    // and the contact came back with no point.
+    let short = Shape::Capsule { a: [0.0, 0.0], b: [1e-170, 0.0], radius: 0.1 };
+    let round = disk(0.0, 0.0, 0.5);
+    let err = short.validate().unwrap_err();
+    let KinematicsError::InvalidShape { shape, problem, value, index } = err.clone() else {
+        panic!("{err:?}")
+    };
+    assert_eq!((shape, index), ("capsule", None));
+    assert!(problem.starts_with("axis too short or too long to measure"), "{problem}");
+    assert_eq!(value, Some(1e-170));
+    let mut out = Vec::new();
+    let refused =
+        collide(&short, &Pose::new(0.0, 0.05, 0.0), &round, &Pose::default(), 0.1, &mut out);
+    assert_eq!(refused, Err(err));
+    assert!(out.is_empty());
+    // An axis of 1e-150, whose square is a normal f64, is measured: the overlap of 0.15.
+    let measured = Shape::Capsule { a: [0.0, 0.0], b: [1e-150, 0.0], radius: 0.1 };
+    assert!(measured.validate().is_ok());
+    let p = points(&measured, Pose::new(0.0, 0.05, 0.0), &round, Pose::new(0.0, 0.5, 0.0), 0.1);
+    assert_eq!(p.len(), 1);
+    assert_relative_eq!(p[0].gap, -0.15, epsilon = 1e-15);
+    // A polyline along y = 0 with a segment of 1e-170 among segments of 1: the disk of radius
+    // 0.5 at height 0.45 overlapping it by 0.05 got no point from any segment.
+    let floor =
+        Shape::Polyline { points: vec![[-1.0, 0.0], [0.0, 0.0], [1e-170, 0.0], [1.0, 0.0]] };
+    assert_eq!(
+        floor.validate().map_err(|e| match e {
+            KinematicsError::InvalidShape { problem, value, index, .. } =>
+                (problem.split(' ').take(2).collect::<Vec<_>>().join(" "), value, index),
+            other => panic!("{other:?}"),
+        }),
+        Err(("segment too".to_string(), Some(1e-170), Some(1)))
+    );
+    // The same chain with that segment 1e-150 long is measured: gap −0.05.
+    let fine = Shape::Polyline { points: vec![[-1.0, 0.0], [0.0, 0.0], [1e-150, 0.0], [1.0, 0.0]] };
+    assert!(fine.validate().is_ok());
+    let p = points(&round, Pose::new(0.0, 0.45, 0.0), &fine, Pose::default(), 0.1);
+    assert!(!p.is_empty());
+    assert!(p.iter().all(|p| (p.gap + 0.05).abs() < 1e-15), "{p:?}");
+    // A profile's edge and a capsule far too long (1e160 m) are refused alike.
+    let long = Shape::Capsule { a: [-1e160, 0.0], b: [1e160, 0.0], radius: 0.1 };
+    assert!(
+        matches!(long.validate(), Err(KinematicsError::InvalidShape { value: Some(v), .. }) if v == 2e160)
+    );
+}

@@ -2,7 +2,10 @@
 
 use super::convex::{Core, CorePoint, Feature, point_contact, polygon_contacts};
 use super::nonconvex::{Chain, convex_chain, half_plane_chain};
-use super::shape::{ENDS_COINCIDE, Placement, V, bad_normal, invalid, normal_scales, too_few};
+use super::shape::{
+    AXIS_OUT_OF_SCALE, ENDS_COINCIDE, Placement, V, bad_normal, invalid, normal_scales,
+    segment_length, segment_scales, too_few,
+};
 use super::{ChainIndex, ManifoldPoint, Pose, Shape};
 use crate::KinematicsError;
 
@@ -90,9 +93,11 @@ pub fn max_points(a: &Shape, b: &Shape) -> usize {
 /// 0), segments (capsules of radius 0) and polylines; [`KinematicsError::InvalidOption`] for a
 /// negative or NaN margin;
 /// [`KinematicsError::InvalidShape`] for a shape with too few points, a capsule whose ends
-/// coincide or a half-plane whose normal is zero or too small or large to normalise (|n|² not
-/// a normal f64) (the checks that cost nothing; the others are
-/// [`Shape::validate`]'s).
+/// coincide or whose axis is too short or too long to measure (|b − a|² not a normal f64), or a
+/// half-plane whose normal is zero or too small or large to normalise (|n|² not a normal f64)
+/// (the checks that cost nothing; the others, among them the segments of a chain, are
+/// [`Shape::validate`]'s: a chain segment too short to measure, left unchecked, can make the
+/// chain's whole contact lose its points).
 pub fn collide(
     a: &Shape,
     pose_a: &Pose,
@@ -239,14 +244,18 @@ fn single(p: &CorePoint) -> ManifoldPoint {
     manifold_point(p, 0, false)
 }
 
-/// Refuses a shape with too few points, a capsule whose ends coincide or a normal that is zero
-/// or does not normalise.
+/// Refuses a shape with too few points, a capsule whose ends coincide or whose axis is too
+/// short or too long to measure, or a normal that is zero or does not normalise.
 fn usable(shape: &Shape) -> Result<(), KinematicsError> {
     let (count, min) = match shape {
         Shape::Polygon { vertices: points } | Shape::Profile { points } => (points.len(), 3),
         Shape::Polyline { points } => (points.len(), 2),
         Shape::Capsule { a, b, .. } if a == b => {
             return Err(invalid(shape.name(), ENDS_COINCIDE, None, None));
+        }
+        Shape::Capsule { a, b, .. } if !segment_scales(a, b) => {
+            let length = segment_length(a, b);
+            return Err(invalid(shape.name(), AXIS_OUT_OF_SCALE, Some(length), None));
         }
         Shape::HalfPlane { normal, .. } if !normal_scales(normal) => {
             return Err(bad_normal(normal));

@@ -131,7 +131,7 @@ fn non_finite<'p>(points: impl IntoIterator<Item = &'p [f64; 2]>) -> Option<(usi
 }
 
 /// Checks that every point is finite and that consecutive points differ (the last and the
-/// first too when `closed`).
+/// first too when `closed`) by a segment whose squared length is a normal f64.
 fn check_chain(
     shape: &'static str,
     points: &[[f64; 2]],
@@ -147,8 +147,13 @@ fn check_chain(
     let n = points.len();
     let segments = if closed { n } else { n - 1 };
     for i in 0..segments {
-        if points[i] == points[(i + 1) % n] {
+        let (a, b) = (&points[i], &points[(i + 1) % n]);
+        if a == b {
             return Err(invalid(shape, "two consecutive points coincide", None, Some(i)));
+        }
+        if !segment_scales(a, b) {
+            let length = segment_length(a, b);
+            return Err(invalid(shape, SEGMENT_OUT_OF_SCALE, Some(length), Some(i)));
         }
     }
     Ok(())
@@ -156,6 +161,31 @@ fn check_chain(
 
 /// Why a capsule is refused whose two ends are one point.
 pub(crate) const ENDS_COINCIDE: &str = "its two ends coincide (a disk has one centre)";
+
+/// Why a capsule is refused whose two ends differ but whose axis' squared length is not a
+/// normal f64, before the length |b − a|: its projections would divide by zero (or by ∞) and
+/// lose every point of its contacts.
+pub(crate) const AXIS_OUT_OF_SCALE: &str = "axis too short or too long to measure (|b − a|² \
+     outside 2.2e-308..1.8e308, |b − a| outside about 1.5e-154..1.3e154), |b − a|";
+
+/// Why a polyline, polygon or profile is refused with two consecutive points that differ but
+/// whose segment's squared length is not a normal f64, before the segment's length.
+pub(crate) const SEGMENT_OUT_OF_SCALE: &str = "segment too short or too long to measure (its \
+     squared length outside 2.2e-308..1.8e308, its length outside about 1.5e-154..1.3e154), \
+     length";
+
+/// Whether the segment from `a` to `b` can be measured accurately: |b − a|² is a normal f64,
+/// as a half-plane's normal must be ([`normal_scales`]), so |b − a| lies in about
+/// 1.5e-154..1.3e154.
+#[inline]
+pub(crate) fn segment_scales(a: &[f64; 2], b: &[f64; 2]) -> bool {
+    normal_scales(&[b[0] - a[0], b[1] - a[1]])
+}
+
+/// The length |b − a| of a segment, for the errors.
+pub(crate) fn segment_length(a: &[f64; 2], b: &[f64; 2]) -> f64 {
+    (b[0] - a[0]).hypot(b[1] - a[1])
+}
 
 /// The error of a shape with `count` points, fewer than it needs.
 pub(crate) fn too_few(shape: &'static str, count: usize) -> KinematicsError {
@@ -279,11 +309,14 @@ impl Shape {
     /// strictly convex and counter-clockwise with at least 3 vertices, a capsule's ends
     /// distinct, a half-plane's normal non-zero and of a length that normalises (|n|² a normal
     /// f64), a polyline of at least 2 points and a profile of at least 3, counter-clockwise and
-    /// not crossing itself, no two consecutive points equal.
+    /// not crossing itself, no two consecutive points equal, and every segment (a capsule's
+    /// axis, a chain's or polygon's edge) of a length whose square is a normal f64 (about
+    /// 1.5e-154 to 1.3e154 m).
     ///
     /// # Errors
     /// [`KinematicsError::InvalidShape`] naming the shape, the problem, the number at fault (the
-    /// radius, the non-finite coordinate, the normal's length |n|, the number of points, a
+    /// radius, the non-finite coordinate, the normal's length |n|, the length of a segment too
+    /// short or too long to measure, the number of points, a
     /// profile's signed area, the turns of a polygon that winds round more than once) and the
     /// vertex or point concerned (for a capsule's end, 0 for `a` and 1 for `b`).
     pub fn validate(&self) -> Result<(), KinematicsError> {
@@ -310,6 +343,9 @@ impl Shape {
                 }
                 if a == b {
                     return Err(invalid(name, ENDS_COINCIDE, None, None));
+                }
+                if !segment_scales(a, b) {
+                    return Err(invalid(name, AXIS_OUT_OF_SCALE, Some(segment_length(a, b)), None));
                 }
                 radius_ok(*radius)
             }
