@@ -52,7 +52,7 @@
 //! use moreau_kinematics::{ContactKinematics, ContactPoint, KinematicsError};
 //! use moreau_kinematics::{Circle, LineMotion, PointMotion, Side, circle_line};
 //! use moreau_kinematics::{assert_consistent, relative_velocity, sample_states, SampleOptions};
-//! use nalgebra::{Matrix2x1, Point2, Vector2};
+//! use moreau_kinematics::nalgebra::{Matrix2x1, Point2, Vector2};
 //!
 //! struct Ball { radius: f64 }
 //!
@@ -127,6 +127,11 @@ mod error;
 pub mod planar;
 mod sample;
 pub mod shapes;
+
+/// The points, vectors and Jacobian matrices that [`planar`]'s pairs take and give
+/// ([`PointMotion`], [`LineMotion`], [`ContactGeometry`]) are nalgebra's, re-exported here so
+/// that a user of this crate needs no nalgebra dependency of a matching version.
+pub use nalgebra;
 
 pub use check::{Component, FdOptions, FdReport, Mismatch, assert_consistent, check_jacobians};
 pub use error::KinematicsError;
