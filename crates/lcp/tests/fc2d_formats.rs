@@ -174,6 +174,31 @@ fn validation_names_the_problem() {
 }
 
 #[test]
+fn a_builders_entry_outside_the_declared_rows_is_refused_by_build_naming_it() {
+    // One contact has rows 0 and 1: W_55 and W_02 are in no group; add_entry panicked.
+    for (i, j) in [(5, 5), (0, 2), (2, 0)] {
+        let mut b = Fc2dBuilder::new(1);
+        b.add_entry(0, 0, 1.0);
+        b.add_entry(1, 1, 1.0);
+        b.add_entry(i, j, 0.5);
+        b.add_entry(7, 7, 0.5); // a second one: the first is named
+        let err = b.build(&[-1.0, 0.0], &[0.3]).unwrap_err();
+        let expected = format!(
+            "entry ({i}, {j}) is outside the 2 rows of the groups declared when it was added"
+        );
+        assert!(matches!(&err, LcpError::Structure(m) if *m == expected), "{err}");
+    }
+    // Row 2 is a row once its bilateral group is declared, and the entries in it count.
+    let mut b = Fc2dBuilder::new(1);
+    b.bilateral_group(1);
+    b.add_entry(0, 0, 2.0);
+    b.add_entry(1, 1, 2.0);
+    b.add_entry(2, 2, 4.0);
+    let problem = b.build(&[-1.0, 0.0, 2.0], &[0.3]).unwrap();
+    assert_eq!(problem.view().to_dense(), vec![2.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 4.0]);
+}
+
+#[test]
 fn a_builders_block_is_kept_in_the_groups_it_names_or_refused() {
     // Group 2^32 is no group of a one-contact problem: refused, not taken for group 0.
     let far = 1usize << 32;

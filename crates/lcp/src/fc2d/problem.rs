@@ -644,6 +644,9 @@ pub struct Fc2dBuilder {
     group_start: Vec<usize>,
     /// `(row group, column group, block)`, as given (checked by [`Fc2dBuilder::build`]).
     entries: Vec<(usize, usize, [f64; 4])>,
+    /// The first entry `(i, j)` given to [`Fc2dBuilder::add_entry`] outside the rows then
+    /// declared, and their number then (reported by [`Fc2dBuilder::build`]).
+    misplaced: Option<(usize, usize, usize)>,
 }
 
 impl Default for Fc2dBuilder {
@@ -660,6 +663,7 @@ impl Fc2dBuilder {
             n_contacts,
             group_start: (0..=n_contacts).map(|g| 2 * g).collect(),
             entries: Vec::new(),
+            misplaced: None,
         }
     }
 
@@ -677,31 +681,41 @@ impl Fc2dBuilder {
         self.entries.push((row, col, block));
     }
 
-    /// Adds `value` to the entry W_ij (rows and columns numbered as in q).
-    ///
-    /// # Panics
-    /// When i or j is not a row of the groups declared so far.
+    /// Adds `value` to the entry W_ij (rows and columns numbered as in q) of the rows of the
+    /// groups declared so far (an entry outside them is reported by [`Fc2dBuilder::build`]).
     pub fn add_entry(&mut self, i: usize, j: usize, value: f64) {
-        let (gi, a) = self.locate(i);
-        let (gj, c) = self.locate(j);
-        let mut block = [0.0; 4];
-        block[2 * a + c] = value;
-        self.entries.push((gi, gj, block));
+        match (self.locate(i), self.locate(j)) {
+            (Some((gi, a)), Some((gj, c))) => {
+                let mut block = [0.0; 4];
+                block[2 * a + c] = value;
+                self.entries.push((gi, gj, block));
+            }
+            _ => {
+                let rows = *self.group_start.last().unwrap_or(&0);
+                self.misplaced.get_or_insert((i, j, rows));
+            }
+        }
     }
 
-    fn locate(&self, row: usize) -> (usize, usize) {
+    /// The group of `row` and the row's place in it (0 or 1), if a declared group has it.
+    fn locate(&self, row: usize) -> Option<(usize, usize)> {
         let g = self.group_start.partition_point(|&s| s <= row);
-        assert!(g >= 1 && g < self.group_start.len(), "row {row} is outside the declared groups");
-        (g - 1, row - self.group_start[g - 1])
+        (g >= 1 && g < self.group_start.len()).then(|| (g - 1, row - self.group_start[g - 1]))
     }
 
     /// Builds the problem with q (one entry per row) and μ (one per contact); missing
     /// diagonal blocks are stored as zeros.
     ///
     /// # Errors
-    /// As [`Fc2dRef::from_parts`]; a block outside the groups gives
-    /// [`LcpError::Structure`].
+    /// As [`Fc2dRef::from_parts`]; a block outside the groups, or an entry outside the rows
+    /// declared when it was added, gives [`LcpError::Structure`] naming it.
     pub fn build(&self, q: &[f64], mu: &[f64]) -> Result<Fc2d, LcpError> {
+        if let Some((i, j, rows)) = self.misplaced {
+            return Err(structure(format!(
+                "entry ({i}, {j}) is outside the {rows} rows of the groups declared when it \
+                 was added"
+            )));
+        }
         let groups = self.group_start.len() - 1;
         if groups > u32::MAX as usize {
             return Err(structure(format!("{groups} groups exceed the u32 column indices")));
