@@ -212,3 +212,23 @@ fn data_after_a_siconos_problem_is_refused_naming_its_line() {
     assert!(Gfc2d::read_siconos(gfc2d.as_bytes()).is_ok());
     trailing(Gfc2d::read_siconos(format!("{gfc2d}1\n").as_bytes()).unwrap_err(), 16, "1", "μ");
 }
+
+#[test]
+fn a_contact_count_that_disagrees_with_the_matrix_is_refused_with_the_counts() {
+    use moreau_lcp::fc2d::{Fc2d, Gfc2d};
+    // Two contacts announced on line 2, then the W of one contact (2 x 2) on line 5.
+    let fc2d = "2\n2\n0\n2\n2\n2 2\n1 0 0 1\n-1 0\n0.5\n";
+    let err = Fc2d::read_siconos(fc2d.as_bytes()).unwrap_err();
+    let expected = "W is 2 x 2, expected 4 x 4: 2 per contact, for n_c = 2 announced on line 2";
+    assert!(matches!(&err, LcpError::Parse { line: 5, message } if message == expected), "{err}");
+    // One contact announced, then the sizes of a 4 x 4 W.
+    let err = Fc2d::read_siconos("2\n1\n0\n4\n4\n".as_bytes()).unwrap_err();
+    let expected = "W is 4 x 4, expected 2 x 2: 2 per contact, for n_c = 1 announced on line 2";
+    assert!(matches!(&err, LcpError::Parse { line: 5, message } if message == expected), "{err}");
+    // A global problem: M of 2 rows, and H of 2 columns where 3 contacts need 6.
+    let gfc2d = "2\n3\n0\n2\n2\n2 2\n1 0 0 1\n0\n2\n2\n2 2\n1 0 0 1\n0 -1\n0 0\n0.5\n";
+    let err = Gfc2d::read_siconos(gfc2d.as_bytes()).unwrap_err();
+    let expected = "H is 2 x 2, expected 2 x 6: one row per row of M, columns 2 per contact, for \
+                    n_c = 3 announced on line 2";
+    assert!(matches!(&err, LcpError::Parse { line: 10, message } if message == expected), "{err}");
+}

@@ -52,12 +52,14 @@ fn numbers(t: &mut Tokens<'_>, n: usize, what: &str, len: usize) -> Result<Vec<f
     (0..n).map(|_| t.number(what)).collect()
 }
 
-/// A size check for [`numerics::read_matrix`]: the matrix must be `rows x cols` (its error's
-/// line is set by the reader).
+/// A size check for [`numerics::read_matrix`]: the matrix must be `rows x cols`, as `why`
+/// says (the counts read before it, which disagree with it otherwise); its error's line is set
+/// by the reader.
 fn sized(
     what: &'static str,
     rows: usize,
     cols: usize,
+    why: String,
 ) -> impl FnOnce(usize, usize) -> Result<(), LcpError> {
     move |r, c| {
         if (r, c) == (rows, cols) {
@@ -65,10 +67,15 @@ fn sized(
         } else {
             Err(LcpError::Parse {
                 line: 0,
-                message: format!("{what} is {r} x {c}, expected {rows} x {cols}"),
+                message: format!("{what} is {r} x {c}, expected {rows} x {cols}: {why}"),
             })
         }
     }
+}
+
+/// Why W or H has 2 n_c rows or columns: the count of contacts on `line`.
+fn per_contact(n_c: usize, line: usize) -> String {
+    format!("2 per contact, for n_c = {n_c} announced on line {line}")
 }
 
 impl Fc2d {
@@ -87,7 +94,8 @@ impl Fc2d {
         reader.read_to_string(&mut text)?;
         let mut t = Tokens::new(&text, false);
         let n_c = header(&mut t)?;
-        let w = numerics::read_matrix(&mut t, text.len(), sized("W", 2 * n_c, 2 * n_c))?;
+        let why = per_contact(n_c, t.line);
+        let w = numerics::read_matrix(&mut t, text.len(), sized("W", 2 * n_c, 2 * n_c, why))?;
         let q = numbers(&mut t, 2 * n_c, "an entry of q", text.len())?;
         let mu = numbers(&mut t, n_c, "a friction coefficient", text.len())?;
         t.end("μ", Trailer::Flag)?;
@@ -230,6 +238,7 @@ impl Gfc2d {
         let len = text.len();
         let mut t = Tokens::new(&text, false);
         let n_c = header(&mut t)?;
+        let contacts_line = t.line;
         let m = numerics::read_matrix(&mut t, len, |r, c| {
             // The mass matrix, not an LCP's M: the error says which.
             if r == c {
@@ -243,7 +252,8 @@ impl Gfc2d {
             }
         })?;
         let n = m.rows;
-        let h = numerics::read_matrix(&mut t, len, sized("H", n, 2 * n_c))?;
+        let why = format!("one row per row of M, columns {}", per_contact(n_c, contacts_line));
+        let h = numerics::read_matrix(&mut t, len, sized("H", n, 2 * n_c, why))?;
         let q = numbers(&mut t, n, "an entry of q", len)?;
         let b = numbers(&mut t, 2 * n_c, "an entry of b", len)?;
         let mu = numbers(&mut t, n_c, "a friction coefficient", len)?;
