@@ -5,7 +5,8 @@
 //! ```
 //!
 //! Keys: `solver`, `status` ("solved" when, and only when, the natural-map residual is
-//! within the tolerance), `contacts`, `iterations`, `residual` (`natural` and `siconos`),
+//! within the tolerance), `method` (the method that produced r), `contacts`, `blocks` (the
+//! stored 2x2 blocks of W), `iterations`, `residual` (`natural` and `siconos`),
 //! `seconds_per_solve` (with `--repeat`), `r`. A GFC2D file (its name starts with `gfc2d`)
 //! is reduced to the contact space first and the global velocity `v` is printed too.
 

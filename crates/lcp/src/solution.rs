@@ -308,7 +308,9 @@ impl Residual {
         relative: f64::INFINITY,
     };
 
-    /// Computes the residual of (z, w) for the problem, recomputing `M z + q`.
+    /// Computes the residual of (z, w) for the problem, recomputing `M z + q`. A z or w
+    /// whose length is not n, or with an entry that is not finite, gives
+    /// [`Residual::INFINITE`], which no tolerance accepts.
     pub fn compute(lcp: LcpRef<'_>, z: &[f64], w: &[f64]) -> Residual {
         let (m, q) = (lcp.m(), lcp.q());
         Self::from_entries(lcp.n(), |i, j| m[(i, j)], |i| q[i], z, w)
