@@ -281,4 +281,11 @@ fn residual_is_zero_at_planted_solutions_and_siconos_normalised() {
     assert!((res.natural - e / 2.5).abs() < 1e-15);
     let scale = (1.0f64 + 2.5 * 2.5).sqrt();
     assert!((res.siconos - e / scale).abs() < 1e-15);
+    // An r or u of a length other than the problem's 2 rows is measured as infinite, u
+    // untouched, where it panicked.
+    let mut short = vec![7.0];
+    assert_eq!(Fc2dResidual::compute(p.view(), &[1.0, -0.5], &mut short), Fc2dResidual::INFINITE);
+    assert_eq!(short, vec![7.0]);
+    assert_eq!(Fc2dResidual::compute(p.view(), &[1.0], &mut u), Fc2dResidual::INFINITE);
+    assert!(!Fc2dResidual::INFINITE.meets(1.0));
 }

@@ -104,11 +104,14 @@ impl Fc2dResidual {
         self.natural <= tolerance || (self.natural <= self.round_off && self.round_off.is_finite())
     }
 
-    /// Recomputes `u = W r + q` into `u` and measures r.
-    ///
-    /// # Panics
-    /// When r or u does not have one entry per row of the problem.
+    /// Recomputes `u = W r + q` into `u` and measures r. An r or u without one entry per row
+    /// of the problem gives [`Fc2dResidual::INFINITE`] (u untouched), which meets no
+    /// tolerance, as [`Residual::compute`](crate::Residual::compute) does for an LCP.
     pub fn compute(problem: Fc2dRef<'_>, r: &[f64], u: &mut [f64]) -> Fc2dResidual {
+        let n = problem.n_rows();
+        if r.len() != n || u.len() != n {
+            return Fc2dResidual::INFINITE;
+        }
         problem.velocity(r, u);
         Self::of_velocity(problem, r, u, 0.0)
     }
