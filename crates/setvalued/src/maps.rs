@@ -516,4 +516,100 @@ mod tests {
         assert_eq!(g, vec![(0.0, -1.5), (0.0, 0.0), (1e307, 0.0)]);
         assert!(signorini_graph(0.0, 1.0, 3).is_err());
     }
+
+    #[test]
+    fn a_nan_coordinate_has_no_distance_to_the_relay() {
+        // One NaN coordinate is enough: f64::max would otherwise drop it and measure the
+        // other coordinate alone.
+        let s = Sgn::scaled(0.6).unwrap();
+        assert!(s.graph_distance(0.0, f64::NAN).is_nan());
+        assert!(s.graph_distance(f64::NAN, 0.6).is_nan());
+        assert!(!s.contains(0.0, f64::NAN, 1.0) && !s.contains(f64::NAN, 0.6, 1.0));
+        assert!(Upr.graph_distance(0.0, f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn upr_has_its_breakpoint_sampled_between_the_grid_points() {
+        assert_eq!(Upr.breakpoints(), &[0.0]);
+        // Four points −1, −1/3, 1/3, 1 miss x = 0: the corner comes from the breakpoint.
+        let window = GraphWindow { x_min: -1.0, x_max: 1.0, y_min: -2.0, y_max: 2.0 };
+        let g = Upr.graph(&window, 4).unwrap();
+        let third = -1.0 + 2.0 * 2.0 / 3.0; // x_min + width · k/(n − 1), as sampled
+        assert_eq!(g, vec![(0.0, -2.0), (0.0, 0.0), (third, 0.0), (1.0, 0.0)]);
+    }
+
+    #[test]
+    fn signorini_graph_names_the_rejected_bound() {
+        for g_max in [0.0, -1.0, f64::INFINITY, f64::NAN] {
+            let err = signorini_graph(g_max, 1.0, 3).unwrap_err();
+            assert!(matches!(err, SetValuedError::Window { name: "g_max", .. }), "{err:?}");
+        }
+        // λ_max = 0 would leave a window of zero height, which sample_graph accepts.
+        for lambda_max in [0.0, f64::INFINITY] {
+            let err = signorini_graph(1.0, lambda_max, 3).unwrap_err();
+            assert_eq!(err, SetValuedError::Window { name: "lambda_max", value: lambda_max });
+        }
+    }
+
+    /// A maximal monotone map with one step: lo + slope·x for x < 0, [lo, hi] at 0 and
+    /// hi + slope·x for x > 0 (slope ≥ 0).
+    struct Ramp {
+        lo: f64,
+        hi: f64,
+        slope: f64,
+    }
+
+    impl SetValuedMap for Ramp {
+        fn value(&self, x: f64) -> ValueSet {
+            if x < 0.0 {
+                ValueSet::Point(self.lo + self.slope * x)
+            } else if x > 0.0 {
+                ValueSet::Point(self.hi + self.slope * x)
+            } else {
+                ValueSet::interval(self.lo, self.hi)
+            }
+        }
+
+        fn inverse(&self, _y: f64) -> ValueSet {
+            unimplemented!("not sampled")
+        }
+
+        fn graph_distance(&self, _x: f64, _y: f64) -> f64 {
+            unimplemented!("not sampled")
+        }
+
+        fn breakpoints(&self) -> &[f64] {
+            &[0.0]
+        }
+    }
+
+    #[test]
+    fn vertical_segments_of_steps_and_ramps_run_from_the_lower_end() {
+        // Steps above, below and across zero, flat and sloped: after a point on the left
+        // branch, and as the first point of a window starting at the step, the segment runs
+        // from lo up to hi, where the right branch continues.
+        let ramps = [
+            (0.9, 1.0, 0.0),
+            (-7.0, -5.0, 0.0),
+            (2.0, 4.0, 0.0),
+            (-1.0, 0.5, 1.0),
+            (-10.0, 0.0, 1.0),
+            (0.0, 1.0, 1.0),
+            (0.0, 4.0, 1.0),
+        ];
+        for (lo, hi, slope) in ramps {
+            let map = Ramp { lo, hi, slope };
+            let tall = |x_min| GraphWindow { x_min, x_max: 1.0, y_min: -20.0, y_max: 20.0 };
+            assert_eq!(
+                sample_graph(&map, &tall(-1.0), 3).unwrap(),
+                vec![(-1.0, lo - slope), (0.0, lo), (0.0, hi), (1.0, hi + slope)],
+                "{lo} {hi} {slope} from x = -1"
+            );
+            assert_eq!(
+                sample_graph(&map, &tall(0.0), 2).unwrap(),
+                vec![(0.0, lo), (0.0, hi), (1.0, hi + slope)],
+                "{lo} {hi} {slope} from x = 0"
+            );
+        }
+    }
 }
