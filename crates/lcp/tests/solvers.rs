@@ -242,6 +242,32 @@ fn pgs_over_relaxation_converges_for_spd() {
     }
 }
 
+/// A problem of order 1e-12 meets the natural residual (absolute below ‖q‖∞ = 1) at z = 0
+/// and after its first sweep, but not the scale-free one: PGS sweeps on until `relative`
+/// meets the tolerance too, and lands on the planted z* = (1, 2) · 1e-12 with w* = 0.
+#[test]
+fn pgs_stops_only_when_the_relative_residual_also_meets_the_tolerance() {
+    let z_star = [1e-12, 2e-12];
+    let q = [-(z_star[0] + 0.5 * z_star[1]), -(0.5 * z_star[0] + z_star[1])];
+    let lcp = Lcp::from_rows(&[vec![1.0, 0.5], vec![0.5, 1.0]], &q).unwrap();
+    let s = Pgs::default().solve(&lcp).unwrap();
+    assert_eq!(s.status, Status::Solved);
+    assert!(s.residual.relative <= 1e-10, "{:?}", s.residual);
+    // The first sweep gives z = (2, 1.5) · 1e-12 with relative residual about 0.27; the
+    // error contracts fourfold per sweep.
+    assert!(s.iterations > 10, "{}", s.iterations);
+    for (z, z_s) in s.z.iter().zip(z_star) {
+        assert!((z - z_s).abs() <= 1e-9 * z_s, "{:?}", s.z);
+    }
+}
+
+/// The options a solver was built with are the ones it reports.
+#[test]
+fn pgs_reports_its_options() {
+    let options = PgsOptions::default().with_omega(1.3).with_tolerance(1e-8).with_max_iterations(7);
+    assert_eq!(Pgs::new(options.clone()).unwrap().options(), &options);
+}
+
 #[test]
 fn non_finite_and_malformed_input_is_rejected() {
     let nan = f64::NAN;
@@ -483,6 +509,33 @@ fn residual_definition() {
         Residual::compute(lcp.view(), &[f64::NAN, 0.0], &[0.0, 1.0]).relative,
         f64::INFINITY
     );
+}
+
+/// A claimed w that is non-negative and complementary to z but is not M z + q: `natural`
+/// and the sign terms are zero, and only the equation term, |1 − 1.5| / s_1 with
+/// s_1 = max(|q_1|, 0) = 1, makes `relative` 0.5.
+#[test]
+fn a_claimed_w_off_m_z_plus_q_is_measured_by_the_equation_term_alone() {
+    let lcp = Lcp::from_rows(&[vec![2.0, 0.0], vec![0.0, 1.0]], &[-4.0, 1.0]).unwrap();
+    let r = Residual::compute(lcp.view(), &[2.0, 0.0], &[0.0, 1.5]);
+    assert_eq!((r.natural, r.complementarity), (0.0, 0.0));
+    assert_eq!((r.z_violation, r.w_violation), (0.0, 0.0));
+    assert_eq!((r.equation, r.relative), (0.5, 0.5));
+}
+
+/// A row whose z_i or w_i is not finite makes the accumulated residual infinite, even when
+/// the row's (M z + q)_i is finite and the other terms would drop the non-finite value.
+#[test]
+fn a_non_finite_row_makes_the_accumulated_residual_infinite() {
+    for (z, w) in [(f64::INFINITY, 0.0), (0.0, f64::NAN), (1.0, f64::NEG_INFINITY)] {
+        let mut rows = moreau_lcp::ResidualRows::new([1.0]);
+        rows.row(-1.0, z, w, 1.0, 0.0);
+        assert_eq!(rows.finish(), Residual::INFINITE, "z = {z}, w = {w}");
+    }
+    // The same rows with finite entries are measured.
+    let mut rows = moreau_lcp::ResidualRows::new([1.0]);
+    rows.row(-1.0, 1.0, 0.0, 1.0, 0.0);
+    assert_eq!(rows.finish().relative, 0.0);
 }
 
 #[test]
