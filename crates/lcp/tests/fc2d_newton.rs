@@ -354,6 +354,31 @@ fn a_tolerance_below_round_off_is_met_at_round_off() {
     assert!(measured.natural <= 1e-14 && measured.round_off < 1e-14, "{measured:?}");
 }
 
+/// The residual of a candidate off the solution in closed form. One contact, μ = 0.5,
+/// W = [2 −1; −1 3], q = (−1, 4), r = (1, 0.5): u = W r + q = (0.5, 4.5), De Saxcé's point
+/// r − (u + μ |u_T| e_N) = (−1.75, −4) projects onto the cone's edge (1, −μ) at (0.2, −0.1),
+/// so F = (0.8, 0.6) and ‖F‖ = 1. The rows' terms |W| |r| + |q| + |r| are 2.5 + 1 + 1 and
+/// 2.5 + 4 + 0.5: round-off is 4 ε · 7 / ‖q‖∞.
+#[test]
+fn the_residual_of_a_candidate_off_the_solution_is_its_closed_form() {
+    let w = Mat::from_fn(2, 2, |i, j| [[2.0, -1.0], [-1.0, 3.0]][i][j]);
+    let problem = Fc2d::from_dense(w.as_ref(), &[-1.0, 4.0], &[0.5]).expect("valid problem");
+    let mut u = vec![0.0; 2];
+    let res = Fc2dResidual::compute(problem.view(), &[1.0, 0.5], &mut u);
+    assert_eq!(u, [0.5, 4.5]);
+    assert!((res.absolute - 1.0).abs() <= 1e-15, "{res:?}");
+    assert!((res.natural - 0.25).abs() <= 1e-15, "{res:?}");
+    // Siconos' error divides by the largest of ‖r‖₂ = 1.12, ‖u‖₂ = 4.53 and ‖q‖₂ = 4.12.
+    assert!((res.siconos - 1.0 / 20.5f64.sqrt()).abs() <= 1e-15, "{res:?}");
+    assert_eq!(res.worst_group, 0);
+    assert_eq!(res.round_off, 4.0 * f64::EPSILON * 7.0 / 4.0);
+    assert!(res.meets(0.3) && !res.meets(0.2));
+    // r = 0, with u = q, is no solution either (u_N < 0): its round-off is that of q alone.
+    let res = Fc2dResidual::compute(problem.view(), &[0.0, 0.0], &mut u);
+    assert!(res.natural > 0.0);
+    assert_eq!(res.round_off, 4.0 * f64::EPSILON * 4.0 / 4.0);
+}
+
 #[test]
 fn a_residual_beyond_the_range_of_f64_meets_no_tolerance() {
     // One contact pressed into the ground, W = I, μ = 0.5: r = (1, 0), u = 0. Started from
