@@ -142,11 +142,7 @@ impl DeclaredFile {
             impulses: None,
         };
         if let Some(named) = named {
-            let impulses = named.resolve(|| match scene.build()? {
-                AnyModel::Declared(mb) => Ok(Some(mb)),
-                _ => Ok(None),
-            })?;
-            scene.impulses = Some(impulses);
+            scene.impulses = Some(named.resolve_in(&scene)?);
         }
         Ok(scene)
     }

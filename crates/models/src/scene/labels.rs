@@ -79,6 +79,18 @@ impl FileImpulses {
             && self.joints.iter().all(|j| matches!(j, JointEntry::Value(_)))
     }
 
+    /// [`Self::resolve`] by the names of the mechanism `scene` declares, built only when a
+    /// name needs it.
+    ///
+    /// # Errors
+    /// Those of [`Self::resolve`].
+    pub fn resolve_in(self, scene: &super::Scene) -> Result<Impulses, ModelError> {
+        self.resolve(|| match scene.build()? {
+            crate::AnyModel::Declared(mb) => Ok(Some(mb)),
+            _ => Ok(None),
+        })
+    }
+
     /// The impulses by identity: directly when every entry is numeric, otherwise by the names
     /// of `mechanism` (built from the scene on demand: `None` for a scene without names to
     /// resolve never builds it), sorted by identity as the stepper takes them.

@@ -334,14 +334,10 @@ impl SceneEdit {
             return Err(refusal);
         }
         let mut scene = self.scene;
-        if let Some((ids, named)) = self.named {
-            if scene.impulses.as_ref() == Some(&ids) {
-                let impulses = named.resolve(|| match scene.build()? {
-                    AnyModel::Declared(mb) => Ok(Some(mb)),
-                    _ => Ok(None),
-                })?;
-                scene.impulses = Some(impulses);
-            }
+        if let Some((ids, named)) = self.named
+            && scene.impulses.as_ref() == Some(&ids)
+        {
+            scene.impulses = Some(named.resolve_in(&scene)?);
         }
         Ok(scene)
     }
