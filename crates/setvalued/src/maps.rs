@@ -570,17 +570,65 @@ mod tests {
             }
         }
 
-        fn inverse(&self, _y: f64) -> ValueSet {
-            unimplemented!("not sampled")
+        fn inverse(&self, y: f64) -> ValueSet {
+            // Below lo the left branch, above hi the right one (none where a branch is flat);
+            // between them the step at 0, reaching along a flat branch at its level.
+            let flat = self.slope == 0.0;
+            if y < self.lo || y > self.hi {
+                let base = if y < self.lo { self.lo } else { self.hi };
+                return if flat {
+                    ValueSet::Empty
+                } else {
+                    ValueSet::Point((y - base) / self.slope)
+                };
+            }
+            let left = if flat && y == self.lo { f64::NEG_INFINITY } else { 0.0 };
+            let right = if flat && y == self.hi { f64::INFINITY } else { 0.0 };
+            ValueSet::interval(left, right)
         }
 
-        fn graph_distance(&self, _x: f64, _y: f64) -> f64 {
-            unimplemented!("not sampled")
+        fn graph_distance(&self, x: f64, y: f64) -> f64 {
+            // The nearest of the two branches (rays from (0, lo) and (0, hi) along
+            // (∓1, ∓slope)) and the vertical segment between them.
+            let ray = |base: f64, dir: f64| {
+                let n = (1.0 + self.slope * self.slope).sqrt();
+                let (dx, dy) = (dir / n, dir * self.slope / n);
+                let s = (x * dx + (y - base) * dy).max(0.0);
+                (x - s * dx).hypot(y - base - s * dy)
+            };
+            let segment = x.hypot(y - y.clamp(self.lo, self.hi));
+            ray(self.lo, -1.0).min(ray(self.hi, 1.0)).min(segment)
         }
 
         fn breakpoints(&self) -> &[f64] {
             &[0.0]
         }
+    }
+
+    #[test]
+    fn the_ramp_s_inverse_and_distance_agree_with_its_graph() {
+        // The fixture below: the ends of value(x) lie in the graph, so x ∈ inverse(y) and
+        // their distance to it is 0; off the graph, distances and inverses in closed form.
+        for (lo, hi, slope) in [(-1.0, 0.5, 1.0), (0.9, 1.0, 0.0)] {
+            let r = Ramp { lo, hi, slope };
+            for x in [-2.0, -0.5, 0.0, 0.5, 2.0] {
+                for y in [r.value(x).lower().unwrap(), r.value(x).upper().unwrap()] {
+                    assert!(r.inverse(y).contains(x, 0.0), "{lo} {hi} {slope}: {x} {y}");
+                    // Zero up to the round-off of projecting onto a sloped branch.
+                    let d = r.graph_distance(x, y);
+                    assert!(d <= 4.0 * f64::EPSILON * (1.0 + x.abs() + y.abs()), "{x} {y}: {d:e}");
+                }
+            }
+        }
+        let r = Ramp { lo: -1.0, hi: 0.5, slope: 1.0 };
+        // (0, −3) lies below the step: the nearest point of the graph is (−1, −2) on the left
+        // branch y = −1 + x, at √2 (the step's foot (0, −1) is 2 away).
+        assert!((r.graph_distance(0.0, -3.0) - 2f64.sqrt()).abs() < 1e-15);
+        assert_eq!(r.inverse(-3.0), ValueSet::Point(-2.0));
+        let flat = Ramp { lo: 0.9, hi: 1.0, slope: 0.0 };
+        assert_eq!(flat.inverse(0.9), ValueSet::interval(f64::NEG_INFINITY, 0.0));
+        assert_eq!(flat.inverse(2.0), ValueSet::Empty);
+        assert_eq!(flat.graph_distance(0.5, 3.0), 2.0);
     }
 
     #[test]
