@@ -7,8 +7,9 @@
 //! Keys: `solver`, `status` ("solved" when, and only when, the natural-map residual is
 //! within the tolerance), `method` (the method that produced r), `contacts`, `blocks` (the
 //! stored 2x2 blocks of W), `iterations`, `residual` (`natural` and `siconos`),
-//! `seconds_per_solve` (with `--repeat`), `r`. A GFC2D file (its name starts with `gfc2d`)
-//! is reduced to the contact space first and the global velocity `v` is printed too.
+//! `seconds_per_solve` (with `--repeat`), `r`. The file is told by its content: one that
+//! reads as a GFC2D problem and not as an FC2D one is reduced to the contact space first,
+//! and the global velocity `v` is printed too.
 
 use std::process::ExitCode;
 use std::time::Instant;
@@ -91,16 +92,18 @@ fn make_solver(
 
 fn run() -> Result<(), String> {
     let args = parse_args()?;
-    let file = std::fs::File::open(&args.file).map_err(|e| format!("{}: {e}", args.file))?;
-    let is_global = std::path::Path::new(&args.file)
-        .file_name()
-        .is_some_and(|n| n.to_string_lossy().starts_with("gfc2d"));
-    let (problem, global) = if is_global {
-        let global = Gfc2d::read_siconos(file).map_err(|e| e.to_string())?;
-        let reduced = global.reduce().map_err(|e| e.to_string())?;
-        (reduced.problem.clone(), Some((global, reduced)))
-    } else {
-        (Fc2d::read_siconos(file).map_err(|e| e.to_string())?, None)
+    let text = std::fs::read_to_string(&args.file).map_err(|e| format!("{}: {e}", args.file))?;
+    // The two formats share their header (dimension, n_c); what follows tells them apart:
+    // a GFC2D file read as FC2D leaves its H, q, b and μ after the reduced problem's data.
+    let (problem, global) = match Fc2d::read_siconos(text.as_bytes()) {
+        Ok(problem) => (problem, None),
+        Err(as_fc2d) => {
+            let global = Gfc2d::read_siconos(text.as_bytes()).map_err(|as_gfc2d| {
+                format!("{}: neither FC2D ({as_fc2d}) nor GFC2D ({as_gfc2d})", args.file)
+            })?;
+            let reduced = global.reduce().map_err(|e| e.to_string())?;
+            (reduced.problem.clone(), Some((global, reduced)))
+        }
     };
     let mut out = Fc2dSolution::new();
     let (mut solver, name) = make_solver(&args.solver, args.tolerance)?;
