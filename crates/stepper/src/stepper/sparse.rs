@@ -372,6 +372,17 @@ impl BodyPath {
             }
         });
     }
+
+    /// A projection's correction q_E += G⁻¹ W λ ([`BodyPath::apply_impulses`]), which first
+    /// keeps q_E as the scheme gave it in `q_unprojected` when it is the step's first.
+    fn correct(&mut self, q: &mut [f64]) {
+        if !self.projected {
+            self.q_unprojected.clear();
+            self.q_unprojected.extend_from_slice(q);
+            self.projected = true;
+        }
+        self.apply_impulses(q);
+    }
 }
 
 impl Core {
@@ -601,10 +612,11 @@ impl Core {
 
         let t_e = self.t0 + step_count_as_f64(self.step + 1) * dt;
         if self.options.projection {
-            b.q_unprojected.clear();
-            b.q_unprojected.extend_from_slice(&self.q);
+            // A correction undone leaves q_E as it was: the comparison tells it, in the steps
+            // that corrected only.
+            b.projected = false;
             let projected = self.project_bodies(structure, b, t_e);
-            b.projected = self.q != b.q_unprojected;
+            b.projected = b.projected && self.q != b.q_unprojected;
             projected?;
         }
         let end = Instant::now();
@@ -710,7 +722,7 @@ impl Core {
                     }
                     break;
                 }
-                b.apply_impulses(&mut self.q);
+                b.correct(&mut self.q);
                 corrections += 1;
             }
             b.groups.truncate(n_joints);
@@ -756,7 +768,7 @@ impl Core {
             if b.islands.solve(Purpose::ContactProjection).is_err() {
                 break;
             }
-            b.apply_impulses(&mut self.q);
+            b.correct(&mut self.q);
         }
         check_finite("q", &self.q, t_e)
     }
