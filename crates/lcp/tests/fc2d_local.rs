@@ -78,6 +78,18 @@ fn a_frictionless_contact_takes_the_normal_reaction_alone() {
 }
 
 #[test]
+fn a_regular_block_of_small_scale_still_takes_the_sticking_case() {
+    // A = 1e-8 I (a heavy body), q = 1e-8 (-1, -0.1), μ = 0.5: r = -A⁻¹ q = (1, 0.1), inside
+    // the cone. det A = 1e-16 is tiny, but relative to the block's scale squared it is 1:
+    // the block is regular, and neither slipping candidate would solve the contact.
+    let problem = contact([1e-8, 0.0, 0.0, 1e-8], [-1e-8, -1e-9], 0.5);
+    let s = nsgs(10, 1.0).solve(&problem).unwrap();
+    assert_eq!((s.status, s.iterations), (Status::Solved, 2), "{s:?}");
+    assert!(close(&s.r, &[1.0, 0.1]), "{s:?}");
+    assert!(s.u.iter().all(|v| v.abs() <= 1e-22), "{s:?}");
+}
+
+#[test]
 fn a_contact_without_a_local_solution_takes_the_candidate_of_least_natural_map() {
     // A = [[1, 1], [1, 1]] (singular), q = (-1, 0), μ = 2: closed, u_T = u_N + 1 = 1 > 0, so
     // the contact slips forwards, r_T = -2 r_N and u_N = -r_N - 1 < 0: no solution. Of the
