@@ -63,3 +63,22 @@ fn the_vertex_pass_finds_a_solution_whose_rows_and_columns_differ() {
     assert_eq!(all.len(), 1);
     assert_eq!(all[0].z, vec![0.0, 1.0]);
 }
+
+#[test]
+fn one_vertex_reached_from_two_bases_with_different_roundings_is_listed_once() {
+    // M = [[3, 3], [7, 7]], q = (-1e6, -7e6 / 3): the solutions are z_1 + z_2 = 1e6 / 3, with
+    // the vertices (1e6 / 3, 0) and (0, 1e6 / 3). Each vertex is reached from row 1 (by a
+    // division by 3) and from row 2 (by 7), whose results differ by 6e-11, far below 1e-7 of
+    // the size of z (3.3e5): two solutions, not four.
+    let third = 1e6 / 3.0;
+    let lcp = Lcp::from_rows(&[vec![3.0, 3.0], vec![7.0, 7.0]], &[-1e6, -7e6 / 3.0]).unwrap();
+    assert_ne!(-lcp.q()[1] / 7.0, third, "the two rows must round differently");
+    let all = Enumeration::default().solve_all(lcp.view()).unwrap();
+    assert_eq!(all.len(), 2, "{all:?}");
+    for s in &all {
+        assert_eq!(s.status, Status::Solved);
+        assert!(s.z.contains(&0.0), "{:?}", s.z);
+        assert!(((s.z[0] + s.z[1]) - third).abs() <= 1e-9 * third, "{:?}", s.z);
+    }
+    assert!(all[0].z[0] == 0.0 || all[1].z[0] == 0.0);
+}
