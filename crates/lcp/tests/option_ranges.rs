@@ -76,3 +76,12 @@ fn enumeration_max_n_lies_between_one_and_twenty_six() {
     assert_eq!(with(10, 11), Some("max_n_degenerate"));
     assert_eq!(with(14, 14), None);
 }
+
+#[test]
+fn a_solver_reports_the_options_it_was_built_with() {
+    // Options other than the defaults come back unchanged from `options()`.
+    let lemke = LemkeOptions::default().with_max_pivots(9).with_covering(Covering::RowScaled);
+    assert_eq!(Lemke::new(lemke.clone()).unwrap().options(), &lemke);
+    let enumeration = EnumerationOptions::default().with_max_n(7).with_max_n_degenerate(5);
+    assert_eq!(Enumeration::new(enumeration.clone()).unwrap().options(), &enumeration);
+}
