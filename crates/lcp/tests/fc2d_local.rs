@@ -1,7 +1,9 @@
 //! Gauss-Seidel's local problems in closed form: one contact open, sticking or slipping
 //! either way with a coupled diagonal block, the contact whose local problem has no
 //! solution, bilateral groups of one and two rows (regular and redundant), the first
-//! sweeps over two coupled contacts, relaxation and the warm start's projection.
+//! sweeps over two coupled contacts, relaxation and the warm start's projection, and when
+//! Gauss-Seidel checks its iterate: every sweep with the history kept, and at sweep 64 for a
+//! tolerance below round-off.
 
 use faer::Mat;
 use moreau_lcp::Status;
@@ -100,6 +102,17 @@ fn a_contact_without_a_local_solution_takes_the_candidate_of_least_natural_map()
     assert!(close(&s.r, &[1.0 / 3.0, 2.0 / 3.0]), "{s:?}");
     let natural = (1.0f64 / 9.0 + 4.0 / 9.0).sqrt();
     assert!((s.residual.natural - natural).abs() <= 1e-15, "{:?}", s.residual);
+}
+
+#[test]
+fn without_a_local_solution_the_open_contact_can_be_the_least_bad_candidate() {
+    // The same block and μ with q = (-1, 5): the backward slip r = (1/3, 2/3) has u = (0, 6)
+    // and natural map (1/3, 2/3), |F|² = 5/9; r = 0 has u = q, and r - proj(r - (u + 2 · 5
+    // e_N)) = -proj(-9, -5) = (-0.2, 0.4), |F|² = 0.2, the smaller: r stays 0.
+    let s = nsgs(3, 1.0).solve(&contact([1.0, 1.0, 1.0, 1.0], [-1.0, 5.0], 2.0)).unwrap();
+    assert_eq!((s.status, s.iterations), (Status::IterationLimit, 3), "{s:?}");
+    assert_eq!(s.r, vec![0.0, 0.0]);
+    assert!((s.residual.natural - 0.2f64.sqrt() / 5.0).abs() <= 1e-15, "{:?}", s.residual);
 }
 
 /// A problem of bilateral groups only: one group of `rows` rows with diagonal block `a`.
@@ -206,4 +219,38 @@ fn a_non_finite_iterate_ends_the_sweeps_as_a_numerical_failure() {
     let s = nsgs(10, 1.0).solve(&bilateral(1, [1e-300, 0.0, 0.0, 0.0], &[-1e10])).unwrap();
     assert_eq!((s.status, s.iterations), (Status::NumericalFailure, 1), "{s:?}");
     assert!(!s.is_solved());
+}
+
+#[test]
+fn keeping_the_history_checks_every_sweep() {
+    // The sticking contact is exact after the first sweep; with the history kept that sweep
+    // is checked at once and ends the solve (one sweep, not two), its residual recorded.
+    let problem = contact(COUPLED, [-3.0, 0.0], 1.0);
+    let options = NsgsOptions::default().with_tolerance(1e-12).with_keep_history(true);
+    let s = Nsgs::new(options.clone()).unwrap().solve(&problem).unwrap();
+    assert_eq!((s.status, s.iterations), (Status::Solved, 1), "{s:?}");
+    assert_eq!(s.r, vec![2.0, -1.0]);
+    assert_eq!(s.history, vec![s.residual.natural]);
+    assert_eq!(s.history, vec![0.0]);
+    // Over three sweeps short of the solution, three entries, the last the final residual.
+    let problem = contact([2.0, 0.0, 0.0, 2.0], [-2.0, 1.0], 1.0);
+    let relaxed = options.with_omega(0.5).with_max_sweeps(3);
+    let s = Nsgs::new(relaxed.clone()).unwrap().solve(&problem).unwrap();
+    assert_eq!((s.status, s.iterations, s.history.len()), (Status::IterationLimit, 3, 3));
+    assert_eq!(s.history[2], s.residual.natural);
+    assert!(s.history[0] > s.history[1] && s.history[1] > s.history[2], "{:?}", s.history);
+    assert_eq!(Nsgs::new(relaxed.clone()).unwrap().options(), &relaxed);
+}
+
+#[test]
+fn a_tolerance_below_round_off_is_met_at_the_first_scheduled_check() {
+    // The backward slip of r = (1, 0.3) / 2.3 leaves round-off in the lagged residual, which
+    // a tolerance of 1e-300 never sees met; the full check after sweep 64 finds r solved at
+    // round-off and ends there, not at the limit of 10,000 sweeps.
+    let problem = contact(COUPLED, [-1.0, -3.0], 0.3);
+    let options = NsgsOptions::default().with_tolerance(1e-300);
+    let s = Nsgs::new(options).unwrap().solve(&problem).unwrap();
+    assert_eq!(s.status, Status::Solved, "{s:?}");
+    assert!(s.residual.natural > 1e-300 && s.residual.natural <= s.residual.round_off, "{s:?}");
+    assert_eq!(s.iterations, 64, "{s:?}");
 }
