@@ -135,6 +135,17 @@ fn bilateral_groups_of_one_and_two_rows_are_solved_exactly() {
 }
 
 #[test]
+fn a_regular_bilateral_pair_of_small_scale_is_solved_as_a_pair() {
+    // 1e-8 [[2, 1], [1, 2]] x = 1e-8 (3, 0): x = (2, -1). The determinant 3e-16 is tiny but
+    // 3/4 of the block's scale squared, so the pair is solved at once (one sweep, and a
+    // second that certifies it), not row by row.
+    let a = COUPLED.map(|v| 1e-8 * v);
+    let s = nsgs(10, 1.0).solve(&bilateral(2, a, &[-3e-8, 0.0])).unwrap();
+    assert_eq!((s.status, s.iterations), (Status::Solved, 2), "{s:?}");
+    assert!(close(&s.r, &[2.0, -1.0]), "{s:?}");
+}
+
+#[test]
 fn a_redundant_bilateral_pair_is_solved_row_by_row() {
     // [[1, 1], [1, 1]] x = (2, 2): singular. The first row takes x_0 = 2 - x_1 with x_1 at
     // its start 0, the second then x_1 = 2 - x_0 = 0: x = (2, 0), u = 0.
