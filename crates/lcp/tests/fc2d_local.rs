@@ -113,6 +113,11 @@ fn without_a_local_solution_the_open_contact_can_be_the_least_bad_candidate() {
     assert_eq!((s.status, s.iterations), (Status::IterationLimit, 3), "{s:?}");
     assert_eq!(s.r, vec![0.0, 0.0]);
     assert!((s.residual.natural - 0.2f64.sqrt() / 5.0).abs() <= 1e-15, "{:?}", s.residual);
+    // With q = (-1, -0.25) the slip keeps |F|² = 5/9 (u = (0, 0.75)), and r = 0 has
+    // F = -(1 - 2 · 0.25, 0.25) = (-0.5, -0.25), |F|² = 0.3125: r stays 0 again.
+    let s = nsgs(3, 1.0).solve(&contact([1.0, 1.0, 1.0, 1.0], [-1.0, -0.25], 2.0)).unwrap();
+    assert_eq!((s.status, s.r.as_slice()), (Status::IterationLimit, [0.0, 0.0].as_slice()));
+    assert!((s.residual.natural - 0.3125f64.sqrt()).abs() <= 1e-15, "{:?}", s.residual);
 }
 
 /// A problem of bilateral groups only: one group of `rows` rows with diagonal block `a`.
@@ -157,6 +162,12 @@ fn a_redundant_bilateral_pair_is_solved_row_by_row() {
     let s = nsgs(10, 1.0).solve(&bilateral(2, [0.0, 0.0, 0.0, 1.0], &[0.0, -3.0])).unwrap();
     assert_eq!(s.status, Status::Solved, "{s:?}");
     assert_eq!(s.r, vec![0.0, 3.0]);
+    // A zero block determines neither row: both keep their start, here a warm start that
+    // solves the problem (u = q = 0).
+    let problem = bilateral(2, [0.0; 4], &[0.0, 0.0]);
+    let mut out = Fc2dSolution::new();
+    nsgs(10, 1.0).solve_into(problem.view(), Some(&[1.0, 2.0]), &mut out).unwrap();
+    assert_eq!((out.status, out.r.as_slice()), (Status::Solved, [1.0, 2.0].as_slice()));
     // And a warm start of that first row is kept as it was.
     let problem = bilateral(2, [0.0, 0.0, 0.0, 1.0], &[0.0, -3.0]);
     let mut out = Fc2dSolution::new();
