@@ -140,6 +140,29 @@ fn bilateral_groups_of_one_and_two_rows_are_solved_exactly() {
 }
 
 #[test]
+fn a_redundant_bilateral_pair_solves_its_rows_in_turn_from_the_warm_start() {
+    // [[2, 2], [2, 2]] x = (4, 4) from x = (0, 1): the first row takes x_0 = (4 - 2 · 1) / 2
+    // = 1, the second x_1 = (4 - 2 · 1) / 2 = 1, which solves both: (1, 1) of the solutions
+    // x_0 + x_1 = 2.
+    let problem = bilateral(2, [2.0; 4], &[-4.0, -4.0]);
+    let mut out = Fc2dSolution::new();
+    nsgs(10, 1.0).solve_into(problem.view(), Some(&[0.0, 1.0]), &mut out).unwrap();
+    assert_eq!((out.status, out.iterations), (Status::Solved, 2), "{out:?}");
+    assert_eq!(
+        (out.r.as_slice(), out.u.as_slice()),
+        ([1.0, 1.0].as_slice(), [0.0, 0.0].as_slice())
+    );
+    // A zero second diagonal entry: the first row is solved, x_0 = 1, the second keeps its
+    // start. One row with a zero entry keeps its start the same way.
+    let problem = bilateral(2, [1.0, 0.0, 0.0, 0.0], &[-1.0, 0.0]);
+    nsgs(10, 1.0).solve_into(problem.view(), Some(&[0.0, 5.0]), &mut out).unwrap();
+    assert_eq!((out.status, out.r.as_slice()), (Status::Solved, [1.0, 5.0].as_slice()));
+    let problem = bilateral(1, [0.0; 4], &[0.0]);
+    nsgs(10, 1.0).solve_into(problem.view(), Some(&[3.0]), &mut out).unwrap();
+    assert_eq!((out.status, out.r.as_slice()), (Status::Solved, [3.0].as_slice()));
+}
+
+#[test]
 fn a_regular_bilateral_pair_of_small_scale_is_solved_as_a_pair() {
     // 1e-8 [[2, 1], [1, 2]] x = 1e-8 (3, 0): x = (2, -1). The determinant 3e-16 is tiny but
     // 3/4 of the block's scale squared, so the pair is solved at once (one sweep, and a
