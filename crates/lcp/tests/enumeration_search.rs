@@ -4,7 +4,7 @@
 #![allow(non_snake_case)]
 
 use faer::{Col, Mat};
-use moreau_lcp::{Enumeration, EnumerationOptions, Lcp, Method, Solver, Status};
+use moreau_lcp::{Enumeration, EnumerationOptions, Lcp, LcpError, Method, Solver, Status};
 
 /// C(2n, n): the square systems `M_SK` with |S| = |K| over all sizes.
 fn central_binomial(n: usize) -> usize {
@@ -81,4 +81,19 @@ fn one_vertex_reached_from_two_bases_with_different_roundings_is_listed_once() {
         assert!(((s.z[0] + s.z[1]) - third).abs() <= 1e-9 * third, "{:?}", s.z);
     }
     assert!(all[0].z[0] == 0.0 || all[1].z[0] == 0.0);
+}
+
+#[test]
+fn a_problem_of_size_max_n_is_searched_and_one_row_more_is_refused() {
+    // max_n = 3: n = 3 (M = I, q = -1, z = 1) is solved, n = 4 is TooLarge { n: 4, max: 3 },
+    // for the first solution and for the list alike.
+    let options = EnumerationOptions::default().with_max_n(3).with_max_n_degenerate(3);
+    let mut enumeration = Enumeration::new(options).unwrap();
+    let lcp = |n: usize| Lcp::new(Mat::identity(n, n), Col::from_fn(n, |_| -1.0)).unwrap();
+    let s = enumeration.solve(&lcp(3)).unwrap();
+    assert_eq!((s.status, s.z.as_slice()), (Status::Solved, [1.0; 3].as_slice()));
+    assert_eq!(enumeration.solve_all(lcp(3).view()).unwrap().len(), 1);
+    let too_large = |r: Result<_, LcpError>| matches!(r, Err(LcpError::TooLarge { n: 4, max: 3 }));
+    assert!(too_large(enumeration.solve(&lcp(4)).map(|_| ())));
+    assert!(too_large(enumeration.solve_all(lcp(4).view()).map(|_| ())));
 }
