@@ -306,3 +306,20 @@ fn a_tolerance_below_round_off_is_met_at_the_first_scheduled_check() {
     assert!(s.residual.natural > 1e-300 && s.residual.natural <= s.residual.round_off, "{s:?}");
     assert_eq!(s.iterations, 64, "{s:?}");
 }
+
+#[test]
+fn a_warm_start_off_the_solution_in_one_row_is_not_taken_for_solved() {
+    // The lagged residual of the first sweep is measured at the warm start, in every row.
+    // A = 2 I, q = (-2, 1), μ = 1 from r = (1, 0.5): u = (0, 2) and the natural map is
+    // (0.75, 0.75), so the first sweep's exact r = (1, -0.5) is certified by the second.
+    let problem = contact([2.0, 0.0, 0.0, 2.0], [-2.0, 1.0], 1.0);
+    let mut out = Fc2dSolution::new();
+    nsgs(10, 1.0).solve_into(problem.view(), Some(&[1.0, 0.5]), &mut out).unwrap();
+    assert_eq!((out.status, out.iterations), (Status::Solved, 2), "{out:?}");
+    assert_eq!(out.r, vec![1.0, -0.5]);
+    // A bilateral pair 2 I x = (2, 2) from x = (1, 0): u = (0, -2), the second row off.
+    let problem = bilateral(2, [2.0, 0.0, 0.0, 2.0], &[-2.0, -2.0]);
+    nsgs(10, 1.0).solve_into(problem.view(), Some(&[1.0, 0.0]), &mut out).unwrap();
+    assert_eq!((out.status, out.iterations), (Status::Solved, 2), "{out:?}");
+    assert_eq!(out.r, vec![1.0, 1.0]);
+}
