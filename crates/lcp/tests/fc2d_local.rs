@@ -2,8 +2,8 @@
 //! either way with a coupled diagonal block, the contact whose local problem has no
 //! solution, bilateral groups of one and two rows (regular and redundant), the first
 //! sweeps over two coupled contacts, relaxation and the warm start's projection, and when
-//! Gauss-Seidel checks its iterate: every sweep with the history kept, and at sweep 64 for a
-//! tolerance below round-off.
+//! Gauss-Seidel checks its iterate: every sweep with the history kept, at sweep 64 for a
+//! tolerance below round-off, and after as many sweeps whatever the scale of q.
 
 use faer::Mat;
 use moreau_lcp::Status;
@@ -322,4 +322,44 @@ fn a_warm_start_off_the_solution_in_one_row_is_not_taken_for_solved() {
     nsgs(10, 1.0).solve_into(problem.view(), Some(&[1.0, 0.0]), &mut out).unwrap();
     assert_eq!((out.status, out.iterations), (Status::Solved, 2), "{out:?}");
     assert_eq!(out.r, vec![1.0, 1.0]);
+}
+
+#[test]
+fn under_relaxation_moves_both_rows_of_a_bilateral_pair() {
+    // [[2, 1], [1, 2]] x = (3, 0) has x* = (2, -1), which the pair's local solve gives at
+    // once; with ω = 0.5 from x = (0, 4) the sweep moves half way: (1, 1.5), in each row.
+    let problem = bilateral(2, COUPLED, &[-3.0, 0.0]);
+    let mut out = Fc2dSolution::new();
+    nsgs(1, 0.5).solve_into(problem.view(), Some(&[0.0, 4.0]), &mut out).unwrap();
+    assert_eq!((out.status, out.iterations), (Status::IterationLimit, 1), "{out:?}");
+    assert_eq!(out.r, vec![1.0, 1.5]);
+}
+
+/// Two bilateral rows of one row each, W = [[1, 0.5], [0.5, 1]], q = s (-2, 1): Gauss-Seidel
+/// contracts their error by 1/4 a sweep towards r = s (10/3, -8/3).
+fn two_coupled_rows(s: f64) -> Fc2d {
+    let mut b = Fc2dBuilder::new(0);
+    let (g, h) = (b.bilateral_group(1), b.bilateral_group(1));
+    b.add_block(g, g, [1.0, 0.0, 0.0, 0.0]);
+    b.add_block(h, h, [1.0, 0.0, 0.0, 0.0]);
+    b.add_block(g, h, [0.5, 0.0, 0.0, 0.0]);
+    b.add_block(h, g, [0.5, 0.0, 0.0, 0.0]);
+    b.build(&[-2.0 * s, s], &[]).unwrap()
+}
+
+#[test]
+fn gauss_seidel_stops_after_as_many_sweeps_whatever_the_scale_of_q() {
+    // Scaling q by a power of two scales every iterate exactly. The test on the lagged
+    // residual is relative to max(1, ‖q‖∞), so the problems with ‖q‖∞ = 1, 2 and 2048 stop
+    // after the same sweep (before the first scheduled check at 64), with r scaled exactly.
+    let base = nsgs(1000, 1.0).solve(&two_coupled_rows(0.5)).unwrap();
+    assert_eq!(base.status, Status::Solved, "{base:?}");
+    assert!(base.iterations < 64, "{base:?}");
+    let want = [5.0 / 3.0, -4.0 / 3.0];
+    assert!(base.r.iter().zip(want).all(|(r, w)| (r - w).abs() <= 1e-11), "{base:?}");
+    for s in [2.0, 2048.0] {
+        let scaled = nsgs(1000, 1.0).solve(&two_coupled_rows(0.5 * s)).unwrap();
+        assert_eq!((scaled.status, scaled.iterations), (Status::Solved, base.iterations), "{s}");
+        assert!(scaled.r.iter().zip(&base.r).all(|(a, b)| *a == s * b), "{s}: {scaled:?}");
+    }
 }
