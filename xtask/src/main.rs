@@ -90,7 +90,7 @@ fn run(command: Command) -> Result<()> {
         Command::Reproduce { out, quick, jobs } => {
             let summary = reproduce::run(&reproduce::Options { out: out.clone(), quick, jobs })?;
             println!(
-                "wrote {} files to {} in {:.1} s (the report's simulations {:.1} s of CPU, \
+                "wrote {} files to {} in {:.1} s (the report's simulations {:.3} s of CPU, \
                  besides the speed/accuracy and scaling studies)",
                 summary.files,
                 out.display(),
