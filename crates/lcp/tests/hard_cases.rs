@@ -77,6 +77,26 @@ fn murty_sixteen_hits_a_lower_pivot_limit_honestly() {
 }
 
 #[test]
+fn the_pivot_limit_is_met_exactly_or_ends_the_path_one_pivot_short() {
+    // Murty's path has 2^n pivots, its last the one where z_0 leaves: a limit of 2^n
+    // solves, 2^n - 1 stops with the limit's status after that many pivots. For n = 5 the
+    // path is longer than 2 n = 10 pivots, where the watch for a repeated basis runs.
+    for n in [1, 3, 5] {
+        let lcp = murty_lower(n, |_| -1.0);
+        let path = 1 << n;
+        let limit = |k| Lemke::new(LemkeOptions::default().with_max_pivots(k)).unwrap();
+        let s = limit(path).solve(&lcp).unwrap();
+        assert_eq!((s.status, s.iterations), (Status::Solved, path), "n = {n}");
+        let mut e1 = vec![0.0; n];
+        e1[0] = 1.0;
+        assert_eq!(s.z, e1, "n = {n}");
+        let s = limit(path - 1).solve(&lcp).unwrap();
+        assert_eq!((s.status, s.iterations), (Status::IterationLimit, path - 1), "n = {n}");
+        assert!(s.residual.relative > 1e-9, "n = {n}: {:?}", s.residual);
+    }
+}
+
+#[test]
 fn degenerate_q_with_zero_entries() {
     // q has zeros: the first ratio tests tie at 0. The lexicographic rule must still end.
     let mut rng = Rng::new(11);
